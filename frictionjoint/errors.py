@@ -1,0 +1,53 @@
+"""Exceptions and input validators shared by the whole package.
+
+Validators return the cleaned value (as in ``scipy.integrate._ivp``) and raise
+:class:`ParameterError` naming the argument and its allowed range.
+"""
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+import numpy as np
+
+__all__ = [
+    "ParameterError",
+    "ConvergenceError",
+    "check_real",
+    "check_positive",
+    "check_nonnegative",
+]
+
+
+class ParameterError(ValueError):
+    """An argument is outside its allowed range (the message names it)."""
+
+
+class ConvergenceError(RuntimeError):
+    """An iterative solver did not converge (the message says why)."""
+
+
+def check_real(name: str, value) -> float:
+    """Return ``value`` as a finite float or raise :class:`ParameterError`."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.number)):
+        raise ParameterError(f"{name} must be a real number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be finite, got {value!r}")
+    return value
+
+
+def check_positive(name: str, value) -> float:
+    """Return ``value`` as a float in (0, inf) or raise :class:`ParameterError`."""
+    value = check_real(name, value)
+    if value <= 0.0:
+        raise ParameterError(f"{name} must be > 0 (allowed range (0, inf)), got {value!r}")
+    return value
+
+
+def check_nonnegative(name: str, value) -> float:
+    """Return ``value`` as a float in [0, inf) or raise :class:`ParameterError`."""
+    value = check_real(name, value)
+    if value < 0.0:
+        raise ParameterError(f"{name} must be >= 0 (allowed range [0, inf)), got {value!r}")
+    return value
