@@ -1,0 +1,111 @@
+"""Iwan element: Jenkins sliders in parallel (discrete), with the Segalman 4-parameter form."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError, check_positive, check_real
+from .base import Slider
+
+__all__ = ["Iwan"]
+
+
+@dataclass(frozen=True)
+class Iwan:
+    """Parallel Jenkins sliders on one DOF (or direction).
+
+    Parameters
+    ----------
+    sliders : sequence of (stiffness, slip_force) pairs
+        Each pair is one Jenkins slider: stiffness [N/m] > 0, slip force [N] > 0.
+    dof : str or int, optional
+        DOF the element connects to the ground.
+    direction : (n_dof,) array_like, optional
+        Direction vector instead of ``dof``.
+    """
+
+    sliders_table: tuple
+    dof: object = None
+    direction: object = None
+
+    def __init__(self, sliders, dof=None, direction=None):
+        table = []
+        try:
+            pairs = list(sliders)
+        except TypeError:
+            raise ParameterError("sliders must be a sequence of (stiffness, slip_force) pairs") from None
+        if not pairs:
+            raise ParameterError("sliders must hold at least one (stiffness, slip_force) pair")
+        for i, pair in enumerate(pairs):
+            if np.shape(pair) != (2,):
+                raise ParameterError(f"sliders[{i}] must be a (stiffness, slip_force) pair, got {pair!r}")
+            k = check_positive(f"sliders[{i}] stiffness", pair[0])
+            f = check_positive(f"sliders[{i}] slip_force", pair[1])
+            table.append((k, f))
+        object.__setattr__(self, "sliders_table", tuple(table))
+        object.__setattr__(self, "dof", dof)
+        object.__setattr__(self, "direction", direction)
+
+    @classmethod
+    def segalman(cls, slip_force, stiffness, chi, beta, n_sliders=50, dof=None, direction=None):
+        """Discrete Segalman 4-parameter Iwan element.
+
+        Density of slider slip displacements (Segalman 2005, "A four-parameter Iwan model
+        for lap-type joints", J. Appl. Mech. 72):
+        ``rho(phi) = R phi**chi`` on ``0 < phi < phi_max`` plus ``S delta(phi - phi_max)``, with
+        ``phi_max = F_S (1 + beta) / (K_T (beta + (chi+1)/(chi+2)))``,
+        ``R = F_S (chi+1) / (phi_max**(chi+2) (beta + (chi+1)/(chi+2)))`` and
+        ``S = F_S beta / (phi_max (beta + (chi+1)/(chi+2)))``.
+        The power-law part is split into ``n_sliders`` equal intervals of ``phi``; each slider
+        carries that interval's exact stiffness and strength, so the total stiffness ``K_T`` and
+        the total slip force ``F_S`` are reproduced exactly.
+
+        Parameters
+        ----------
+        slip_force : float
+            Macroslip force F_S [N], > 0.
+        stiffness : float
+            Initial tangential stiffness K_T [N/m], > 0.
+        chi : float
+            Power-law exponent, -1 < chi <= 0 (typical -0.5 ... -0.1).
+        beta : float
+            Strength of the delta at ``phi_max`` relative to the power-law part, >= 0.
+        n_sliders : int
+            Number of sliders for the power-law part, >= 1.
+        """
+        fs = check_positive("slip_force", slip_force)
+        kt = check_positive("stiffness", stiffness)
+        chi = check_real("chi", chi)
+        if not -1.0 < chi <= 0.0:
+            raise ParameterError(f"chi must be in (-1, 0], got {chi!r}")
+        beta = check_real("beta", beta)
+        if beta < 0:
+            raise ParameterError(f"beta must be >= 0, got {beta!r}")
+        if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
+            raise ParameterError(f"n_sliders must be an integer >= 1, got {n_sliders!r}")
+        c = (chi + 1.0) / (chi + 2.0)
+        phi_max = fs * (1.0 + beta) / (kt * (beta + c))
+        r = fs * (chi + 1.0) / (phi_max ** (chi + 2.0) * (beta + c))
+        s = fs * beta / (phi_max * (beta + c))
+        edges = np.linspace(0.0, phi_max, int(n_sliders) + 1)
+        k = r * np.diff(edges ** (chi + 1.0)) / (chi + 1.0)
+        f = r * np.diff(edges ** (chi + 2.0)) / (chi + 2.0)
+        table = list(zip(k, f))
+        if s > 0:
+            table.append((s, s * phi_max))
+        return cls(table, dof=dof, direction=direction)
+
+    @property
+    def stiffness(self) -> float:
+        """Initial (all stuck) stiffness [N/m]."""
+        return float(sum(k for k, _ in self.sliders_table))
+
+    @property
+    def slip_force(self) -> float:
+        """Macroslip force [N] (all sliders slipping)."""
+        return float(sum(f for _, f in self.sliders_table))
+
+    def sliders(self) -> list[Slider]:
+        """The sliders the marcher handles."""
+        return [Slider(f, k) for k, f in self.sliders_table]

@@ -1,0 +1,283 @@
+"""Closed-form motion of a piecewise-linear friction system inside one configuration.
+
+In a configuration (which sliders stick, which slip and which way) the structure obeys
+
+    M x'' + C x' + K_c x = F_const + f_c cos(w t) + f_s sin(w t) + G^T lam,   G x' = 0,
+
+with ``K_c`` the structure stiffness plus the springs of the stuck Jenkins sliders, ``G`` the
+directions of the stuck rigid sliders and ``lam`` their holding forces. With ``x = x0 + N q``
+(``N`` an orthonormal basis of the null space of ``G``) the reduced first-order system
+``y' = A y + b(t)``, ``y = [q, q']``, is diagonalised once per configuration,
+``A = V diag(lam) V^-1``, and every mode is solved in closed form:
+
+    eta(tau) = e^{lam tau} eta0 + beta0 E(lam, 0, tau) + g+ E(lam, iw, tau) + g- E(lam, -iw, tau),
+    E(lam, mu, tau) = (e^{mu tau} - e^{lam tau}) / (mu - lam)  (= tau e^{lam tau} phi1((mu-lam) tau)),
+
+which stays exact at resonance (``lam = +-iw``) and for rigid-body modes (``lam = 0``). No time
+step is involved: the state, and every quantity linear in state and forcing, is exact at any time.
+Defective configurations (ill-conditioned eigenvectors) fall back to the matrix exponential of the
+augmented system ``[y, cos, sin, 1]``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+
+__all__ = ["ConfigData", "Interval", "Observables"]
+
+_PHI1_TERMS = 1.0 / np.array([math.factorial(k + 1) for k in range(22)])
+
+
+def _phi1(z: np.ndarray) -> np.ndarray:
+    """(e^z - 1)/z, accurate for all complex z (series near 0)."""
+    out = np.empty_like(z)
+    small = np.abs(z) < 0.5
+    zs = z[small]
+    acc = np.full_like(zs, _PHI1_TERMS[-1])
+    for c in _PHI1_TERMS[-2::-1]:
+        acc = acc * zs + c
+    out[small] = acc
+    zl = z[~small]
+    out[~small] = (np.exp(zl) - 1.0) / zl
+    return out
+
+
+def _E(lam: np.ndarray, mu: complex, tau: np.ndarray) -> np.ndarray:
+    """E(lam, mu, tau) for lam (p, 1), tau (1, k): exact integral of e^{lam (tau-s)} e^{mu s}."""
+    return tau * np.exp(lam * tau) * _phi1((mu - lam) * tau)
+
+
+class ConfigData:
+    """Decomposition of one stuck/slipping pattern, built once and cached.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+    stuck : (n_sliders,) bool ndarray
+        Which sliders stick.
+    """
+
+    def __init__(self, system, stuck: np.ndarray):
+        n = system.n_dof
+        d = system.slider_direction
+        stuck = np.asarray(stuck, dtype=bool)
+        rigid_stuck = stuck & system.rigid
+        jen_stuck = stuck & ~system.rigid
+        kc = system.stiffness.copy()
+        for i in np.flatnonzero(jen_stuck):
+            kc += system.slider_stiffness[i] * np.outer(d[i], d[i])
+        self.stiffness = kc
+        self.rigid_stuck = np.flatnonzero(rigid_stuck)
+        if self.rigid_stuck.size:
+            g = d[self.rigid_stuck]
+            nb = scipy.linalg.null_space(g)
+        else:
+            g = np.zeros((0, n))
+            nb = np.eye(n)
+        self.N = nb
+        m = nb.shape[1]
+        self.m = m
+        mass = system.mass
+        mr = nb.T @ mass @ nb
+        kr = nb.T @ kc @ nb
+        cr = nb.T @ system.damping @ nb
+        if m:
+            mr_inv = np.linalg.inv(mr)
+            self.mr_inv_nt = mr_inv @ nb.T
+            a = np.block([[np.zeros((m, m)), np.eye(m)], [-mr_inv @ kr, -mr_inv @ cr]])
+        else:
+            self.mr_inv_nt = np.zeros((0, n))
+            a = np.zeros((0, 0))
+        self.A = a
+        # holding forces of stuck rigid sliders: lam = L (F - C v - K_c x)
+        if self.rigid_stuck.size:
+            proj = np.eye(n) - mass @ nb @ self.mr_inv_nt
+            self.L = -np.linalg.solve(g @ g.T, g @ proj)
+        else:
+            self.L = np.zeros((0, n))
+        self.modal = True
+        if m:
+            lam, v = np.linalg.eig(a)
+            cond = np.linalg.cond(v)
+            if not np.isfinite(cond) or cond > 1e8:
+                self.modal = False
+                lam = np.linalg.eigvals(a)
+                v = w = None
+            else:
+                w = np.linalg.inv(v)
+        else:
+            lam = np.zeros(0, complex)
+            v = np.zeros((0, 0), complex)
+            w = np.zeros((0, 0), complex)
+        self.lam = lam.astype(complex)
+        self.V = v
+        self.W = w
+        rates = np.abs(self.lam)
+        self.max_rate = float(rates.max()) if rates.size else 0.0
+
+
+class Observables:
+    """Quantities linear in state and forcing: ``Q = Ax x + Av v + AF F(t) + a0``.
+
+    ``F(t)`` is the total applied force on the structure (external, harmonic, and the forces of
+    slipping sliders and stuck Jenkins springs' constant parts, i.e. everything except
+    ``-C v - K_c x``) -- in practice only holding forces use ``AF``.
+    """
+
+    def __init__(self, ax, av, af, a0):
+        self.ax = np.atleast_2d(np.asarray(ax, dtype=float))
+        self.av = np.atleast_2d(np.asarray(av, dtype=float))
+        self.af = np.atleast_2d(np.asarray(af, dtype=float))
+        self.a0 = np.asarray(a0, dtype=float).reshape(-1)
+
+    @property
+    def size(self) -> int:
+        return self.a0.size
+
+
+class Interval:
+    """The exact motion from ``t0`` in one configuration.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+    config : ConfigData
+    t0 : float
+        Start time [s].
+    x0, v0 : (n_dof,) ndarray
+        State at ``t0``.
+    f_const : (n_dof,) ndarray
+        Constant applied force over the interval [N]: held external force, slipping sliders'
+        friction and the stuck Jenkins springs' ``k w d`` terms.
+    """
+
+    def __init__(self, system, config: ConfigData, t0: float, x0, v0, f_const):
+        self.system = system
+        self.config = config
+        self.t0 = float(t0)
+        self.x0 = np.asarray(x0, dtype=float)
+        self.f_const = np.asarray(f_const, dtype=float)
+        nb = config.N
+        m = config.m
+        self.omega = w = system.omega
+        minv = config.mr_inv_nt
+        b0 = np.concatenate([np.zeros(m), minv @ (self.f_const - config.stiffness @ self.x0)])
+        bc = np.concatenate([np.zeros(m), minv @ system.force_cos])
+        bs = np.concatenate([np.zeros(m), minv @ system.force_sin])
+        y0 = np.concatenate([np.zeros(m), nb.T @ np.asarray(v0, dtype=float)])
+        self._y0 = y0
+        if config.modal and m:
+            wi = config.W
+            self.eta0 = wi @ y0
+            self.beta0 = wi @ b0
+            ph = np.exp(1j * w * self.t0)
+            self.gp = wi @ (bc - 1j * bs) * 0.5 * ph
+            self.gm = wi @ (bc + 1j * bs) * 0.5 * np.conj(ph)
+            # exp-polynomial form eta = e^{lam tau} a + b0 + b+ e^{iw tau} + b- e^{-iw tau}, with the
+            # (near-)resonant mode/forcing pairs kept in the phi1 form (exact at resonance)
+            lam = config.lam
+            scale = max(config.max_rate, w, 1e-300)
+            a = self.eta0.copy()
+            self._near = []
+            self._b = []
+            for mu, c in ((0.0, self.beta0), (1j * w, self.gp), (-1j * w, self.gm)):
+                dmu = mu - lam
+                near = np.abs(dmu) < 1e-4 * scale
+                bk = np.where(near, 0.0, c / np.where(near, 1.0, dmu))
+                a -= bk
+                self._b.append(bk)
+                if np.any(near & (c != 0)):
+                    self._near.append((mu, np.where(near, c, 0.0)))
+            self._a = a
+        elif m:
+            n2 = 2 * m
+            aug = np.zeros((n2 + 3, n2 + 3))
+            aug[:n2, :n2] = config.A
+            c0, s0 = math.cos(w * self.t0), math.sin(w * self.t0)
+            # local harmonic states: cos(w(t0+tau)), sin(w(t0+tau))
+            aug[:n2, n2] = bc
+            aug[:n2, n2 + 1] = bs
+            aug[:n2, n2 + 2] = b0
+            aug[n2, n2 + 1] = -w
+            aug[n2 + 1, n2] = w
+            self._aug = aug
+            self._z0 = np.concatenate([y0, [c0, s0, 1.0]])
+
+    # ------------------------------------------------------------------ state
+    def _eta(self, tau: np.ndarray, order: int):
+        """Modal coordinates and their derivatives up to ``order`` at local times ``tau``."""
+        lam = self.config.lam[:, None]
+        t = tau[None, :]
+        w = self.omega
+        eip = np.exp(1j * w * t)
+        eim = np.conj(eip)
+        b0, bp, bm = self._b
+        eta = (np.exp(lam * t) * self._a[:, None] + b0[:, None]
+               + bp[:, None] * eip + bm[:, None] * eim)
+        for mu, c in self._near:
+            eta = eta + c[:, None] * _E(lam, mu, t)
+        out = [eta]
+        if order >= 1:
+            beta = self.beta0[:, None] + self.gp[:, None] * eip + self.gm[:, None] * eim
+            d1 = lam * eta + beta
+            out.append(d1)
+            if order >= 2:
+                dbeta = 1j * w * (self.gp[:, None] * eip - self.gm[:, None] * eim)
+                out.append(lam * d1 + dbeta)
+        return out
+
+    def y(self, tau, order: int = 0) -> list[np.ndarray]:
+        """Reduced state ``[q, q']`` (2m, k) and its time derivatives up to ``order``."""
+        tau = np.atleast_1d(np.asarray(tau, dtype=float))
+        cfg = self.config
+        m2 = 2 * cfg.m
+        if m2 == 0:
+            return [np.zeros((0, tau.size)) for _ in range(order + 1)]
+        if cfg.modal:
+            return [(cfg.V @ e).real for e in self._eta(tau, order)]
+        zs = np.empty((m2 + 3, tau.size))
+        for k, tk in enumerate(tau):
+            zs[:, k] = scipy.linalg.expm(self._aug * tk) @ self._z0
+        out = [zs[:m2]]
+        dz = self._aug @ zs
+        if order >= 1:
+            out.append(dz[:m2])
+        if order >= 2:
+            out.append((self._aug @ dz)[:m2])
+        return out
+
+    def state(self, tau):
+        """Structural displacement and velocity (n_dof, k) at local times ``tau``."""
+        y = self.y(tau)[0]
+        m = self.config.m
+        nb = self.config.N
+        x = self.x0[:, None] + nb @ y[:m]
+        v = nb @ y[m:]
+        return x, v
+
+    # ------------------------------------------------------------ observables
+    def reduce(self, obs: Observables):
+        """Coefficients of an observable in reduced form: ``Q = Cy y + c0 + cc cos + cs sin``."""
+        nb = self.config.N
+        cy = np.hstack([obs.ax @ nb, obs.av @ nb])
+        c0 = obs.ax @ self.x0 + obs.af @ self.f_const + obs.a0
+        cc = obs.af @ self.system.force_cos
+        cs = obs.af @ self.system.force_sin
+        return cy, c0, cc, cs
+
+    def evaluate(self, red, tau, order: int = 0) -> list[np.ndarray]:
+        """Observable values (n_obs, k) and time derivatives up to ``order`` at local times ``tau``."""
+        cy, c0, cc, cs = red
+        tau = np.atleast_1d(np.asarray(tau, dtype=float))
+        ys = self.y(tau, order)
+        w = self.omega
+        ph = w * (self.t0 + tau)
+        co, si = np.cos(ph), np.sin(ph)
+        out = [cy @ ys[0] + c0[:, None] + np.outer(cc, co) + np.outer(cs, si)]
+        if order >= 1:
+            out.append(cy @ ys[1] + w * (np.outer(cs, co) - np.outer(cc, si)))
+        if order >= 2:
+            out.append(cy @ ys[2] - w * w * (np.outer(cc, co) + np.outer(cs, si)))
+        return out

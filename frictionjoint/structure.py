@@ -1,0 +1,120 @@
+"""Linear structure: mass, damping and stiffness matrices with named DOFs."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["LinearStructure"]
+
+
+def _square_matrix(name: str, value, n: int | None) -> np.ndarray:
+    a = np.atleast_2d(np.asarray(value, dtype=float))
+    if a.ndim != 2 or a.shape[0] != a.shape[1]:
+        raise ParameterError(f"{name} must be a square matrix, got shape {np.shape(value)}")
+    if n is not None and a.shape[0] != n:
+        raise ParameterError(f"{name} must have shape ({n}, {n}), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ParameterError(f"{name} must contain only finite values")
+    scale = max(np.max(np.abs(a)), np.finfo(float).tiny)
+    if np.max(np.abs(a - a.T)) > 1e-12 * scale:
+        raise ParameterError(f"{name} must be symmetric")
+    a = 0.5 * (a + a.T)
+    a.setflags(write=False)
+    return a
+
+
+def _check_definite(name: str, a: np.ndarray, strict: bool) -> None:
+    eig = np.linalg.eigvalsh(a)
+    scale = max(np.max(np.abs(eig)), np.finfo(float).tiny)
+    if strict and eig[0] <= 1e-14 * scale:
+        raise ParameterError(f"{name} must be positive definite (smallest eigenvalue {eig[0]:.3g})")
+    if not strict and eig[0] < -1e-12 * scale:
+        raise ParameterError(
+            f"{name} must be positive semi-definite (smallest eigenvalue {eig[0]:.3g})")
+
+
+class LinearStructure:
+    """Linear multi-DOF structure ``M x'' + C x' + K x = f``.
+
+    Parameters
+    ----------
+    mass : (n, n) array_like
+        Mass matrix [kg], symmetric positive definite (a scalar gives one DOF).
+    stiffness : (n, n) array_like
+        Stiffness matrix [N/m], symmetric positive semi-definite.
+    damping : (n, n) array_like, optional
+        Viscous damping matrix [N s/m], symmetric positive semi-definite; zero if omitted.
+    dof_names : sequence of str, optional
+        Names of the DOFs; ``"x0", "x1", ...`` if omitted.
+    """
+
+    def __init__(self, mass, stiffness, damping=None, dof_names: Sequence[str] | None = None):
+        self.mass = _square_matrix("mass", mass, None)
+        n = self.mass.shape[0]
+        self.stiffness = _square_matrix("stiffness", stiffness, n)
+        self.damping = _square_matrix("damping", np.zeros((n, n)) if damping is None else damping, n)
+        _check_definite("mass", self.mass, strict=True)
+        _check_definite("stiffness", self.stiffness, strict=False)
+        _check_definite("damping", self.damping, strict=False)
+        if dof_names is None:
+            dof_names = [f"x{i}" for i in range(n)]
+        dof_names = [str(s) for s in dof_names]
+        if len(dof_names) != n or len(set(dof_names)) != n:
+            raise ParameterError(f"dof_names must be {n} distinct names, got {dof_names!r}")
+        self.dof_names = tuple(dof_names)
+
+    @property
+    def n_dof(self) -> int:
+        """Number of degrees of freedom."""
+        return self.mass.shape[0]
+
+    def dof_index(self, dof) -> int:
+        """Index of a DOF given by name or index."""
+        if isinstance(dof, str):
+            try:
+                return self.dof_names.index(dof)
+            except ValueError:
+                raise ParameterError(f"dof must be one of {self.dof_names}, got {dof!r}") from None
+        if isinstance(dof, (bool, np.bool_)) or not isinstance(dof, (int, np.integer)):
+            raise ParameterError(f"dof must be a DOF name or an integer index, got {dof!r}")
+        if not 0 <= dof < self.n_dof:
+            raise ParameterError(f"dof must be in [0, {self.n_dof - 1}], got {dof}")
+        return int(dof)
+
+    def direction(self, dof=None, direction=None) -> np.ndarray:
+        """Unit-free direction vector (n,) of an element attached at ``dof`` or along ``direction``."""
+        if (dof is None) == (direction is None):
+            raise ParameterError("give exactly one of dof and direction")
+        if dof is not None:
+            d = np.zeros(self.n_dof)
+            d[self.dof_index(dof)] = 1.0
+            return d
+        d = np.asarray(direction, dtype=float).reshape(-1)
+        if d.shape != (self.n_dof,) or not np.all(np.isfinite(d)) or not np.any(d):
+            raise ParameterError(
+                f"direction must be a finite non-zero vector of length {self.n_dof}, got {direction!r}")
+        return d
+
+    def natural_frequencies(self) -> np.ndarray:
+        """Undamped natural angular frequencies [rad/s], ascending."""
+        import scipy.linalg
+
+        lam = scipy.linalg.eigh(self.stiffness, self.mass, eigvals_only=True)
+        return np.sqrt(np.clip(lam, 0.0, None))
+
+    def to_statespace(self):
+        """python-control state-space model, state ``[x, v]``, input force, output ``x``."""
+        import control
+
+        n = self.n_dof
+        minv = np.linalg.inv(self.mass)
+        a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ self.stiffness, -minv @ self.damping]])
+        b = np.vstack([np.zeros((n, n)), minv])
+        c = np.hstack([np.eye(n), np.zeros((n, n))])
+        return control.ss(a, b, c, np.zeros((n, n)))
+
+    def __repr__(self) -> str:
+        return f"LinearStructure(n_dof={self.n_dof}, dof_names={self.dof_names})"

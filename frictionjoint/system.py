@@ -1,0 +1,120 @@
+"""A linear structure with joint elements and excitation: the model the solvers march."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .errors import ParameterError, check_positive
+from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
+from .structure import LinearStructure
+
+__all__ = ["FrictionSystem"]
+
+
+class FrictionSystem:
+    """Linear structure + joint elements + excitation at one angular frequency.
+
+    Parameters
+    ----------
+    structure : LinearStructure
+        The linear part.
+    elements : sequence
+        Joint elements (:class:`~frictionjoint.elements.CoulombSlider`,
+        :class:`~frictionjoint.elements.Jenkins`, :class:`~frictionjoint.elements.Iwan`), each
+        attached by its ``dof`` or ``direction``.
+    omega : float, optional
+        Angular frequency [rad/s] of all harmonic sources, > 0; required if there are any.
+    excitation : sequence, optional
+        :class:`HarmonicForce`, :class:`HarmonicBaseMotion` and :class:`ExternalForce` objects.
+    """
+
+    def __init__(self, structure: LinearStructure, elements: Sequence = (), omega: float | None = None,
+                 excitation: Sequence = ()):
+        if not isinstance(structure, LinearStructure):
+            raise ParameterError(f"structure must be a LinearStructure, got {type(structure).__name__}")
+        self.structure = structure
+        self.elements = tuple(elements)
+        self.excitation = tuple(excitation)
+        n = structure.n_dof
+        harmonic = [e for e in self.excitation if isinstance(e, (HarmonicForce, HarmonicBaseMotion))]
+        for e in self.excitation:
+            if not isinstance(e, (HarmonicForce, HarmonicBaseMotion, ExternalForce)):
+                raise ParameterError(f"excitation items must be HarmonicForce, HarmonicBaseMotion or "
+                                     f"ExternalForce, got {type(e).__name__}")
+        if omega is None:
+            if harmonic:
+                raise ParameterError("omega is required when there is harmonic excitation")
+            self.omega = 0.0
+        else:
+            self.omega = check_positive("omega", omega)
+
+        k = np.array(structure.stiffness)
+        c = np.array(structure.damping)
+        fc = np.zeros(n)
+        fs = np.zeros(n)
+        w = self.omega
+        for e in harmonic:
+            i = structure.dof_index(e.dof)
+            if isinstance(e, HarmonicForce):
+                fc[i] += e.amplitude * np.cos(e.phase)
+                fs[i] += e.amplitude * np.sin(e.phase)
+            else:
+                k[i, i] += e.stiffness
+                c[i, i] += e.damping
+                y = e.amplitude
+                # k y + c y',  y = Y cos(wt - phase)
+                fc[i] += e.stiffness * y * np.cos(e.phase) + e.damping * y * w * np.sin(e.phase)
+                fs[i] += e.stiffness * y * np.sin(e.phase) - e.damping * y * w * np.cos(e.phase)
+        self.mass = np.array(structure.mass)
+        self.stiffness = k
+        self.damping = c
+        self.force_cos = fc
+        self.force_sin = fs
+        self.external = [(structure.dof_index(e.dof), e) for e in self.excitation
+                         if isinstance(e, ExternalForce)]
+
+        d_rows, fsl, ksl, owner = [], [], [], []
+        for ie, el in enumerate(self.elements):
+            if not hasattr(el, "sliders"):
+                raise ParameterError(f"elements[{ie}] is not a joint element: {el!r}")
+            d = structure.direction(getattr(el, "dof", None), getattr(el, "direction", None))
+            for s in el.sliders():
+                d_rows.append(d)
+                fsl.append(s.slip_force)
+                ksl.append(s.stiffness)
+                owner.append(ie)
+        self.slider_direction = np.array(d_rows, dtype=float).reshape(len(d_rows), n)
+        self.slip_force = np.array(fsl, dtype=float)
+        self.slider_stiffness = np.array(ksl, dtype=float)
+        self.rigid = np.isinf(self.slider_stiffness)
+        self.slider_owner = np.array(owner, dtype=int)
+
+    @property
+    def n_dof(self) -> int:
+        """Number of structural DOFs."""
+        return self.structure.n_dof
+
+    @property
+    def n_sliders(self) -> int:
+        """Number of sliders after expanding the elements."""
+        return self.slip_force.size
+
+    def external_force(self, t: float) -> np.ndarray:
+        """Held external force vector (n_dof,) [N] at time ``t``."""
+        f = np.zeros(self.n_dof)
+        for i, e in self.external:
+            f[i] += e.value(t)
+        return f
+
+    def external_breaks(self) -> np.ndarray:
+        """Sorted switching times [s] of the held external forces."""
+        if not self.external:
+            return np.empty(0)
+        return np.unique(np.concatenate([e.times for _, e in self.external]))
+
+    def harmonic_force(self, t) -> np.ndarray:
+        """Equivalent harmonic force (n_dof, ...) [N] at time(s) ``t``."""
+        t = np.asarray(t, dtype=float)
+        return (np.multiply.outer(self.force_cos, np.cos(self.omega * t))
+                + np.multiply.outer(self.force_sin, np.sin(self.omega * t)))
