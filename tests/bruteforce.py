@@ -301,21 +301,35 @@ def _period_properties(sy, segments, t0, T):
     return xmax, a1, b1
 
 
+_QUIET_PERIODS = 20
+
+
+def _contraction(hist, tol):
+    """Contraction factor of the period map from the differences still well above the
+    integration noise (> 1e3 tol); None if there are too few."""
+    clean = [d for d in hist if d > 1e3 * tol]
+    if len(clean) < 3 or hist[-1] > 1e3 * tol:
+        return None if len(clean) < 3 else min(1.0, (clean[-1] / clean[-3]) ** 0.5)
+    k = min(len(clean), 11)
+    return min(1.0, (clean[-1] / clean[-k]) ** (1.0 / (k - 1)))
+
+
 def coulomb_steady_state(mass, stiffness, damping, slip_force, force_amplitude, base_amplitude,
                          omega, x0=0.0, v0=0.0, tol=1e-11, max_periods=2000):
     """Periodic steady state of the Coulomb oscillator by plain period-by-period marching.
 
-    Converged when the state at t = nT repeats: max(|dx|, |dv|/w_ref) <= tol * scale,
-    scale = max |x| over the period; if the map contracts slowly (ratio q of
-    successive differences), the geometric estimate d q/(1-q) of the remaining
-    distance to the fixed point must also be below tol * scale.
+    Converged when the state at t = nT repeats: d = max(|dx|, |dv|/w_ref)/scale <= tol,
+    scale = max |x| over the period, and either the geometric estimate d q/(1-q)
+    of the remaining distance to the fixed point is <= tol (q = contraction of the
+    period map measured while d > 1e3 tol) or d has stayed <= tol for 20
+    consecutive periods (slow contraction at the integration-noise floor, ~1e-12).
 
     Returns Result: amplitude (max |x| over the period), phase = atan2(b1, a1)
     (lag of the first harmonic of x behind cos wt), a1, b1, first_harmonic,
     stops_per_cycle (stick intervals starting in one period), permanently_stuck,
     periods (periods marched), converged, x0, v0, mode0 (state at the period
     start nT), t0 = nT, events (of that period, absolute times),
-    dissipated_per_cycle, residual (last state difference / scale).
+    dissipated_per_cycle, residual (last d), error_estimate (max(d, d q/(1-q))).
     """
     sy = _Coulomb(mass, stiffness, damping, slip_force, force_amplitude, base_amplitude, omega)
     if sy.w <= 0:
@@ -325,7 +339,8 @@ def coulomb_steady_state(mass, stiffness, damping, slip_force, force_amplitude, 
     wref = scl[1]
     x, v = float(x0), float(v0)
     mode = _coulomb_initial_mode(sy, x, v)
-    d_prev = None
+    hist = []
+    quiet = 0
     converged = False
     n = 0
     last = None
@@ -336,18 +351,17 @@ def coulomb_steady_state(mass, stiffness, damping, slip_force, force_amplitude, 
         xmax = max(abs(x), abs(x1), max((abs(s[3](np.array([s[0]]))[0][0]) for s in segments), default=0.0))
         scale = max(xmax, 1e-300)
         d = max(abs(x1 - x), abs(v1 - v) / wref) / scale
-        last = (t_a, x, v, mode, events, segments, diss, d)
         n += 1
-        ok = d <= tol and mode1 == mode
-        if ok and d_prev is not None and 0 < d < d_prev:
-            q = d / d_prev
-            ok = d * q / (1.0 - q) <= tol
-        if ok or (d == 0.0 and mode1 == mode):
+        hist.append(d)
+        quiet = quiet + 1 if (d <= tol and mode1 == mode) else 0
+        q = _contraction(hist, tol)
+        est = d if q is None else (d * q / (1.0 - q) if q < 1.0 else math.inf)
+        last = (t_a, x, v, mode, events, segments, diss, d, est)
+        if mode1 == mode and (d == 0.0 or (d <= tol and (est <= tol or quiet >= _QUIET_PERIODS))):
             converged = True
             break
-        d_prev = d if d > 0 else d_prev
         x, v, mode = x1, v1, mode1
-    t_a, xs0, vs0, mode0, events, segments, diss, d = last
+    t_a, xs0, vs0, mode0, events, segments, diss, d, est = last
     amp, a1, b1 = _period_properties(sy, segments, t_a, T)
     stops = sum(1 for _, kind in events if kind == "stick")
     stuck = all(s[2] == 0 for s in segments)
@@ -355,7 +369,7 @@ def coulomb_steady_state(mass, stiffness, damping, slip_force, force_amplitude, 
                   first_harmonic=math.hypot(a1, b1), stops_per_cycle=stops,
                   permanently_stuck=stuck, periods=n, converged=converged,
                   x0=xs0, v0=vs0, mode0=mode0, t0=t_a, events=events,
-                  dissipated_per_cycle=diss, residual=d)
+                  dissipated_per_cycle=diss, residual=d, error_estimate=max(d, est))
 
 
 # --------------------------------------------------------------------------- Jenkins / Iwan

@@ -163,9 +163,13 @@ class Marcher:
         return state
 
     # ---------------------------------------------------------- observables
-    def _f_const(self, state: MarchState) -> np.ndarray:
+    def _f_ext(self, t: float) -> np.ndarray:
         sysm = self.system
-        f = sysm.external_force(state.t) if sysm.external else np.zeros(sysm.n_dof)
+        return sysm.external_force(t) if sysm.external else np.zeros(sysm.n_dof)
+
+    def _f_const(self, state: MarchState, f_ext: np.ndarray) -> np.ndarray:
+        sysm = self.system
+        f = f_ext.copy()
         st = state.status
         d = sysm.slider_direction
         slip = st != 0
@@ -176,7 +180,7 @@ class Marcher:
             f += d[jst].T @ (sysm.slider_stiffness[jst] * state.w[jst])
         return f
 
-    def _event_observables(self, cfg: ConfigData, state: MarchState):
+    def _event_observables(self, cfg: ConfigData, state):
         """Event functions (valid while > 0) and their meta ``(slider, kind)``, kind in v/+/-."""
         sysm = self.system
         n = sysm.n_dof
@@ -206,8 +210,9 @@ class Marcher:
             return None, meta
         return Observables(rows_x, rows_v, rows_f, a0), meta
 
-    def force_observables(self, cfg: ConfigData, state: MarchState) -> Observables:
-        """Slider forces ``T`` (restoring convention) as observables, one row per slider."""
+    def force_observables(self, itv: Interval) -> Observables:
+        """Slider forces ``T`` (restoring convention) on an interval, one row per slider."""
+        cfg, state = itv.config, itv
         sysm = self.system
         n = sysm.n_dof
         ns = sysm.n_sliders
@@ -229,7 +234,9 @@ class Marcher:
     def interval(self, state: MarchState):
         """Closed-form :class:`Interval` from ``state`` and its event functions."""
         cfg = self.config(state.status)
-        itv = Interval(self.system, cfg, state.t, state.x, state.v, self._f_const(state))
+        f_ext = self._f_ext(state.t)
+        itv = Interval(self.system, cfg, state.t, state.x, state.v, self._f_const(state, f_ext))
+        itv.f_ext = f_ext
         itv.status = state.status.copy()
         itv.w = state.w.copy()
         obs, meta = self._event_observables(cfg, state)
@@ -283,13 +290,13 @@ class Marcher:
             tol = self._tolerances(itv, meta)
             rate = max(self.system.omega, itv.config.max_rate, 1e-300)
             atzero = np.abs(g) <= tol
-            dtol = 1e-9 * np.maximum(tol, 1e-300) * rate * 1e2
+            dtol = 10.0 * np.maximum(tol, 1e-300) * rate
             bad = np.where(atzero, (dg < -dtol) | ((np.abs(dg) <= dtol) & (ddg < 0)), g < 0)
             itv.atzero = atzero
             if not np.any(bad):
                 break
             # most violated first, normalised by its tolerance scale
-            score = np.where(atzero, np.where(dg < -dtol, dg / (dtol * 1e9), -1.0), g / np.maximum(tol, 1e-300))
+            score = np.where(atzero, np.where(dg < -dtol, dg / dtol, -1.0), g / np.maximum(tol, 1e-300))
             score = np.where(bad, score, np.inf)
             j = int(np.argmin(score))
             i, kind = meta[j]

@@ -1,0 +1,114 @@
+"""Result objects: time responses and periodic (steady-state) responses."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+__all__ = ["TimeResponse", "PeriodicResponse"]
+
+
+@dataclass
+class TimeResponse:
+    """Response of a marched simulation at the requested times.
+
+    Arrays hold only what was requested (``record``); the others are ``None``.
+
+    Attributes
+    ----------
+    t : (n_t,) ndarray
+        Times [s].
+    x, v : (n_dof, n_t) ndarray or (n_t,) for single-DOF APIs
+        Displacement [m] and velocity [m/s].
+    friction_force : (n_elements, n_t) ndarray or (n_t,)
+        Element forces [N], restoring convention (the structure feels ``-T d``).
+    events : EventLog
+        Every event: time, element, slider, kind.
+    work, stored_energy, dissipated_friction, dissipated_viscous : (n_t,) ndarray
+        Energy accounting [J] when ``'energy'`` was recorded: work of the applied forces since the
+        start, stored (kinetic + elastic, incl. Jenkins springs) energy, energy dissipated by
+        friction and by viscous damping since the start.
+    success : bool
+    message : str
+    """
+
+    t: np.ndarray
+    x: Optional[np.ndarray] = None
+    v: Optional[np.ndarray] = None
+    friction_force: Optional[np.ndarray] = None
+    events: object = None
+    work: Optional[np.ndarray] = None
+    stored_energy: Optional[np.ndarray] = None
+    dissipated_friction: Optional[np.ndarray] = None
+    dissipated_viscous: Optional[np.ndarray] = None
+    success: bool = True
+    message: str = "ok"
+    final_state: object = field(default=None, repr=False)
+
+    def energy_residual(self) -> np.ndarray:
+        """``work - (stored - stored[0]) - dissipated``: zero for an exact solution [J]."""
+        if self.work is None:
+            raise ValueError("energy was not recorded: simulate(..., record=(..., 'energy'))")
+        return (self.work - (self.stored_energy - self.stored_energy[0])
+                - self.dissipated_friction - self.dissipated_viscous)
+
+    def plot(self, ax=None, **kwargs):
+        """Plot displacement against time (see :func:`frictionjoint.plotting.plot_time_response`)."""
+        from .plotting import plot_time_response
+
+        return plot_time_response(self, ax=ax, **kwargs)
+
+
+@dataclass
+class PeriodicResponse:
+    """Periodic steady state over one excitation period.
+
+    Attributes
+    ----------
+    omega : float
+        Excitation angular frequency [rad/s].
+    amplitude : float or (n_dof,) ndarray
+        Max ``|x|`` over one steady period [m].
+    phase : float or (n_dof,) ndarray
+        Phase lag [rad] of the first harmonic of ``x`` behind ``cos(omega t)``.
+    harmonic_amplitude : float or (n_dof,) ndarray
+        Amplitude of the first harmonic of ``x`` [m].
+    stops_per_cycle : int
+        Stops of finite duration (slip -> stick) per period, over all sliders.
+    stuck : bool
+        True when nothing slips over the whole period (permanent stick).
+    converged : bool
+        True when a periodic orbit was found to tolerance.
+    unique : bool
+        False when the orbit belongs to a family (period map with an eigenvalue 1).
+    message : str
+        What happened, in words.
+    periods : float
+        Number of excitation periods marched (all shooting iterations included).
+    state : ndarray
+        ``[x, v, w]`` at ``section_time`` on the orbit.
+    section_time : float
+        Time within the period [s] at which the orbit state is given.
+    events : EventLog
+        Events of the final period.
+    dissipated_per_cycle : float
+        Energy dissipated by friction over one period [J].
+    """
+
+    omega: float
+    amplitude: object
+    phase: object
+    harmonic_amplitude: object
+    stops_per_cycle: int
+    stuck: bool
+    converged: bool
+    unique: bool
+    message: str
+    periods: float
+    state: np.ndarray = field(repr=False, default=None)
+    section_time: float = 0.0
+    events: object = field(repr=False, default=None)
+    dissipated_per_cycle: float = float("nan")
+    t: Optional[np.ndarray] = field(repr=False, default=None)
+    x: Optional[np.ndarray] = field(repr=False, default=None)
