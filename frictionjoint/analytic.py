@@ -327,6 +327,8 @@ class DenHartogResponse:
         ``wn = sqrt(k/m)`` [rad/s].
     omega : float
         Excitation angular frequency ``w`` [rad/s].
+    stiffness : float
+        ``k`` [N/m].
     regime, applicable, unique, message
         As in :class:`DenHartogSolution`.
     dimensionless : DenHartogSolution

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, root
@@ -118,8 +118,8 @@ def brute_steady(r, f, n_march=30):
     y, _, _ = simulate(r, f, [0.0, 0.0], n_march)
     sol = root(lambda z: simulate(r, f, z, 1)[0][:2] - z, y[:2], method="hybr",
                options={"xtol": 1e-14})
-    assert sol.success, sol.message
     y, turns, sticks = simulate(r, f, sol.x, 1)
+    assert np.max(np.abs(y[:2] - sol.x)) < 1e-11     # a fixed point of the period map
     a1, b1 = y[2] * r / math.pi, y[3] * r / math.pi
     xs = np.array([x for _, x in turns])
     i = int(np.argmax(xs))
@@ -201,7 +201,8 @@ def test_waveform_junction_antisymmetry_and_turning_points(r, f):
     # amplitude = max |x|, and theta is where it is reached (DESIGN claim (3)).
     dense = np.linspace(0, 2 * math.pi, 200001)
     xd = sol.waveform(dense)
-    assert np.max(np.abs(xd)) == pytest.approx(sol.amplitude, abs=1e-12)
+    assert np.max(np.abs(xd)) <= sol.amplitude + 1e-13
+    assert np.max(np.abs(xd)) == pytest.approx(sol.amplitude, abs=1e-8)
     assert math.remainder(dense[np.argmax(xd)] - theta, 2 * math.pi) == pytest.approx(
         0.0, abs=1e-4)
 
@@ -311,8 +312,7 @@ def test_permanent_stick_for_f_at_least_one():
     assert sticks[-1][1] == math.inf
     assert den_hartog(2.0, 1.0).regime == "stuck"
     assert den_hartog(1.0, 1.0).regime == "stuck"
-    assert den_hartog(0.99, 0.999).regime in ("stops", "stuck") and den_hartog(
-        0.99, 0.999).regime != "stuck"
+    assert den_hartog(0.99, 0.999).regime == "stops"
 
 
 def test_family_at_r_one_over_2n():
@@ -358,17 +358,19 @@ def test_first_harmonic_closed_form_vs_gauss_legendre(r, f):
 
 
 @HYPO
-@given(r=st.floats(0.5, 5.0), q=st.floats(0.01, 0.99))
-def test_energy_balance_and_passivity(r, q):
+@given(r=st.floats(0.15, 5.0), q=st.floats(0.01, 0.99))
+def test_energy_balance_passivity_and_residual(r, q):
     # Work of the force per cycle, int cos(phi) dx, equals the friction dissipation 4 f X̄.
     f = min(q * den_hartog_boundary(r), 0.99)
-    if r == 1.0:
-        return
     sol = den_hartog(r, f)
-    assert sol.applicable
+    assume(sol.applicable)
+    phi = np.linspace(0, 2 * math.pi, 513)
+    vel = sol.waveform(phi, 1)
+    res = sol.waveform(phi, 2) + sol.waveform(phi) + f * np.sign(vel) - np.cos(phi)
+    assert np.max(np.abs(res[np.abs(vel) > 1e-9])) < TOL_RESIDUAL * max(1.0, sol.amplitude)
     lo = sol.peak_phase - math.pi
     work = 2 * gauss_legendre(lambda p: np.cos(p) * sol.waveform(p, 1) / r, lo, lo + math.pi,
-                              160)
+                              max(160, int(8 / r)))
     scale = max(1.0, sol.dissipation_per_cycle)
     assert work == pytest.approx(sol.dissipation_per_cycle, abs=1e-9 * scale)
     assert sol.dissipation_per_cycle >= 0
@@ -449,10 +451,14 @@ def jenkins_loop_harmonic(kt, fs, u0, n=60):
             return np.array([kt * (u0 * math.cos(q) - step(s0, u0 * math.cos(q)))
                              for q in np.atleast_1d(p)])
 
-        stick = lambda p, s0=s0: abs(kt * (u0 * math.cos(p) - s0)) - fs * (1 - 1e-15)
+        sign = math.copysign(1.0, kt * (u0 * math.cos(lo) - s0))
+
+        def stuck_margin(p, s0=s0, sign=sign):   # > 0 while the stuck force is within fs
+            return sign * kt * (u0 * math.cos(p) - s0) + fs
+
         pieces = [lo, lo + math.pi]
-        if stick(lo + math.pi) > 0:
-            pieces = [lo, brentq(stick, lo + 1e-300, lo + math.pi, xtol=1e-16, rtol=1e-15),
+        if stuck_margin(lo + math.pi) < 0:
+            pieces = [lo, brentq(stuck_margin, lo, lo + math.pi, xtol=1e-16, rtol=1e-15),
                       lo + math.pi]
         for a, b in zip(pieces, pieces[1:]):
             a1 += gauss_legendre(lambda p: force(p) * np.cos(p), a, b, n) / math.pi
@@ -468,8 +474,7 @@ def test_jenkins_describing_function_vs_loop(ratio):
     k = jenkins_describing_function(kt, fs, u0)
     a1, b1 = jenkins_loop_harmonic(kt, fs, u0)
     # force first harmonic = u0 (Re K cos - Im K sin)
-    assert abs(k.real - a1 / u0) < TOL_FOURIER * kt
-    assert abs(k.imag + b1 / u0) < TOL_FOURIER * kt
+    assert abs(k - complex(a1, -b1) / u0) < TOL_FOURIER * abs(k)
     # dissipation = loop area 4 fs (u0 - uy)
     assert math.pi * u0 ** 2 * k.imag == pytest.approx(4 * fs * (u0 - fs / kt), rel=1e-12)
 
@@ -484,7 +489,7 @@ def test_jenkins_no_slip_and_continuity():
     assert jenkins_describing_function(kt, 0.0, 1e-3) == complex(0.0, 0.0)
     # series branch (beta < 0.05) continuous with the direct formula
     u_switch = uy / math.sin(0.025) ** 2
-    lo, hi = (jenkins_describing_function(kt, fs, u_switch * (1 + d)) for d in (-1e-9, 1e-9))
+    lo, hi = (jenkins_describing_function(kt, fs, u_switch * (1 + d)) for d in (-1e-15, 1e-15))
     assert abs(lo - hi) < 1e-12 * abs(lo)
 
 

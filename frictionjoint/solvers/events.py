@@ -231,10 +231,11 @@ class Marcher:
                 ax[i] = lr @ cfg.stiffness; av[i] = lr @ sysm.damping; af[i] = -lr
         return Observables(ax, av, af, a0)
 
-    def interval(self, state: MarchState):
+    def interval(self, state: MarchState, f_ext=None):
         """Closed-form :class:`Interval` from ``state`` and its event functions."""
         cfg = self.config(state.status)
-        f_ext = self._f_ext(state.t)
+        if f_ext is None:
+            f_ext = self._f_ext(state.t)
         itv = Interval(self.system, cfg, state.t, state.x, state.v, self._f_const(state, f_ext))
         itv.f_ext = f_ext
         itv.status = state.status.copy()
@@ -280,13 +281,13 @@ class Marcher:
         sysm = self.system
         old = state.status.copy()
         max_iter = 4 * sysm.n_sliders + 4
+        f_ext = self._f_ext(state.t)
         for _ in range(max_iter):
-            itv = self.interval(state)
+            itv = self.interval(state, f_ext)
             red, meta = itv.events
             if red is None:
                 break
-            g, dg, ddg = itv.evaluate(red, 0.0, order=2)
-            g, dg, ddg = g[:, 0], dg[:, 0], ddg[:, 0]
+            g, dg, ddg = itv.start_values(red)
             tol = self._tolerances(itv, meta)
             rate = max(self.system.omega, itv.config.max_rate, 1e-300)
             atzero = np.abs(g) <= tol
@@ -372,12 +373,7 @@ class Marcher:
 
     def _locate(self, itv, red, j, a, b, crossing, tol, h, start_zero):
         one = tuple(r[j:j + 1] for r in red)
-
-        def g(t):
-            return float(itv.evaluate(one, t)[0][0, 0])
-
-        def dg(t):
-            return float(itv.evaluate(one, t, order=1)[1][0, 0])
+        g, dg = itv.scalar(red, j)
 
         xtol = 1e-16 * h
         if crossing:
@@ -393,6 +389,8 @@ class Marcher:
                 b = ts[first]
             return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=_RTOL)
         # dip: local minimum between a and b
+        if dg(a) >= 0 or dg(b) <= 0:  # a sign change of g' that was rounding noise
+            return None
         tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=_RTOL)
         if start_zero and tm <= 1e-9 * h:
             return None

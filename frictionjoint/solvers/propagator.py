@@ -20,6 +20,7 @@ augmented system ``[y, cos, sin, 1]``.
 """
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
@@ -167,7 +168,18 @@ class Interval:
         bc = np.concatenate([np.zeros(m), minv @ system.force_cos])
         bs = np.concatenate([np.zeros(m), minv @ system.force_sin])
         y0 = np.concatenate([np.zeros(m), nb.T @ np.asarray(v0, dtype=float)])
+        self._bvec = (b0, bc, bs)
         self._y0 = y0
+        self._ready = False
+
+    def _prepare(self):
+        """Modal coefficients (or the augmented matrix), computed on first use only."""
+        self._ready = True
+        config = self.config
+        m = config.m
+        w = self.omega
+        b0, bc, bs = self._bvec
+        y0 = self._y0
         if config.modal and m:
             wi = config.W
             self.eta0 = wi @ y0
@@ -230,6 +242,8 @@ class Interval:
 
     def y(self, tau, order: int = 0) -> list[np.ndarray]:
         """Reduced state ``[q, q']`` (2m, k) and its time derivatives up to ``order``."""
+        if not self._ready:
+            self._prepare()
         tau = np.atleast_1d(np.asarray(tau, dtype=float))
         cfg = self.config
         m2 = 2 * cfg.m
@@ -266,6 +280,65 @@ class Interval:
         cc = obs.af @ self.system.force_cos
         cs = obs.af @ self.system.force_sin
         return cy, c0, cc, cs
+
+    def start_values(self, red) -> list[np.ndarray]:
+        """Observable values and first two time derivatives at ``tau = 0`` (no modal transform)."""
+        cy, c0, cc, cs = red
+        w = self.omega
+        if self.config.m:
+            b0, bc, bs = self._bvec
+            co, si = math.cos(w * self.t0), math.sin(w * self.t0)
+            a = self.config.A
+            y0 = self._y0
+            y1 = a @ y0 + b0 + bc * co + bs * si
+            y2 = a @ y1 + w * (bs * co - bc * si)
+            vals = [cy @ y0, cy @ y1, cy @ y2]
+        else:
+            co, si = math.cos(w * self.t0), math.sin(w * self.t0)
+            vals = [np.zeros(c0.size)] * 3
+        return [vals[0] + c0 + cc * co + cs * si,
+                vals[1] + w * (cs * co - cc * si),
+                vals[2] - w * w * (cc * co + cs * si)]
+
+    def scalar(self, red, j: int):
+        """Fast scalar ``g(tau)`` and ``g'(tau)`` of observable row ``j`` (for root finding)."""
+        one = tuple(r[j:j + 1] for r in red)
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        if not (cfg.modal and cfg.m) or self._near:
+            def g(t):
+                return float(self.evaluate(one, t)[0][0, 0])
+
+            def dg(t):
+                return float(self.evaluate(one, t, order=1)[1][0, 0])
+            return g, dg
+        cy, c0, cc, cs = one
+        p = (cy @ cfg.V)[0]
+        lam = cfg.lam
+        pa = p * self._a
+        pla = pa * lam
+        b0, bp, bm = self._b
+        k0 = float((p @ b0).real) + float(c0[0])
+        kp = complex(p @ bp)
+        km = complex(p @ bm)
+        w = self.omega
+        t0 = self.t0
+        ccf, csf = float(cc[0]), float(cs[0])
+        exp = np.exp
+
+        def g(t):
+            e = cmath.exp(1j * w * t)
+            ph = w * (t0 + t)
+            return (float((pa @ exp(lam * t)).real) + k0 + (kp * e + km / e).real
+                    + ccf * math.cos(ph) + csf * math.sin(ph))
+
+        def dg(t):
+            e = cmath.exp(1j * w * t)
+            ph = w * (t0 + t)
+            return (float((pla @ exp(lam * t)).real) + (1j * w * (kp * e - km / e)).real
+                    + w * (csf * math.cos(ph) - ccf * math.sin(ph)))
+        return g, dg
 
     def evaluate(self, red, tau, order: int = 0) -> list[np.ndarray]:
         """Observable values (n_obs, k) and time derivatives up to ``order`` at local times ``tau``."""

@@ -1,0 +1,270 @@
+"""Periodic steady state by shooting on the period map (Newton with a finite-difference Jacobian).
+
+The period map ``P`` takes the state ``z = [x, v, w]`` at a section time ``t_s`` to the state one
+excitation period later; a periodic orbit is a fixed point ``P(z) = z``. Newton's method on
+``P(z) - z`` converges in a few periods where plain marching needs hundreds when friction is low.
+The section time is put in the middle of the longest slipping piece of the first period, where
+the map is smooth. When Newton fails the orbit is sought by marching (fixed-point iteration),
+which also recognises unbounded growth. An eigenvalue 1 of the period map's Jacobian at the orbit
+(a singular ``J - I``) means a family of periodic orbits: reported as ``unique = False``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.optimize
+
+from ..errors import ParameterError
+from ..results import PeriodicResponse
+from .events import EventLog, MarchState, Marcher
+from .response import gauss_pieces
+
+__all__ = ["periodic_response"]
+
+
+class _PeriodMap:
+    def __init__(self, system, marcher: Marcher, t_s: float):
+        self.system = system
+        self.m = marcher
+        self.t_s = t_s
+        self.period = 2 * math.pi / system.omega
+        n = system.n_dof
+        self.n = n
+        self.jen = np.flatnonzero(~system.rigid)
+        self.calls = 0
+
+    def state(self, z: np.ndarray) -> MarchState:
+        sysm = self.system
+        n = self.n
+        x, v = z[:n], z[n:2 * n]
+        s = sysm.slider_direction @ x
+        w = s.copy()
+        if self.jen.size:
+            j = self.jen
+            lim = sysm.slip_force[j] / sysm.slider_stiffness[j]
+            w[j] = np.clip(z[2 * n:], s[j] - lim, s[j] + lim)
+        return self.m.initial_state(x, v, w, t0=self.t_s)
+
+    def vector(self, st: MarchState) -> np.ndarray:
+        return np.concatenate([st.x, st.v, st.w[self.jen]])
+
+    def __call__(self, z, log=None, on_interval=None):
+        st = self.state(z)
+        self.m.march(st, self.t_s + self.period, log, on_interval=on_interval)
+        self.calls += 1
+        return self.vector(st)
+
+    def scales(self, z) -> np.ndarray:
+        n = self.n
+        w_char = max(self.system.omega, float(np.max(self.system.structure.natural_frequencies(), initial=0)))
+        sx = max(float(np.max(np.abs(z[:n]))), float(np.max(np.abs(z[n:2 * n]))) / w_char, 1e-300)
+        sc = np.full(z.size, sx)
+        sc[n:2 * n] = sx * w_char
+        return sc
+
+
+def _jacobian(pmap: _PeriodMap, z, pz, scale):
+    nz = z.size
+    jac = np.empty((nz, nz))
+    n = pmap.n
+    for k in range(nz):
+        dz = 1e-7 * scale[k]
+        if k >= 2 * n:  # Jenkins slider position: perturb towards the inside of the slip limit
+            j = pmap.jen[k - 2 * n]
+            s = pmap.system.slider_direction[j] @ z[:n]
+            dz = -dz if z[k] < s else dz
+        zp = z.copy()
+        zp[k] += dz
+        jac[:, k] = (pmap(zp) - pz) / dz
+    return jac
+
+
+def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
+                      tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
+                      n_samples: int = 0) -> PeriodicResponse:
+    """Periodic steady state of a harmonically excited :class:`FrictionSystem`.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        Must have harmonic excitation (``omega > 0``).
+    x0, v0, w0 :
+        Initial guess (state at ``t = 0``) [m, m/s, m].
+    marcher : Marcher, optional
+        Reuse a marcher and its cache of configurations.
+    tol : float
+        Tolerance on the scaled fixed-point residual ``|P(z) - z|``.
+    max_newton : int
+        Newton iterations before falling back to marching.
+    max_periods : int
+        Excitation periods marched at most in the fallback.
+    n_samples : int
+        If > 0, also return ``n_samples`` samples of ``x`` over the period (``t``, ``x``).
+
+    Returns
+    -------
+    PeriodicResponse
+    """
+    if system.omega <= 0:
+        raise ParameterError("the system needs harmonic excitation with omega > 0 for a periodic response")
+    if not (isinstance(tol, float) and 0 < tol < 1):
+        raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
+    m = marcher if marcher is not None else Marcher(system)
+    period = 2 * math.pi / system.omega
+    st = m.initial_state(x0, v0, w0, t0=0.0)
+    z_start = np.concatenate([st.x, st.v, st.w[~system.rigid]])
+    pieces = []
+    m.march(st, period, on_interval=lambda itv, tau: pieces.append(
+        (itv.t0, tau, int(np.count_nonzero(itv.status == 0)))))
+    # section time: t = 0 if it lies well inside pieces with the fewest stuck sliders, else the
+    # middle of the longest such piece (the period map is smooth there)
+    fewest = min(p[2] for p in pieces)
+    first, last = pieces[0], pieces[-1]
+    margin = 0.02 * period
+    if (first[2] == fewest and last[2] == fewest and first[1] > margin
+            and last[0] + last[1] - last[0] > margin and len(pieces) > 1):
+        t_s = 0.0
+        pmap = _PeriodMap(system, m, t_s)
+        z = z_start
+        st.t = 0.0
+        pz = pmap.vector(st)
+        periods = 1.0
+    else:
+        t_a, tau, _ = max((p for p in pieces if p[2] == fewest), key=lambda p: p[1])
+        t_s = (t_a + 0.5 * tau) % period
+        m.march(st, period + t_s)
+        st.t = t_s
+        pmap = _PeriodMap(system, m, t_s)
+        z = pmap.vector(st)
+        pz = pmap(z)
+        periods = 1.0 + t_s / period - 1.0  # pmap.calls counted at the end
+
+    converged = False
+    jac = None
+    message = ""
+    rnorm = math.inf
+    scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
+    r = pz - z
+    rnorm = float(np.max(np.abs(r) / scale0))
+    for _ in range(max_newton):
+        if rnorm <= tol:
+            converged = True
+            break
+        if jac is None:
+            jac = _jacobian(pmap, z, pz, scale0)
+        a = (jac - np.eye(z.size)) / scale0[:, None] * scale0[None, :]
+        step = np.linalg.lstsq(a, -r / scale0, rcond=1e-13)[0] * scale0
+        lam = 1.0
+        while lam >= 1 / 32:
+            zn = z + lam * step
+            pzn = pmap(zn)
+            rn = float(np.max(np.abs(pzn - zn) / scale0))
+            if rn < rnorm:
+                break
+            lam *= 0.5
+        else:
+            if jac is not None and lam < 1 / 32:
+                break
+        # chord method: keep the Jacobian while the residual falls fast
+        if rn > 0.05 * rnorm:
+            jac = None
+        z, pz, r, rnorm = zn, pzn, pzn - zn, rn
+    else:
+        converged = rnorm <= tol
+
+    growth = None
+    if not converged:
+        # fallback: march period after period; watch for growth
+        amps = []
+        if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
+            z = z_start  # Newton wandered off: march from the start instead
+        for k in range(max_periods):
+            pz = pmap(z)
+            r = pz - z
+            rnorm = float(np.max(np.abs(r) / pmap.scales(z)))
+            z = pz
+            amps.append(math.sqrt(float(np.sum(z[:pmap.n] ** 2))
+                                  + float(np.sum(z[pmap.n:2 * pmap.n] ** 2)) / system.omega ** 2))
+            if rnorm <= tol:
+                converged = True
+                break
+            if k >= 30 and k % 10 == 0:
+                inc = np.diff(amps[-20:])
+                if np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc):
+                    growth = float(np.mean(inc))
+                    break
+
+    unique = True
+    if converged:
+        if jac is None:
+            jac = _jacobian(pmap, z, pmap(z), pmap.scales(z))
+        sc = pmap.scales(z)
+        a = (jac - np.eye(z.size)) / sc[:, None] * sc[None, :]
+        sv = np.linalg.svd(a, compute_uv=False)
+        if sv[-1] <= 1e-6 * max(sv[0], 1.0):
+            unique = False
+
+    # evaluate the final period on the closed-form pieces
+    log = EventLog()
+    ndof = system.n_dof
+    amp = np.zeros(ndof)
+    a1 = np.zeros(ndof)
+    b1 = np.zeros(ndof)
+    diss = [0.0]
+    stuck_all = [True]
+    w = system.omega
+
+    def on_interval(itv, tau_end):
+        if tau_end <= 0:
+            return
+        x_end, _ = itv.state(np.array([0.0, tau_end]))
+        np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
+        rate = max(w, itv.config.max_rate)
+        nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 32) + 1)
+        taus = np.linspace(0.0, tau_end, nsamp)
+        xs, vs = itv.state(taus)
+        for i in range(ndof):
+            sgn = np.sign(vs[i])
+            for k in np.flatnonzero(sgn[:-1] * sgn[1:] < 0):
+                tr = scipy.optimize.brentq(lambda t: itv.state(t)[1][i, 0], taus[k], taus[k + 1],
+                                           xtol=1e-16 * tau_end + 1e-300)
+                amp[i] = max(amp[i], abs(itv.state(tr)[0][i, 0]))
+        nodes, wts = gauss_pieces(itv, 0.0, tau_end)
+        xq, _ = itv.state(nodes)
+        ph = w * (itv.t0 + nodes)
+        a1[:] += xq @ (wts * np.cos(ph))
+        b1[:] += xq @ (wts * np.sin(ph))
+        slip = itv.status != 0
+        if slip.any():
+            stuck_all[0] = False
+            d = system.slider_direction[slip]
+            diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
+
+    pmap(z, log=log, on_interval=on_interval)
+    periods += pmap.calls  # every call of the period map marches one period
+    a1 *= 2 / period
+    b1 *= 2 / period
+    stops = log.count("stick")
+    if converged:
+        message = "periodic steady state found"
+        if not unique:
+            message += ("; NOT UNIQUE: the period map has an eigenvalue 1 (a family of periodic "
+                        "orbits, e.g. different mean offsets or rest positions); this is one member")
+    elif growth is not None:
+        message = f"the response grows without bound (about {growth:.6g} m per period)"
+    else:
+        message = (f"no periodic steady state found (residual {rnorm:.3g} after {periods:.0f} periods): "
+                   "the response may be non-periodic or converge too slowly")
+    t_s_arr = x_s = None
+    if n_samples:
+        t_s_arr = t_s + period * np.arange(n_samples) / n_samples
+        from .response import simulate
+        tr = simulate(system, t_s + period, z[:ndof], z[ndof:2 * ndof], pmap.state(z).w, t0=t_s,
+                      t_eval=t_s_arr, record=("x",), marcher=m)
+        x_s = tr.x
+    return PeriodicResponse(
+        omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
+        stops_per_cycle=stops, stuck=stuck_all[0], converged=converged, unique=unique, message=message,
+        periods=periods, state=z, section_time=t_s, events=log, dissipated_per_cycle=diss[0],
+        t=t_s_arr, x=x_s)
