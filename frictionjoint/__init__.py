@@ -1,0 +1,38 @@
+"""frictionjoint: exact event-driven dynamics of frictional joints.
+
+Linear structures with Coulomb sliders, Jenkins and Iwan elements, marched exactly from event to
+event (no time step, no regularisation), periodic steady states by shooting, and the analytic
+single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
+"""
+from .elements import CoulombSlider, Iwan, Jenkins
+from .errors import ConvergenceError, ParameterError
+from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
+from .oscillator import CoulombOscillator
+from .results import PeriodicResponse, TimeResponse
+from .solvers.events import EventLog, Marcher
+from .solvers.response import simulate
+from .solvers.steady import periodic_response
+from .structure import LinearStructure
+from .system import FrictionSystem
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "CoulombOscillator",
+    "CoulombSlider",
+    "ConvergenceError",
+    "EventLog",
+    "ExternalForce",
+    "FrictionSystem",
+    "HarmonicBaseMotion",
+    "HarmonicForce",
+    "Iwan",
+    "Jenkins",
+    "LinearStructure",
+    "Marcher",
+    "ParameterError",
+    "PeriodicResponse",
+    "TimeResponse",
+    "periodic_response",
+    "simulate",
+]

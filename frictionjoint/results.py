@@ -90,6 +90,8 @@ class PeriodicResponse:
         ``[x, v, w]`` at ``section_time`` on the orbit.
     section_time : float
         Time within the period [s] at which the orbit state is given.
+    initial_state : ndarray
+        ``[x, v, w]`` on the orbit at ``t = 0`` (a start that needs no transient).
     events : EventLog
         Events of the final period.
     dissipated_per_cycle : float
@@ -108,6 +110,7 @@ class PeriodicResponse:
     periods: float
     state: np.ndarray = field(repr=False, default=None)
     section_time: float = 0.0
+    initial_state: np.ndarray = field(repr=False, default=None)
     events: object = field(repr=False, default=None)
     dissipated_per_cycle: float = float("nan")
     t: Optional[np.ndarray] = field(repr=False, default=None)

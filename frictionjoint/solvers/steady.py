@@ -215,7 +215,15 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     stuck_all = [True]
     w = system.omega
 
+    z0 = [None]
+
     def on_interval(itv, tau_end):
+        t_zero = period if t_s > 0 else t_s
+        if z0[0] is None and itv.t0 <= t_zero <= itv.t0 + tau_end:
+            xz, vz = itv.state(t_zero - itv.t0)
+            st0 = MarchState(0.0, xz[:, 0], vz[:, 0], itv.w, itv.status)
+            m._project(st0)
+            z0[0] = pmap.vector(st0)
         if tau_end <= 0:
             return
         x_end, _ = itv.state(np.array([0.0, tau_end]))
@@ -266,5 +274,5 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     return PeriodicResponse(
         omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
         stops_per_cycle=stops, stuck=stuck_all[0], converged=converged, unique=unique, message=message,
-        periods=periods, state=z, section_time=t_s, events=log, dissipated_per_cycle=diss[0],
+        periods=periods, state=z, section_time=t_s, initial_state=z0[0], events=log, dissipated_per_cycle=diss[0],
         t=t_s_arr, x=x_s)
