@@ -35,6 +35,7 @@ from types import SimpleNamespace
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 __all__ = ["coulomb_response", "coulomb_steady_state", "jenkins_response",
            "iwan_response"]
@@ -88,19 +89,67 @@ def _scales(m, k_eff, omega, P, k, Y, x0, v0):
 
 
 def _solve(rhs, t0, y0, t1, events, xs, wref, tshort):
+    """Integrate from t0 towards t1, stopping at the first mode-change event.
+
+    events: list of (g, direction, dg, gscale): g(t, y) the switching function
+    (crossing in `direction` ends the phase), dg its time derivative.  Besides
+    the sign changes at step ends that solve_ivp watches, the extrema of g
+    (roots of dg, non-terminal events) are checked: an extremum beyond the
+    threshold means g crossed and came back inside one step (a double crossing
+    solve_ivp cannot see); the first crossing is then found by brentq on the
+    dense output.  Returns (sol, fired, te, ye): fired is the index of the
+    event that ended the phase (None if t1 was reached).
+    """
+    evf = []
+    for g, d, _, _ in events:
+        evf.append(_make_event(g, d))
+    for _, d, dg, _ in events:
+        f = (lambda t, y, dg=dg: dg(t, y))
+        f.terminal = False
+        f.direction = -d          # local max of g (d = +1) / local min of g (d = -1)
+        evf.append(f)
     atol = np.array([ATOL_FACTOR * xs, ATOL_FACTOR * xs * wref])
     sol = solve_ivp(rhs, (t0, t1), np.asarray(y0, dtype=float), method=METHOD,
-                    events=events if events else None, dense_output=True,
+                    events=evf if evf else None, dense_output=True,
                     rtol=RTOL, atol=atol, max_step=tshort / STEPS_PER_PERIOD)
     if sol.status == -1:
         raise RuntimeError(f"solve_ivp failed: {sol.message}")
-    fired = None
+    n = len(events)
+    fired, te, ye = None, float(sol.t[-1]), sol.y[:, -1].copy()
     if sol.status == 1:
         best = math.inf
-        for i, te in enumerate(sol.t_events):
-            if len(te) and te[0] < best:
-                best, fired = te[0], i
-    return sol, fired
+        for i in range(n):
+            if len(sol.t_events[i]) and sol.t_events[i][0] < best:
+                best, fired = float(sol.t_events[i][0]), i
+        te, ye = best, np.asarray(sol.y_events[fired][0], dtype=float).copy()
+    # double crossings hidden inside one step
+    tiny = 1e-13 * max(abs(t0), tshort)
+    missed = None
+    for i, (g, d, _, gs) in enumerate(events):
+        for tx, yx in zip(sol.t_events[n + i], sol.y_events[n + i]):
+            if tx >= te:
+                break
+            if tx > t0 + tiny and d * g(tx, yx) > 1e-13 * gs:
+                if missed is None or tx < missed[0]:
+                    missed = (float(tx), i)
+                break
+    if missed is not None:
+        tx, i = missed
+        g, d = events[i][0], events[i][1]
+        G = lambda tt: g(tt, sol.sol(tt))
+        ts = np.asarray(sol.sol.ts)
+        k = max(int(np.searchsorted(ts, tx, side="right")) - 1, 0)
+        tl = float(ts[k])
+        while k > 0 and d * G(tl) >= 0:        # step start must be on the inner side
+            k -= 1
+            tl = float(ts[k])
+        if d * G(tl) < 0:
+            te = brentq(G, tl, tx, xtol=1e-15 * max(1.0, abs(tx)), rtol=4 * np.finfo(float).eps,
+                        maxiter=200)
+        else:
+            te = tl
+        fired, ye = i, np.asarray(sol.sol(te), dtype=float)
+    return sol, fired, te, ye
 
 
 def _eval_segments(segments, t_eval, ncomp):
@@ -202,25 +251,25 @@ def _coulomb_march(sy, t0, x, v, mode, t1, scl, events, segments, diss):
             events.append((te, "slide"))
             last_restart = t
             continue
-        ev = _make_event(lambda tt, y, s=mode: s * y[1], -1)
-        sol, fired = _solve(sy.rhs(mode), t, [x, v], t1, [ev], xs, wref, tshort)
-        tb = float(sol.t[-1])
-        segments.append((t, tb, mode, sol.sol, sol))
+        rhs = sy.rhs(mode)
+        ev = (lambda tt, y, s=mode: s * y[1], -1,
+              lambda tt, y, s=mode, f=rhs: s * f(tt, y)[1], xs * wref)
+        sol, fired, te, ye = _solve(rhs, t, [x, v], t1, [ev], xs, wref, tshort)
+        segments.append((t, te, mode, sol.sol, sol))
         if fired is None:
-            x_new, v_new = sol.y[0, -1], sol.y[1, -1]
-            diss += sy.F * abs(x_new - x)
-            t, x, v = t1, x_new, v_new
+            diss += sy.F * abs(ye[0] - x)
+            t, x, v = t1, float(ye[0]), float(ye[1])
             break
-        te = float(sol.t_events[0][0])
-        xe = float(sol.y_events[0][0][0])
+        xe = float(ye[0])
         diss += sy.F * abs(xe - x)
         new_mode, kind = sy.decide(te, xe, mode)
         if new_mode == mode and last_restart is not None and te - last_restart <= _GRACE * tshort:
             # re-detection of the event just handled (grazing): force progress
-            sol2, _ = _solve(sy.rhs(mode), te, [xe, 0.0], min(t1, te + _GRACE * tshort), [], xs, wref, tshort)
-            segments.append((te, float(sol2.t[-1]), mode, sol2.sol, sol2))
-            diss += sy.F * abs(sol2.y[0, -1] - xe)
-            t, x, v = float(sol2.t[-1]), float(sol2.y[0, -1]), float(sol2.y[1, -1])
+            sol2, _, t2, y2 = _solve(sy.rhs(mode), te, [xe, 0.0], min(t1, te + _GRACE * tshort), [],
+                                     xs, wref, tshort)
+            segments.append((te, t2, mode, sol2.sol, sol2))
+            diss += sy.F * abs(y2[0] - xe)
+            t, x, v = t2, float(y2[0]), float(y2[1])
             last_restart = None
             continue
         events.append((te, kind))
@@ -432,22 +481,21 @@ def _iwan_core(m, k, c, kts, fss, P, Y, w, x0, v0, t_end, t_eval, w0):
         if np.any(st):
             x_up = float(np.min(anchor[st] + lim[st]))      # first stuck slider to reach +Fs
             x_dn = float(np.max(anchor[st] - lim[st]))      # first stuck slider to reach -Fs
-            evs.append(_make_event(lambda tt, y, a=x_up: y[0] - a, 1)); tags.append("up")
-            evs.append(_make_event(lambda tt, y, a=x_dn: y[0] - a, -1)); tags.append("dn")
+            evs.append((lambda tt, y, a=x_up: y[0] - a, 1, lambda tt, y: y[1], xs))
+            tags.append("up")
+            evs.append((lambda tt, y, a=x_dn: y[0] - a, -1, lambda tt, y: y[1], xs))
+            tags.append("dn")
+        md, an = mode.copy(), anchor.copy()
+        rhs = make_rhs(md, an)
         s_dir = 0
         if np.any(~st):
             s_dir = int(mode[~st][0])
-            evs.append(_make_event(lambda tt, y, s=s_dir: s * y[1], -1)); tags.append("v0")
-        md, an = mode.copy(), anchor.copy()
-        rhs = make_rhs(md, an)
-        sol, fired = _solve(rhs, t, [x, v], t_end, evs, xs, wref, tshort)
-        tb = float(sol.t[-1])
-        segments.append((t, tb, md, an, sol.sol))
-        if fired is None:
-            xe, ve, te = float(sol.y[0, -1]), float(sol.y[1, -1]), t_end
-        else:
-            te = float(sol.t_events[fired][0])
-            xe, ve = (float(u) for u in sol.y_events[fired][0])
+            evs.append((lambda tt, y, s=s_dir: s * y[1], -1,
+                        lambda tt, y, s=s_dir, f=rhs: s * f(tt, y)[1], xs * wref))
+            tags.append("v0")
+        sol, fired, te, ye = _solve(rhs, t, [x, v], t_end, evs, xs, wref, tshort)
+        segments.append((t, te, md, an, sol.sol))
+        xe, ve = float(ye[0]), float(ye[1])
         diss += float(np.sum(fss[~st])) * abs(xe - x)
         if fired is None:
             t, x, v = t_end, xe, ve
@@ -486,10 +534,10 @@ def _iwan_core(m, k, c, kts, fss, P, Y, w, x0, v0, t_end, t_eval, w0):
         if not changed:
             if last_restart is not None and te - last_restart <= _GRACE * tshort:
                 t2 = min(t_end, te + _GRACE * tshort)
-                sol2, _ = _solve(make_rhs(mode, anchor), te, [xe, ve], t2, [], xs, wref, tshort)
-                segments.append((te, float(sol2.t[-1]), mode.copy(), anchor.copy(), sol2.sol))
-                diss += float(np.sum(fss[mode != 0])) * abs(float(sol2.y[0, -1]) - xe)
-                t, x, v = float(sol2.t[-1]), float(sol2.y[0, -1]), float(sol2.y[1, -1])
+                sol2, _, t2, y2 = _solve(make_rhs(mode, anchor), te, [xe, ve], t2, [], xs, wref, tshort)
+                segments.append((te, t2, mode.copy(), anchor.copy(), sol2.sol))
+                diss += float(np.sum(fss[mode != 0])) * abs(float(y2[0]) - xe)
+                t, x, v = t2, float(y2[0]), float(y2[1])
                 last_restart = None
                 continue
             if kind == "abnormal":

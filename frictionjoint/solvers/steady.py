@@ -33,6 +33,13 @@ class _PeriodMap:
         self.n = n
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
+        # a displacement scale from the loads, the floor of the residual scaling
+        load = max(float(np.max(np.abs(system.force_cos), initial=0)),
+                   float(np.max(np.abs(system.force_sin), initial=0)),
+                   float(np.max(system.slip_force, initial=0)))
+        stiff = max(float(np.max(np.abs(system.stiffness))),
+                    float(np.max(np.abs(system.mass))) * system.omega ** 2)
+        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
 
     def state(self, z: np.ndarray) -> MarchState:
         sysm = self.system
@@ -58,7 +65,7 @@ class _PeriodMap:
     def scales(self, z) -> np.ndarray:
         n = self.n
         w_char = max(self.system.omega, float(np.max(self.system.structure.natural_frequencies(), initial=0)))
-        sx = max(float(np.max(np.abs(z[:n]))), float(np.max(np.abs(z[n:2 * n]))) / w_char, 1e-300)
+        sx = max(float(np.max(np.abs(z[:n]))), float(np.max(np.abs(z[n:2 * n]))) / w_char, self.x_floor)
         sc = np.full(z.size, sx)
         sc[n:2 * n] = sx * w_char
         return sc
@@ -142,6 +149,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
 
     converged = False
     jac = None
+    jac_rnorm = math.inf
     message = ""
     rnorm = math.inf
     scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
@@ -153,6 +161,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             break
         if jac is None:
             jac = _jacobian(pmap, z, pz, scale0)
+            jac_rnorm = rnorm
         a = (jac - np.eye(z.size)) / scale0[:, None] * scale0[None, :]
         step = np.linalg.lstsq(a, -r / scale0, rcond=1e-13)[0] * scale0
         lam = 1.0
@@ -197,7 +206,8 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
 
     unique = True
     if converged:
-        if jac is None:
+        if jac is None or jac_rnorm > 1e-6:
+            # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
             jac = _jacobian(pmap, z, pmap(z), pmap.scales(z))
         sc = pmap.scales(z)
         a = (jac - np.eye(z.size)) / sc[:, None] * sc[None, :]
