@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import simpson
+from scipy.integrate import quad, simpson
 from scipy.linalg import expm
 
 from bruteforce import (coulomb_response, coulomb_steady_state, iwan_response,
@@ -111,6 +111,18 @@ def test_den_hartog_stop_free_steady_state():
     assert abs(s.dissipated_per_cycle - 4 * f * X) <= 1e-8 * 4 * f * X   # exactly 4 F X
     kinds = {kind for _, kind in s.events}
     assert kinds == {"normal"} and len(s.events) == 2
+    # first harmonic and phase against the exact Den Hartog waveform (DESIGN 3):
+    # on the rising half-cycle wt in [theta - pi, theta], tau = (wt - theta + pi)/r,
+    # x = f cos tau + r f U sin tau + V cos wt - f, and x(t + T/2) = -x(t)
+    V = 1.0 / (1.0 - r * r)
+    U = math.tan(math.pi / (2.0 * r)) / r
+    th = math.atan2(-f * U / V, X / V)
+    xw = lambda p: (f * math.cos((p - th + math.pi) / r) + r * f * U * math.sin((p - th + math.pi) / r)
+                    + V * math.cos(p) - f)
+    a1 = 2 / math.pi * quad(lambda p: xw(p) * math.cos(p), th - math.pi, th, epsabs=1e-14, epsrel=1e-13)[0]
+    b1 = 2 / math.pi * quad(lambda p: xw(p) * math.sin(p), th - math.pi, th, epsabs=1e-14, epsrel=1e-13)[0]
+    assert abs(s.a1 - a1) < 1e-9 and abs(s.b1 - b1) < 1e-9
+    assert abs(s.phase - math.atan2(b1, a1)) < 1e-9
 
 
 def test_stop_regime_point_is_periodic():

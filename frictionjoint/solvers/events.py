@@ -109,6 +109,7 @@ class Marcher:
         self._configs: dict[bytes, ConfigData] = {}
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
+        self._mass_scale = float(np.max(np.diag(system.mass)))
 
     # ---------------------------------------------------------------- set-up
     def config(self, status: np.ndarray) -> ConfigData:
@@ -245,15 +246,20 @@ class Marcher:
         return itv
 
     def _tolerances(self, itv, meta) -> np.ndarray:
+        """Zero tolerances of the event functions: force and velocity scales times 1e-12/1e-11."""
         sysm = self.system
         fscale = max(float(np.max(np.abs(itv.f_const), initial=0.0)),
                      float(np.max(np.abs(sysm.force_cos), initial=0.0)),
                      float(np.max(np.abs(sysm.force_sin), initial=0.0)),
+                     float(np.max(sysm.slip_force, initial=0.0)),
                      float(np.max(np.abs(itv.config.stiffness @ itv.x0), initial=0.0)))
+        rate = max(sysm.omega, itv.config.max_rate, 1e-300)
+        # velocity scale: what has been seen, or what the loads can produce in 1/rate
+        v_ref = max(self.v_scale, fscale / (self._mass_scale * rate))
         tol = np.empty(len(meta))
         for j, (i, kind) in enumerate(meta):
             if kind == "v":
-                tol[j] = 1e-11 * self.v_scale
+                tol[j] = 1e-11 * v_ref
             else:
                 tol[j] = 1e-12 * max(sysm.slip_force[i], fscale)
         return tol

@@ -107,6 +107,7 @@ class ConfigData:
                 lam = np.linalg.eigvals(a)
                 v = w = None
             else:
+                v = v.astype(complex)
                 w = np.linalg.inv(v)
         else:
             lam = np.zeros(0, complex)

@@ -1,0 +1,349 @@
+"""Plots of results: the only module that imports matplotlib, and only inside its functions.
+
+Figures are built with the object-oriented API on the Agg canvas (no pyplot, no global
+backend switch), so plotting works on machines without a display and never disturbs an
+interactive session's own backend; pass ``ax`` to draw into an existing figure instead.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "new_figure"]
+
+_DPI = 130
+
+
+def new_figure(figsize=(8.0, 6.0)):
+    """A matplotlib Figure on an Agg canvas (no pyplot state).
+
+    Parameters
+    ----------
+    figsize : (2,) tuple of float
+        Width and height [inch].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _save(fig, path):
+    if path is not None:
+        fig.savefig(path, dpi=_DPI)
+
+
+def _runs(mask):
+    """``(start, stop)`` index pairs of the runs of True in a 1-D bool array."""
+    runs, start = [], None
+    for i, m in enumerate(mask):
+        if m and start is None:
+            start = i
+        elif not m and start is not None:
+            runs.append((start, i - 1))
+            start = None
+    if start is not None:
+        runs.append((start, len(mask) - 1))
+    return runs
+
+
+# --------------------------------------------------------------------------- forced response
+
+
+_BRANCH_STYLE = {
+    "up": dict(marker="o", mfc="none", color="C0", ms=5, lw=0.8, label="stepped sine, up"),
+    "down": dict(marker="x", color="C1", ms=5, lw=0.8, ls="--", label="stepped sine, down"),
+}
+_REGIME_STYLE = {
+    "stops": dict(marker="s", color="C3", ms=7, mfc="C3", alpha=0.55, ls="none",
+                  label="motion with stops (simulation only)"),
+    "stuck": dict(marker="D", color="0.4", ms=6, ls="none", label="permanent stick"),
+}
+
+
+def plot_frequency_response(fr, path=None, phase: bool = True):
+    """Amplitude (and phase) of a forced-response sweep against frequency.
+
+    Up and down branches as markers, the analytic (Den Hartog) curve as a dense line where it
+    is the motion, grey bands where it is not, points with stops highlighted, and vertical
+    lines where the response grows without bound or did not converge.
+
+    Parameters
+    ----------
+    fr : FrequencyResponse
+        Result of :func:`frictionjoint.sweep.oscillator_sweep` (or any sweep of that type).
+    path : str or os.PathLike, optional
+        Write the figure there (format from the extension).
+    phase : bool
+        Add a phase panel [deg] below the amplitude.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    ratio = fr.frequency_ratio
+    xvals = ratio if ratio is not None else fr.omega
+    xlabel = (r"frequency ratio $r = \omega/\omega_n$" if ratio is not None
+              else r"excitation frequency $\omega$ [rad/s]")
+    fig = new_figure((8.0, 7.0 if phase else 4.8))
+    if phase:
+        ax_a, ax_p = fig.subplots(2, 1, sharex=True, height_ratios=[1.6, 1.0])
+    else:
+        ax_a, ax_p = fig.subplots(1, 1), None
+    axes = [ax_a] + ([ax_p] if ax_p is not None else [])
+    handles = []
+
+    ok = fr.converged
+    amp_ok = fr.amplitude[ok & (fr.amplitude > 0)]
+    # analytic reference: dense curve, gaps where it is not the motion
+    if fr.reference is not None and len(fr):
+        lo, hi = float(fr.omega.min()), float(fr.omega.max())
+        dense = np.linspace(lo, hi, 600)
+        wn = fr.natural_frequency
+        if wn is not None and lo < wn < hi:  # resolve the resonance itself
+            dense = np.unique(np.concatenate([dense, [wn]]))
+        d_amp, d_ph = fr.reference(dense)
+        amp_line = np.ma.filled(d_amp.astype(float), np.nan)
+        ph_line = np.ma.filled(d_ph.astype(float), np.nan)
+        scale = fr.natural_frequency if ratio is not None else 1.0
+        xd = dense / scale
+        ax_a.plot(xd, amp_line, color="k", lw=1.4, zorder=2)
+        if ax_p is not None:
+            ax_p.plot(xd, np.degrees(ph_line), color="k", lw=1.4, zorder=2)
+        handles.append(Line2D([], [], color="k", lw=1.4, label=f"{fr.analytic_name} (closed form)"))
+        bad = np.ma.getmaskarray(d_amp)
+        for a, b in _runs(bad):
+            x0 = xd[max(a - 1, 0)] if a > 0 else xd[a]
+            x1 = xd[min(b + 1, len(xd) - 1)]
+            for ax in axes:
+                ax.axvspan(x0, x1, color="0.88", zorder=0, lw=0)
+        if bad.any():
+            handles.append(Patch(color="0.88", label=f"{fr.analytic_name} not valid (stops / resonance)"))
+
+    for branch in ("up", "down"):
+        sel = (fr.branch == branch) & ok
+        if not sel.any():
+            continue
+        style = dict(_BRANCH_STYLE[branch])
+        label = style.pop("label")
+        order = np.argsort(xvals[sel])
+        ax_a.plot(xvals[sel][order], fr.amplitude[sel][order], zorder=3, **style)
+        if ax_p is not None:
+            ax_p.plot(xvals[sel][order], np.degrees(fr.phase[sel][order]), zorder=3, **style)
+        handles.append(Line2D([], [], label=label, **style))
+
+    for regime, style in _REGIME_STYLE.items():
+        sel = (fr.regime == regime) & ok
+        if not sel.any():
+            continue
+        style = dict(style)
+        label = style.pop("label")
+        ax_a.plot(xvals[sel], fr.amplitude[sel], zorder=4, **style)
+        if ax_p is not None:
+            ax_p.plot(xvals[sel], np.degrees(fr.phase[sel]), zorder=4, **style)
+        handles.append(Line2D([], [], label=label, **style))
+
+    for regime, color, label in (("unbounded", "C3", "unbounded growth (resonance)"),
+                                 ("not converged", "m", "no periodic orbit found")):
+        sel = fr.regime == regime
+        if not sel.any():
+            continue
+        for xv in np.unique(xvals[sel]):
+            for ax in axes:
+                ax.axvline(xv, color=color, ls=":", lw=1.5, zorder=1)
+        handles.append(Line2D([], [], color=color, ls=":", lw=1.5, label=label))
+
+    if amp_ok.size:
+        ax_a.set_yscale("log")
+        top = float(amp_ok.max())
+        bottom = float(amp_ok.min())
+        ax_a.set_ylim(bottom / 1.5, top * 1.5)
+    ax_a.set_ylabel("amplitude max |x| [m]")
+    ax_a.grid(True, which="major", alpha=0.35)
+    ax_a.grid(True, which="minor", alpha=0.12)
+    if ax_p is not None:
+        ax_p.set_ylabel("phase lag of x [deg]")
+        ax_p.set_ylim(-5, 185)
+        ax_p.set_yticks([0, 45, 90, 135, 180])
+        ax_p.grid(True, alpha=0.3)
+    axes[-1].set_xlabel(xlabel)
+    if len(xvals):
+        axes[-1].set_xlim(float(np.min(xvals)), float(np.max(xvals)))
+    p = fr.parameters
+    title = "Forced response"
+    if {"slip_force", "force_amplitude", "base_amplitude", "stiffness"} <= set(p):
+        p0 = p["force_amplitude"] + p["stiffness"] * p["base_amplitude"]
+        title = (f"Coulomb oscillator, F/P$_0$ = {p['slip_force'] / abs(p0):.3g}"
+                 f" (m = {p.get('mass', float('nan')):g} kg, k = {p['stiffness']:g} N/m"
+                 + (f", c = {p['damping']:g} N s/m" if p.get("damping") else "") + ")")
+    ax_a.set_title(title)
+    ax_a.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    _save(fig, path)
+    return fig
+
+
+# --------------------------------------------------------------------------- regime map
+
+
+_FIXED = {
+    "stuck": ("permanent stick", "0.55"),
+    "unbounded": ("unbounded (resonance)", "black"),
+    "not converged": ("not converged", "#ff00ff"),
+}
+_EVEN = ["#fff7bc", "#a6cee3", "#1f78b4", "#08306b", "#6a3d9a", "#3f007d"]
+_ODD = ["#e31a1c", "#ff7f00", "#fb9a99", "#b15928"]
+
+
+def _stop_colour(n: int) -> str:
+    if n % 2 == 0:
+        return _EVEN[min(n // 2, len(_EVEN) - 1)]
+    return _ODD[min(n // 2, len(_ODD) - 1)]
+
+
+def _edges(centres):
+    c = np.asarray(centres, dtype=float)
+    if c.size == 1:
+        return np.array([c[0] - 0.5 * max(abs(c[0]), 1e-3) * 0.1, c[0] + 0.5 * max(abs(c[0]), 1e-3) * 0.1])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
+
+
+def plot_regime_map(rm, path=None, ax=None):
+    """Categorical map of stops per cycle over (frequency ratio, friction ratio).
+
+    Each cell is coloured by its category (0, 1, 2, ... stops per cycle; permanent stick;
+    unbounded; not converged) with a legend; a dot marks non-unique orbits; the dashed line is
+    Den Hartog's stop boundary ``X̄ r^2 = f`` (sufficient for stop-free motion only for
+    ``r >= 1/2``).
+
+    Parameters
+    ----------
+    rm : RegimeMap
+        Result of :func:`frictionjoint.regime.regime_map`.
+    path : str or os.PathLike, optional
+        Write the figure there.
+    ax : matplotlib Axes, optional
+        Draw into these axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .analytic import den_hartog_boundary
+
+    if ax is None:
+        fig = new_figure((9.0, 6.0))
+        ax = fig.subplots()
+    else:
+        fig = ax.figure
+    stops = sorted({int(n) for n, reg in zip(rm.stops_per_cycle.ravel(), rm.regime.ravel())
+                    if reg in ("stop-free", "stops")})
+    cats = [(f"{n} stop" + ("" if n == 1 else "s") + (" (continuous)" if n == 0 else ""),
+             _stop_colour(n), ("n", n)) for n in stops]
+    cats += [(label, colour, ("r", reg)) for reg, (label, colour) in _FIXED.items()
+             if np.any(rm.regime == reg)]
+    index = np.zeros(rm.shape, dtype=int)
+    for k, (_, _, key) in enumerate(cats):
+        if key[0] == "n":
+            sel = np.isin(rm.regime, ("stop-free", "stops")) & (rm.stops_per_cycle == key[1])
+        else:
+            sel = rm.regime == key[1]
+        index[sel] = k
+    cmap = ListedColormap([c for _, c, _ in cats] or ["white"])
+    norm = BoundaryNorm(np.arange(len(cats) + 1) - 0.5, cmap.N)
+    ax.pcolormesh(_edges(rm.frequency_ratios), _edges(rm.friction_ratios), index, cmap=cmap,
+                  norm=norm, shading="flat", edgecolors="face", linewidth=0)
+    handles = [Patch(facecolor=c, edgecolor="0.3", lw=0.5, label=label) for label, c, _ in cats]
+    nonu = ~rm.unique
+    if nonu.any():
+        jj, ii = np.meshgrid(rm.frequency_ratios, rm.friction_ratios)
+        ax.plot(jj[nonu], ii[nonu], ".", color="white", mec="k", mew=0.5, ms=5)
+        handles.append(Line2D([], [], marker=".", ls="none", color="white", mec="k", mew=0.5,
+                              ms=8, label="not unique (family of orbits)"))
+    r_lo, r_hi = float(rm.frequency_ratios.min()), float(rm.frequency_ratios.max())
+    rd = np.linspace(r_lo, r_hi, 800)
+    fb = np.array([den_hartog_boundary(float(r)) for r in rd])
+    ax.plot(rd, fb, color="white", lw=2.6, zorder=3)
+    ax.plot(rd, fb, color="k", lw=1.2, ls="--", zorder=4)
+    handles.append(Line2D([], [], color="k", lw=1.2, ls="--",
+                          label=r"Den Hartog boundary $\bar X r^2 = F/P_0$"))
+    ex, ey = _edges(rm.frequency_ratios), _edges(rm.friction_ratios)
+    ax.set_xlim(ex[0], ex[-1])
+    ax.set_ylim(ey[0], ey[-1])
+    ax.set_xlabel(r"frequency ratio $r = \omega/\omega_n$")
+    ax.set_ylabel(r"friction ratio $F/P_0$")
+    ax.set_title("Stops per cycle of the Coulomb oscillator (Hong & Liu map), exact steady states")
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+              frameon=False)
+    _save(fig, path)
+    return fig
+
+
+# --------------------------------------------------------------------------- time response
+
+
+def plot_time_response(tr, ax=None, path=None, **kwargs):
+    """Displacement against time; the friction force on a second axis when it was recorded.
+
+    Stops of finite duration (``'stick'`` events) are marked on the time axis.
+
+    Parameters
+    ----------
+    tr : TimeResponse
+        Result of ``simulate``.
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure if omitted).
+    path : str or os.PathLike, optional
+        Write the figure there.
+    **kwargs
+        Passed to ``Axes.plot`` for the displacement lines.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes of the displacement.
+    """
+    if ax is None:
+        fig = new_figure((8.0, 4.0))
+        ax = fig.subplots()
+    else:
+        fig = ax.figure
+    t = np.asarray(tr.t)
+    if tr.x is not None:
+        x = np.atleast_2d(tr.x)
+        for i, row in enumerate(x):
+            ax.plot(t, row, label=("x" if x.shape[0] == 1 else f"x[{i}]"), **kwargs)
+        ax.set_ylabel("displacement [m]")
+    if tr.friction_force is not None:
+        f = np.atleast_2d(tr.friction_force)
+        ax2 = ax.twinx()
+        for i, row in enumerate(f):
+            ax2.plot(t, row, color=f"C{(i + 3) % 10}", lw=0.9, alpha=0.8,
+                     label=("friction force" if f.shape[0] == 1 else f"friction force [{i}]"))
+        ax2.set_ylabel("friction force [N]")
+        lines = ax.get_lines() + ax2.get_lines()
+        ax.legend(lines, [ln.get_label() for ln in lines], loc="upper right", fontsize=8)
+    elif tr.x is not None:
+        ax.legend(loc="upper right", fontsize=8)
+    events = getattr(tr, "events", None)
+    if events is not None and len(events):
+        stick = [tt for tt, _, _, kind in events if kind == "stick" and t[0] <= tt <= t[-1]]
+        if stick:
+            ax.plot(stick, np.zeros(len(stick)), "|", color="k", ms=8, transform=ax.get_xaxis_transform(),
+                    label="_stop")
+    ax.set_xlabel("time [s]")
+    ax.grid(True, alpha=0.3)
+    _save(fig, path)
+    return ax

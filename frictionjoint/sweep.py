@@ -1,0 +1,523 @@
+"""Forced-response sweeps: stepped sine, up and down, with the analytic answer beside it.
+
+At each frequency the periodic steady state is found by shooting
+(:meth:`frictionjoint.CoulombOscillator.steady_state`), started from the orbit of the previous
+frequency (its state at ``t = 0``), so that a sweep follows one branch of the response as a
+slowly stepped experiment would (DESIGN.md section 6). Where Den Hartog's closed form is the
+motion (undamped, stop-free; DESIGN.md section 3) it is reported beside the simulated
+answer with the relative error; elsewhere the regime word says why it does not apply.
+
+:class:`FrequencyResponse` holds only arrays and words, so that other sweeps (e.g. through
+FMUs) can return the same type; the analytic columns are then simply absent (all masked).
+"""
+from __future__ import annotations
+
+import csv
+import functools
+import math
+import sys
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from .errors import ParameterError, check_nonnegative, check_positive, check_real
+from .regime import classify
+
+__all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTIONS"]
+
+#: Allowed values of ``direction``.
+DIRECTIONS = ("up", "down", "both")
+
+_FLOAT_COLUMNS = ("omega", "amplitude", "phase", "harmonic_amplitude", "periods")
+_MASKED_COLUMNS = ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error")
+
+
+def _masked(values) -> np.ma.MaskedArray:
+    """Float masked array with NaN/None entries masked (and set to 0 underneath)."""
+    vals = np.array([np.nan if v is None else v for v in values], dtype=float)
+    bad = ~np.isfinite(vals)
+    vals[bad] = 0.0
+    return np.ma.MaskedArray(vals, mask=bad)
+
+
+def _wrap(angle):
+    """Angle wrapped into ``(-pi, pi]``."""
+    return np.pi - np.mod(np.pi - angle, 2 * np.pi)
+
+
+@dataclass
+class FrequencyResponse:
+    """Steady-state response at a sequence of excitation frequencies.
+
+    One entry per computed point, in the order computed (the ``'up'`` branch in ascending,
+    the ``'down'`` branch in descending ``omega``).
+
+    Attributes
+    ----------
+    omega : (n,) ndarray
+        Excitation angular frequency [rad/s].
+    amplitude : (n,) ndarray
+        Max ``|x|`` over one steady period [m] (for ``'unbounded'`` points: the value when
+        the growth was recognised; meaningless as a steady amplitude).
+    phase : (n,) ndarray
+        Lag of the first harmonic of ``x`` behind the force ``cos(omega t)`` [rad].
+    harmonic_amplitude : (n,) ndarray
+        Amplitude of the first harmonic of ``x`` [m].
+    stops_per_cycle : (n,) int ndarray
+        Stops of finite duration per cycle.
+    stuck, converged, unique : (n,) bool ndarray
+        Permanent stick; periodic orbit found; orbit unique (not one of a family).
+    regime : (n,) ndarray of str
+        Simulated regime: ``'stop-free'``, ``'stops'``, ``'stuck'``, ``'unbounded'`` or
+        ``'not converged'`` (:func:`frictionjoint.regime.classify`).
+    branch : (n,) ndarray of str
+        ``'up'`` or ``'down'``.
+    periods : (n,) ndarray
+        Excitation periods marched to reach the steady state.
+    message : tuple of str
+        The solver's message per point.
+    analytic_amplitude, analytic_phase : (n,) masked ndarray
+        Closed-form amplitude [m] and first-harmonic phase lag [rad]; masked where the closed
+        form is not the motion.
+    analytic_regime : (n,) ndarray of str
+        Why the closed form applies or not: ``'stop-free'`` (applies), ``'stops'``,
+        ``'unbounded'``, ``'stuck'``, ``'damped'`` (no closed form with viscous damping) or
+        ``'none'`` (no analytic model).
+    amplitude_error, phase_error : (n,) masked ndarray
+        ``|amplitude - analytic| / analytic`` and ``|wrap(phase - analytic)| / |analytic|``
+        [-]; masked where the closed form does not apply or the point did not converge.
+    natural_frequency : float or None
+        ``wn`` [rad/s] used for the frequency ratio ``r = omega/wn``.
+    analytic_name : str
+        Name of the analytic reference (``'Den Hartog'``).
+    parameters : dict
+        Model parameters of the sweep (for the record and the CSV header).
+    reference : callable or None
+        ``reference(omega) -> (amplitude, phase)`` masked arrays of the analytic answer at any
+        frequencies (used to draw a dense analytic curve); ``None`` without an analytic model.
+    """
+
+    omega: np.ndarray
+    amplitude: np.ndarray
+    phase: np.ndarray
+    harmonic_amplitude: np.ndarray
+    stops_per_cycle: np.ndarray
+    stuck: np.ndarray
+    converged: np.ndarray
+    unique: np.ndarray
+    regime: np.ndarray
+    branch: np.ndarray
+    periods: np.ndarray
+    message: tuple
+    analytic_amplitude: np.ma.MaskedArray
+    analytic_phase: np.ma.MaskedArray
+    analytic_regime: np.ndarray
+    amplitude_error: np.ma.MaskedArray
+    phase_error: np.ma.MaskedArray
+    natural_frequency: Optional[float] = None
+    analytic_name: str = "Den Hartog"
+    parameters: dict = field(default_factory=dict)
+    reference: Optional[Callable] = field(default=None, repr=False, compare=False)
+
+    # ------------------------------------------------------------ views
+    def __len__(self) -> int:
+        return int(self.omega.size)
+
+    @property
+    def frequency_ratio(self) -> Optional[np.ndarray]:
+        """``r = omega / natural_frequency`` [-], or ``None`` if ``natural_frequency`` is unknown."""
+        if self.natural_frequency is None:
+            return None
+        return self.omega / self.natural_frequency
+
+    @property
+    def success(self) -> bool:
+        """True when every point converged to a periodic orbit."""
+        return bool(np.all(self.converged))
+
+    @property
+    def applicable(self) -> np.ndarray:
+        """(n,) bool ndarray: the closed form is the motion (not masked)."""
+        return ~np.ma.getmaskarray(self.analytic_amplitude)
+
+    def select(self, branch: str) -> "FrequencyResponse":
+        """The points of one branch (``'up'`` or ``'down'``) as a new :class:`FrequencyResponse`."""
+        if branch not in ("up", "down"):
+            raise ParameterError(f"branch must be 'up' or 'down', got {branch!r}")
+        keep = self.branch == branch
+        out = {}
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            if name == "message":
+                value = tuple(m for m, k in zip(value, keep) if k)
+            elif isinstance(value, np.ndarray) and value.shape == keep.shape:
+                value = value[keep]
+            out[name] = value
+        return FrequencyResponse(**out)
+
+    def max_error(self) -> tuple[Optional[float], Optional[float]]:
+        """Largest ``(amplitude_error, phase_error)`` over the applicable points (``None`` if none)."""
+        res = []
+        for err in (self.amplitude_error, self.phase_error):
+            res.append(None if err.count() == 0 else float(err.max()))
+        return res[0], res[1]
+
+    # ------------------------------------------------------------ output
+    def table(self) -> str:
+        """Printed table: branch, omega, r, amplitude, analytic amplitude, relative error, stops.
+
+        Where the closed form is not the motion the error column holds the regime word
+        (``stops``, ``unbounded``, ``stuck``, ``damped``); where the simulation found no
+        periodic orbit the amplitude column says ``unbounded`` or ``no conv.``; ``*`` marks an
+        orbit that is one of a family (not unique).
+
+        Returns
+        -------
+        str
+        """
+        ratio = self.frequency_ratio
+        name = self.analytic_name
+        head = (f"{'branch':<6} {'omega [rad/s]':>13} {'r':>7} {'amplitude [m]':>14} "
+                f"{name + ' [m]':>15} {'rel. error':>11} {'stops/cycle':>11}")
+        lines = [head, "-" * len(head)]
+        for i in range(len(self)):
+            r_txt = f"{ratio[i]:7.4f}" if ratio is not None else f"{'-':>7}"
+            if self.converged[i]:
+                amp_txt = f"{self.amplitude[i]:.6e}" + ("*" if not self.unique[i] else "")
+                stops_txt = "stuck" if self.regime[i] == "stuck" else str(int(self.stops_per_cycle[i]))
+            else:
+                amp_txt = "unbounded" if self.regime[i] == "unbounded" else "no conv."
+                stops_txt = "-"
+            if np.ma.getmaskarray(self.analytic_amplitude)[i]:
+                ref_txt = "-"
+                err_txt = str(self.analytic_regime[i])
+            else:
+                ref_txt = f"{self.analytic_amplitude[i]:.6e}"
+                err_txt = ("-" if np.ma.getmaskarray(self.amplitude_error)[i]
+                           else f"{self.amplitude_error[i]:.1e}")
+            lines.append(f"{self.branch[i]:<6} {self.omega[i]:13.6g} {r_txt} {amp_txt:>14} "
+                         f"{ref_txt:>15} {err_txt:>11} {stops_txt:>11}")
+        lines.append("-" * len(head))
+        amp_err, ph_err = self.max_error()
+        n_app = int(np.count_nonzero(~np.ma.getmaskarray(self.amplitude_error)))
+        if amp_err is not None:
+            lines.append(f"max rel. error vs {name} at {n_app} stop-free points: amplitude "
+                         f"{amp_err:.1e}, phase {ph_err:.1e}")
+        words = {"stops": "with stops", "stuck": "permanently stuck",
+                 "unbounded": "growing without bound", "not converged": "not converged"}
+        extra = [f"{int(np.count_nonzero(self.regime == w))} {text}" for w, text in words.items()
+                 if np.any(self.regime == w)]
+        if extra:
+            lines.append("points " + ", ".join(extra) + " (simulation only: no closed form there)")
+        if not np.all(self.unique):
+            lines.append("* not unique: one member of a family of periodic orbits")
+        return "\n".join(lines)
+
+    def to_csv(self, path) -> None:
+        """Write one row per point; masked entries are empty cells, floats round-trip exactly.
+
+        Leading ``# key = value`` lines record ``natural_frequency``, ``analytic_name`` and the
+        model parameters (read with ``comment='#'`` in pandas or :meth:`from_csv`).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Output file.
+        """
+        ratio = self.frequency_ratio
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            fh.write(f"# natural_frequency = {self.natural_frequency!r}\n")
+            fh.write(f"# analytic_name = {self.analytic_name}\n")
+            for key, value in self.parameters.items():
+                fh.write(f"# {key} = {value!r}\n")
+            w = csv.writer(fh)
+            w.writerow(["branch", "omega", "frequency_ratio", "amplitude", "phase",
+                        "harmonic_amplitude", "stops_per_cycle", "stuck", "converged", "unique",
+                        "regime", "periods", *_MASKED_COLUMNS, "analytic_regime", "message"])
+            for i in range(len(self)):
+                masked = []
+                for name in _MASKED_COLUMNS:
+                    col = getattr(self, name)
+                    masked.append("" if np.ma.getmaskarray(col)[i] else repr(float(col[i])))
+                w.writerow([self.branch[i], repr(float(self.omega[i])),
+                            "" if ratio is None else repr(float(ratio[i])),
+                            repr(float(self.amplitude[i])), repr(float(self.phase[i])),
+                            repr(float(self.harmonic_amplitude[i])), int(self.stops_per_cycle[i]),
+                            int(self.stuck[i]), int(self.converged[i]), int(self.unique[i]),
+                            self.regime[i], repr(float(self.periods[i])), *masked,
+                            self.analytic_regime[i], self.message[i]])
+
+    @classmethod
+    def from_csv(cls, path) -> "FrequencyResponse":
+        """Read a file written by :meth:`to_csv` (the ``reference`` callable is not restored).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+
+        Returns
+        -------
+        FrequencyResponse
+        """
+        import ast
+
+        meta = {}
+        with open(path, newline="", encoding="utf-8") as fh:
+            lines = fh.readlines()
+        body = []
+        for line in lines:
+            if line.startswith("#"):
+                key, _, value = line[1:].partition("=")
+                meta[key.strip()] = value.strip()
+            else:
+                body.append(line)
+        rows = list(csv.DictReader(body))
+        wn = ast.literal_eval(meta.pop("natural_frequency", "None"))
+        name = meta.pop("analytic_name", "Den Hartog")
+        params = {k: ast.literal_eval(v) for k, v in meta.items()}
+
+        def col(key, typ=float):
+            return np.array([typ(r[key]) for r in rows])
+
+        return cls(
+            omega=col("omega"), amplitude=col("amplitude"), phase=col("phase"),
+            harmonic_amplitude=col("harmonic_amplitude"),
+            stops_per_cycle=col("stops_per_cycle", int),
+            stuck=col("stuck", int).astype(bool), converged=col("converged", int).astype(bool),
+            unique=col("unique", int).astype(bool), regime=col("regime", str),
+            branch=col("branch", str), periods=col("periods"),
+            message=tuple(r["message"] for r in rows),
+            **{k: _masked([float(r[k]) if r[k] != "" else None for r in rows]) for k in _MASKED_COLUMNS},
+            analytic_regime=col("analytic_regime", str), natural_frequency=wn,
+            analytic_name=name, parameters=params,
+        )
+
+    def plot(self, path=None, phase: bool = True):
+        """Amplitude (and phase) against frequency (see :func:`frictionjoint.plotting.plot_frequency_response`).
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            Write the figure there (format from the extension, e.g. ``.png``).
+        phase : bool
+            Add a phase panel below the amplitude.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from .plotting import plot_frequency_response
+
+        return plot_frequency_response(self, path=path, phase=phase)
+
+
+# --------------------------------------------------------------------------- analytic reference
+
+
+def den_hartog_curve(omegas, mass: float, stiffness: float, slip_force: float,
+                     force_amplitude: float, base_amplitude: float = 0.0):
+    """Den Hartog's amplitude and phase at many frequencies, masked where it is not the motion.
+
+    Parameters
+    ----------
+    omegas : (n,) array_like
+        Angular frequencies [rad/s], > 0.
+    mass, stiffness, slip_force, force_amplitude, base_amplitude : float
+        As in :class:`frictionjoint.CoulombOscillator` [kg, N/m, N, N, m].
+
+    Returns
+    -------
+    amplitude : (n,) masked ndarray
+        Max ``|x|`` [m].
+    phase : (n,) masked ndarray
+        First-harmonic lag behind ``cos(omega t)`` [rad].
+    regime : (n,) ndarray of str
+        Regime word of :func:`frictionjoint.analytic.den_hartog`.
+    """
+    from .analytic import den_hartog_response
+
+    amps, phases, regimes = [], [], []
+    for w in np.atleast_1d(np.asarray(omegas, dtype=float)):
+        dh = den_hartog_response(mass, stiffness, slip_force, force_amplitude, float(w),
+                                 base_amplitude)
+        ok = dh.applicable and math.isfinite(dh.amplitude)
+        amps.append(dh.amplitude if ok else None)
+        phases.append(dh.phase if ok else None)
+        regimes.append(dh.regime)
+    return _masked(amps), _masked(phases), np.array(regimes, dtype=str)
+
+
+def _reference(params, omegas):
+    amp, ph, _ = den_hartog_curve(omegas, **params)
+    return amp, ph
+
+
+# --------------------------------------------------------------------------- the sweep
+
+
+def _steady_state(osc, state):
+    """``osc.steady_state`` from ``state`` (or the default guess); a solver failure is retried
+    from the default guess, then reported as a non-converged point (with a warning), so that
+    one bad point does not lose a whole sweep."""
+    from .results import PeriodicResponse
+
+    starts = [state, None] if state is not None else [None]
+    errors = []
+    for start in starts:
+        x0, v0 = (None, None) if start is None else start
+        try:
+            return osc.steady_state(x0=x0, v0=v0)
+        except ParameterError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - reported in the result and as a warning
+            errors.append(f"{type(exc).__name__}: {exc}" + ("" if start is None else
+                          f" (from x0={start[0]!r}, v0={start[1]!r})"))
+    message = "steady-state solver failed: " + "; ".join(errors)
+    warnings.warn(f"omega = {osc.omega!r}: {message}", RuntimeWarning, stacklevel=3)
+    nan = float("nan")
+    return PeriodicResponse(omega=osc.omega, amplitude=nan, phase=nan, harmonic_amplitude=nan,
+                            stops_per_cycle=0, stuck=False, converged=False, unique=True,
+                            message=message, periods=0.0)
+
+
+def _omegas(values) -> np.ndarray:
+    try:
+        arr = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"omegas must be a 1-D sequence of real numbers [rad/s], got {values!r}") from None
+    arr = np.atleast_1d(arr)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ParameterError(f"omegas must be a non-empty 1-D sequence [rad/s], got shape {arr.shape}")
+    for i, w in enumerate(arr):
+        check_positive(f"omegas[{i}]", float(w))
+    return arr
+
+
+def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amplitude: float,
+                     omegas, damping: float = 0.0, base_amplitude: float = 0.0,
+                     direction: str = "up", progress: bool = False) -> FrequencyResponse:
+    """Stepped-sine forced response of the single-DOF Coulomb oscillator.
+
+    ``m x'' + c x' + k (x - Y cos(omega t)) + T = P cos(omega t)`` (see
+    :class:`frictionjoint.CoulombOscillator`). The ``'up'`` branch visits ``omegas`` in
+    ascending, the ``'down'`` branch in descending order; ``'both'`` runs up, then down,
+    carrying the state over. Each point starts from the orbit of the previous one
+    (``PeriodicResponse.initial_state``), or from the one-harmonic estimate after a point
+    that did not converge. Den Hartog's closed form is evaluated at every point; it applies
+    only without viscous damping and where the motion is stop-free.
+
+    Parameters
+    ----------
+    mass : float
+        Mass m [kg], > 0.
+    stiffness : float
+        Spring k [N/m], > 0.
+    slip_force : float
+        Friction limit F [N], >= 0.
+    force_amplitude : float
+        Force amplitude P [N].
+    omegas : (n,) array_like
+        Excitation angular frequencies [rad/s], each > 0 (any order; duplicates allowed).
+    damping : float
+        Viscous damping c [N s/m], >= 0.
+    base_amplitude : float
+        Base motion amplitude Y [m]; ``P + k Y`` must not be 0.
+    direction : {'up', 'down', 'both'}
+        Sweep direction.
+    progress : bool
+        Show a progress bar (tqdm, on stderr).
+
+    Returns
+    -------
+    FrequencyResponse
+        ``2 n`` points for ``'both'``, else ``n``.
+
+    Raises
+    ------
+    ParameterError
+        If an argument is out of range (the message names it).
+    """
+    from .oscillator import CoulombOscillator
+
+    m = check_positive("mass", mass)
+    k = check_positive("stiffness", stiffness)
+    fr = check_nonnegative("slip_force", slip_force)
+    p = check_real("force_amplitude", force_amplitude)
+    c = check_nonnegative("damping", damping)
+    y = check_real("base_amplitude", base_amplitude)
+    ws = _omegas(omegas)
+    if direction not in DIRECTIONS:
+        raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
+    if not isinstance(progress, (bool, np.bool_)):
+        raise ParameterError(f"progress must be True or False, got {progress!r}")
+    p0 = p + k * y
+    if p0 == 0.0 or not math.isfinite(p0):
+        raise ParameterError("force_amplitude + stiffness * base_amplitude must be finite and nonzero "
+                             f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}")
+
+    up = np.sort(ws)
+    plan = []
+    if direction in ("up", "both"):
+        plan += [("up", w) for w in up]
+    if direction in ("down", "both"):
+        plan += [("down", w) for w in up[::-1]]
+
+    params = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
+    analytic = {}
+    if c == 0.0:
+        amp_ref, ph_ref, reg_ref = den_hartog_curve(up, **params)
+        for i, w in enumerate(up):
+            analytic[float(w)] = (None if amp_ref.mask[i] else float(amp_ref[i]),
+                                  None if ph_ref.mask[i] else float(ph_ref[i]), str(reg_ref[i]))
+
+    from tqdm import tqdm
+
+    rows = []
+    state = None
+    wn = math.sqrt(k / m)
+    with tqdm(total=len(plan), desc="sweep", unit="pt", file=sys.stderr, disable=not progress,
+              leave=False) as bar:
+        for branch, w in plan:
+            osc = CoulombOscillator(mass=m, stiffness=k, slip_force=fr, force_amplitude=p,
+                                    omega=float(w), damping=c, base_amplitude=y)
+            ss = _steady_state(osc, state)
+            ok = ss.converged and ss.initial_state is not None and np.all(np.isfinite(ss.initial_state[:2]))
+            state = (float(ss.initial_state[0]), float(ss.initial_state[1])) if ok else None
+            ref_amp, ref_ph, ref_reg = analytic.get(float(w), (None, None, "damped"))
+            amp_err = ph_err = None
+            if ref_amp is not None and ss.converged:
+                amp_err = abs(ss.amplitude - ref_amp) / ref_amp
+                ph_err = abs(float(_wrap(ss.phase - ref_ph))) / abs(ref_ph) if ref_ph != 0 else None
+            rows.append((branch, float(w), ss, classify(ss, slip_force=fr), ref_amp, ref_ph,
+                         ref_reg, amp_err, ph_err))
+            bar.set_postfix_str(f"{branch} r={w / wn:.3f}", refresh=False)
+            bar.update()
+
+    def arr(fn, dtype=float):
+        return np.array([fn(row) for row in rows], dtype=dtype)
+
+    return FrequencyResponse(
+        omega=arr(lambda r: r[1]),
+        amplitude=arr(lambda r: r[2].amplitude),
+        phase=arr(lambda r: r[2].phase),
+        harmonic_amplitude=arr(lambda r: r[2].harmonic_amplitude),
+        stops_per_cycle=arr(lambda r: r[2].stops_per_cycle, int),
+        stuck=arr(lambda r: r[2].stuck, bool),
+        converged=arr(lambda r: r[2].converged, bool),
+        unique=arr(lambda r: r[2].unique, bool),
+        regime=arr(lambda r: r[3], object).astype(str),
+        branch=arr(lambda r: r[0], object).astype(str),
+        periods=arr(lambda r: r[2].periods),
+        message=tuple(r[2].message for r in rows),
+        analytic_amplitude=_masked([r[4] for r in rows]),
+        analytic_phase=_masked([r[5] for r in rows]),
+        analytic_regime=arr(lambda r: r[6], object).astype(str),
+        amplitude_error=_masked([r[7] for r in rows]),
+        phase_error=_masked([r[8] for r in rows]),
+        natural_frequency=wn,
+        analytic_name="Den Hartog",
+        parameters=dict(params, damping=c),
+        reference=None if c > 0 else functools.partial(_reference, params),
+    )

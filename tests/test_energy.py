@@ -1,0 +1,64 @@
+"""Energy balance on every simulation: work of the applied forces = change of stored energy +
+energy dissipated by friction and viscous damping, to <= 1e-9 relative; friction dissipation
+never negative and never decreasing (passivity). Property tests over random parameters."""
+import numpy as np
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import frictionjoint as fj
+
+RTOL_ENERGY = 1e-9
+SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+pos = st.floats(0.2, 5.0)
+
+
+def _check(tr):
+    for a in (tr.work, tr.stored_energy, tr.dissipated_friction, tr.dissipated_viscous):
+        assert np.all(np.isfinite(a))
+    scale = max(np.max(np.abs(tr.work)), np.max(tr.stored_energy), np.max(tr.dissipated_friction), 1e-300)
+    assert np.max(np.abs(tr.energy_residual())) <= RTOL_ENERGY * scale
+    assert np.all(tr.dissipated_friction >= 0)
+    assert np.all(np.diff(tr.dissipated_friction) >= -1e-14 * scale)
+    assert np.all(tr.dissipated_viscous >= -1e-14 * scale)
+
+
+@SETTINGS
+@given(m=pos, k=pos, zeta=st.floats(0.0, 0.3), f=st.floats(0.0, 1.2), p=st.floats(-2.0, 2.0),
+       y=st.floats(-0.5, 0.5), r=st.floats(0.2, 3.0), x0=st.floats(-1, 1), v0=st.floats(-1, 1))
+def test_energy_balance_coulomb_oscillator(m, k, zeta, f, p, y, r, x0, v0):
+    wn = np.sqrt(k / m)
+    osc = fj.CoulombOscillator(mass=m, stiffness=k, slip_force=f * max(abs(p + k * y), 0.1),
+                               force_amplitude=p, base_amplitude=y, omega=r * wn,
+                               damping=2 * zeta * np.sqrt(k * m))
+    tr = osc.simulate(6 * osc.period, x0, v0, record=("x", "energy"))
+    _check(tr)
+
+
+@SETTINGS
+@given(kt=st.floats(0.5, 50.0), fs=st.floats(0.01, 1.5), r=st.floats(0.2, 3.0), zeta=st.floats(0.0, 0.2),
+       x0=st.floats(-1, 1), v0=st.floats(-1, 1), n=st.integers(1, 4), seed=st.integers(0, 2**16))
+def test_energy_balance_mdof_jenkins_iwan(kt, fs, r, zeta, x0, v0, n, seed):
+    """Two-DOF chain, a Jenkins between the masses (direction vector), an Iwan to the ground,
+    a rigid Coulomb slider on the second mass."""
+    rng = np.random.default_rng(seed)
+    m = np.diag(rng.uniform(0.5, 2.0, 2))
+    k = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    s = fj.LinearStructure(m, k, zeta * k, dof_names=["a", "b"])
+    sliders = [(kt * rng.uniform(0.2, 1.0), fs * rng.uniform(0.2, 1.0)) for _ in range(n)]
+    sysm = fj.FrictionSystem(
+        s, [fj.Jenkins(kt, fs, direction=[1.0, -1.0]), fj.Iwan(sliders, dof="a"),
+            fj.CoulombSlider(0.3 * fs, dof="b")],
+        omega=r, excitation=[fj.HarmonicForce("a", 1.0), fj.HarmonicBaseMotion("b", 0.5, 0.2, 0.05, 0.3)])
+    tr = fj.simulate(sysm, 5 * 2 * np.pi / r, [x0, 0.0], [0.0, v0], record=("x", "energy"))
+    _check(tr)
+
+
+@SETTINGS
+@given(steps=st.lists(st.floats(-2.0, 2.0), min_size=2, max_size=6), fs=st.floats(0.05, 1.0))
+def test_energy_balance_held_external_force(steps, fs):
+    times = np.linspace(0.0, 12.0, len(steps) + 1)
+    s = fj.LinearStructure(1.0, 1.0)
+    sysm = fj.FrictionSystem(s, [fj.Jenkins(5.0, fs, dof=0), fj.CoulombSlider(0.5 * fs, dof=0)],
+                             excitation=[fj.ExternalForce(0, times, steps)])
+    tr = fj.simulate(sysm, 14.0, 0.0, 0.0, t_eval=np.linspace(0, 14.0, 57), record=("x", "energy"))
+    _check(tr)
