@@ -266,7 +266,7 @@ def plot_regime_map(rm, path=None, ax=None):
     ax.pcolormesh(_edges(rm.frequency_ratios), _edges(rm.friction_ratios), index, cmap=cmap,
                   norm=norm, shading="flat", edgecolors="face", linewidth=0)
     handles = [Patch(facecolor=c, edgecolor="0.3", lw=0.5, label=label) for label, c, _ in cats]
-    nonu = ~rm.unique
+    nonu = ~rm.unique & (rm.regime != "stuck")  # rest positions of a stuck mass always form a family
     if nonu.any():
         jj, ii = np.meshgrid(rm.frequency_ratios, rm.friction_ratios)
         ax.plot(jj[nonu], ii[nonu], ".", color="white", mec="k", mew=0.5, ms=5)

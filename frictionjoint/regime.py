@@ -149,7 +149,8 @@ class RegimeMap:
         """Text map: one row per friction ratio (largest first), one column per frequency ratio.
 
         Entries: the number of stops per cycle, ``S`` permanent stick, ``U`` unbounded,
-        ``?`` not converged; ``*`` marks a non-unique orbit.
+        ``?`` not converged; ``*`` marks a non-unique orbit (not shown for permanent stick, whose
+        rest positions always form a family).
         """
         codes = {"stuck": "S", "unbounded": "U", "not converged": "?"}
         width = 6
@@ -160,11 +161,11 @@ class RegimeMap:
             for j in range(self.shape[1]):
                 reg = self.regime[i, j]
                 c = codes.get(reg, str(self.stops_per_cycle[i, j]))
-                if not self.unique[i, j]:
+                if not self.unique[i, j] and reg != "stuck":
                     c += "*"
                 cells.append(f"{c:>{width}}")
             lines.append(f"{self.friction_ratios[i]:8.3g}" + "".join(cells))
-        lines.append("S permanent stick, U unbounded, ? not converged, * not unique")
+        lines.append("S permanent stick, U unbounded, ? not converged, * not unique (a family of orbits)")
         return "\n".join(lines)
 
     def to_csv(self, path) -> None:

@@ -58,9 +58,19 @@ class _PeriodMap:
 
     def __call__(self, z, log=None, on_interval=None):
         st = self.state(z)
-        self.m.march(st, self.t_s + self.period, log, on_interval=on_interval)
+        log = EventLog() if log is None else log
+        pieces = []
+
+        def keep(itv, tau):
+            pieces.append((itv, tau))
+            if on_interval is not None:
+                on_interval(itv, tau)
+        self.m.march(st, self.t_s + self.period, log, on_interval=keep)
         self.calls += 1
-        return self.vector(st)
+        out = self.vector(st)
+        # the closed-form pieces of the last call: the orbit, once converged (no re-march)
+        self.last = (z.copy(), out, pieces, log)
+        return out
 
     def scales(self, z) -> np.ndarray:
         n = self.n
@@ -204,11 +214,13 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
                     growth = float(np.mean(inc))
                     break
 
+    orbit = pmap.last
     unique = True
     if converged:
         if jac is None or jac_rnorm > 1e-6:
             # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
-            jac = _jacobian(pmap, z, pmap(z), pmap.scales(z))
+            pz_orbit = orbit[1] if np.array_equal(orbit[0], z) else pmap(z)
+            jac = _jacobian(pmap, z, pz_orbit, pmap.scales(z))
         sc = pmap.scales(z)
         a = (jac - np.eye(z.size)) / sc[:, None] * sc[None, :]
         sv = np.linalg.svd(a, compute_uv=False)
@@ -259,7 +271,13 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             d = system.slider_direction[slip]
             diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
 
-    pmap(z, log=log, on_interval=on_interval)
+    z_last, _, pieces, log_last = orbit
+    if np.array_equal(z_last, z):
+        log = log_last
+        for itv, tau in pieces:
+            on_interval(itv, tau)
+    else:
+        pmap(z, log=log, on_interval=on_interval)
     periods += pmap.calls  # every call of the period map marches one period
     a1 *= 2 / period
     b1 *= 2 / period

@@ -1,0 +1,54 @@
+"""Run time against error of CoulombOscillator.steady_state, with a baseline in the same process.
+
+Baseline: the event-driven scipy solve_ivp brute force of tests/bruteforce.py (DOP853, rtol 1e-12,
+marched period by period to a fixed point), i.e. what a careful user would write. Errors are
+relative to Den Hartog's closed form (frictionjoint.analytic). Usage:
+
+    python benchmarks/steady_state.py [--repeat N]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+
+import bruteforce as bf  # noqa: E402
+
+import frictionjoint as fj  # noqa: E402
+from frictionjoint.analytic import den_hartog  # noqa: E402
+
+
+def best_time(fn, repeat):
+    best = float("inf")
+    out = None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args(argv)
+    print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
+    print(f"{'case':>14} {'method':>22} {'rel. error':>11} {'time [ms]':>10} {'periods':>8} {'ratio':>8}")
+    for r, f in [(0.8, 0.3), (1.5, 0.3), (0.9, 0.1)]:
+        ref = den_hartog(r, f).amplitude
+        osc = fj.CoulombOscillator(slip_force=f, force_amplitude=1.0, omega=r)
+        t_fj, ss = best_time(osc.steady_state, args.repeat)
+        t_bf, bs = best_time(lambda: bf.coulomb_steady_state(1.0, 1.0, 0.0, f, 1.0, 0.0, r), max(1, args.repeat // 2))
+        case = f"r={r} f={f}"
+        print(f"{case:>14} {'steady_state (exact)':>22} {abs(ss.amplitude / ref - 1):11.2e} {t_fj * 1e3:10.1f} "
+              f"{ss.periods:8.1f} {1.0:8.2f}")
+        print(f"{case:>14} {'solve_ivp events':>22} {abs(bs.amplitude / ref - 1):11.2e} {t_bf * 1e3:10.1f} "
+              f"{bs.periods:8d} {t_bf / t_fj:8.2f}")
+
+
+if __name__ == "__main__":
+    main()

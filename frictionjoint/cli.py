@@ -1,0 +1,253 @@
+"""The ``frictionjoint`` command (also ``python -m frictionjoint``).
+
+Subcommands::
+
+    frictionjoint demo [--slip-force F] [--points N] [--out forced_response.png] [--csv FILE]
+    frictionjoint map  [--out map.png] [--friction START:STOP:N] [--ratio START:STOP:N]
+
+``demo`` sweeps the single-DOF Coulomb oscillator across resonance (stepped sine, up and down,
+exact periodic steady state at every frequency), prints the table beside Den Hartog's closed
+form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle. Progress bars go to
+stderr, results to stdout; invalid options exit with status 2 and a message.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from collections import Counter
+
+import numpy as np
+
+from . import __version__
+from .errors import ParameterError
+
+__all__ = ["main", "build_parser"]
+
+PROG = "frictionjoint"
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return value
+
+
+def _nonnegative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
+    return value
+
+
+def _real(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _count(minimum: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
+        return value
+    return parse
+
+
+def _range(lower: float, strict: bool, with_count: bool):
+    """Parser of ``START:STOP:N`` (or ``START:STOP`` when ``with_count`` is False)."""
+    form = "START:STOP:N" if with_count else "START:STOP"
+
+    def parse(text: str):
+        parts = text.split(":")
+        if len(parts) != (3 if with_count else 2):
+            raise argparse.ArgumentTypeError(f"expected {form}, got {text!r}")
+        try:
+            start, stop = float(parts[0]), float(parts[1])
+            n = int(parts[2]) if with_count else None
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {form} with numbers, got {text!r}") from None
+        bad = [v for v in (start, stop) if not math.isfinite(v) or v < lower or (strict and v == lower)]
+        if bad:
+            rel = ">" if strict else ">="
+            raise argparse.ArgumentTypeError(f"START and STOP must be finite and {rel} {lower:g}, got {text!r}")
+        if stop < start:
+            raise argparse.ArgumentTypeError(f"STOP must be >= START, got {text!r}")
+        if with_count:
+            if n < 1:
+                raise argparse.ArgumentTypeError(f"N must be >= 1, got {text!r}")
+            if n == 1 and stop != start:
+                raise argparse.ArgumentTypeError(f"N = 1 needs START == STOP, got {text!r}")
+            return start, stop, n
+        return start, stop
+    return parse
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``frictionjoint`` command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
+    parser = argparse.ArgumentParser(
+        prog=PROG,
+        description="Exact event-driven dynamics of frictional joints: forced-response sweeps "
+                    "and stop-regime maps of the Coulomb oscillator.",
+        allow_abbrev=False)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map}")
+    sub.required = True
+
+    demo = sub.add_parser(
+        "demo", allow_abbrev=False,
+        help="forced response of the Coulomb oscillator across resonance vs Den Hartog",
+        description="Stepped-sine sweep of m x'' + k x + F sgn(x') = P cos(omega t) across "
+                    "resonance, up and down, with the exact periodic steady state at every "
+                    "frequency; prints the table beside Den Hartog's closed form (with the "
+                    "relative error, or the regime where the closed form does not apply) and "
+                    "writes the plot.")
+    demo.add_argument("--mass", type=_positive_float, default=1.0, help="mass m [kg] (default 1)")
+    demo.add_argument("--stiffness", type=_positive_float, default=1.0,
+                      help="spring stiffness k [N/m] (default 1)")
+    demo.add_argument("--force-amplitude", type=_positive_float, default=1.0,
+                      help="force amplitude P [N] (default 1)")
+    demo.add_argument("--slip-force", type=_nonnegative_float, default=0.5,
+                      help="friction limit F [N] (default 0.5, i.e. F/P = 0.5)")
+    demo.add_argument("--damping", type=_nonnegative_float, default=0.0,
+                      help="viscous damping c [N s/m] (default 0; Den Hartog's form needs 0)")
+    demo.add_argument("--ratio", type=_range(0.0, True, False), default=(0.5, 2.5),
+                      metavar="START:STOP",
+                      help="range of the frequency ratio r = omega/omega_n (default 0.5:2.5)")
+    demo.add_argument("--points", type=_count(1), default=60,
+                      help="number of frequencies per branch (default 60)")
+    demo.add_argument("--direction", choices=("up", "down", "both"), default="both",
+                      help="sweep direction (default both)")
+    demo.add_argument("--out", default="forced_response.png", metavar="PNG",
+                      help="plot file (default forced_response.png)")
+    demo.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    demo.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    demo.set_defaults(func=_demo)
+
+    mp = sub.add_parser(
+        "map", allow_abbrev=False,
+        help="Hong & Liu's map of stops per cycle over (F/P0, r)",
+        description="Number of stops per cycle of the steady motion of the Coulomb oscillator "
+                    "(m = k = P0 = 1) over a grid of friction ratio F/P0 and frequency ratio r, "
+                    "drawn as a categorical map (0, 1, 2, 4, ... stops, permanent stick, "
+                    "unbounded, not converged).")
+    mp.add_argument("--out", default="map.png", metavar="PNG", help="plot file (default map.png)")
+    mp.add_argument("--friction", type=_range(0.0, False, True), default=(0.05, 1.2, 24),
+                    metavar="START:STOP:N", help="friction ratios F/P0 (default 0.05:1.2:24)")
+    mp.add_argument("--ratio", type=_range(0.0, True, True), default=(0.1, 2.0, 39),
+                    metavar="START:STOP:N", help="frequency ratios r (default 0.1:2.0:39)")
+    mp.add_argument("--jobs", type=_count(1), default=os.cpu_count() or 1,
+                    help="worker processes (default: the number of CPUs)")
+    mp.add_argument("--csv", default=None, metavar="FILE", help="also write the map as CSV")
+    mp.add_argument("--table", action="store_true", help="print the map as text")
+    mp.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    mp.set_defaults(func=_map)
+    return parser
+
+
+def _check_writable(parser, option: str, path) -> None:
+    if path is None:
+        return
+    folder = os.path.dirname(os.path.abspath(path)) or "."
+    if not os.path.isdir(folder):
+        parser.error(f"{option}: directory {folder!r} does not exist")
+
+
+def _demo(args, parser) -> int:
+    from .sweep import oscillator_sweep
+
+    wn = math.sqrt(args.stiffness / args.mass)
+    r0, r1 = args.ratio
+    if args.points == 1 and r0 != r1:
+        ratios = np.array([r0])
+    else:
+        ratios = np.linspace(r0, r1, args.points)
+    print(f"Coulomb oscillator: m = {args.mass:g} kg, k = {args.stiffness:g} N/m, "
+          f"P = {args.force_amplitude:g} N, F = {args.slip_force:g} N "
+          f"(F/P = {args.slip_force / args.force_amplitude:.4g}), c = {args.damping:g} N s/m, "
+          f"omega_n = {wn:.6g} rad/s")
+    print(f"stepped sine {args.direction}, {ratios.size} frequencies per branch, "
+          f"r = {ratios[0]:g} ... {ratios[-1]:g}; exact steady state at each\n", flush=True)
+    fr = oscillator_sweep(args.mass, args.stiffness, args.slip_force, args.force_amplitude,
+                          ratios * wn, damping=args.damping, direction=args.direction,
+                          progress=not args.no_progress)
+    print(fr.table())
+    if args.csv:
+        fr.to_csv(args.csv)
+        print(f"wrote {args.csv}")
+    fr.plot(args.out)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def _map(args, parser) -> int:
+    from .regime import regime_map
+
+    fs = np.linspace(*args.friction)
+    rs = np.linspace(*args.ratio)
+    print(f"Hong & Liu map: {fs.size} friction ratios F/P0 = {fs[0]:g} ... {fs[-1]:g}, "
+          f"{rs.size} frequency ratios r = {rs[0]:g} ... {rs[-1]:g} "
+          f"({fs.size * rs.size} steady states, {args.jobs} job(s))", flush=True)
+    rm = regime_map(fs, rs, progress=not args.no_progress, jobs=args.jobs)
+    if args.table:
+        print(rm.table())
+    counts = Counter(rm.category().ravel().tolist())
+    print("points per category: " + ", ".join(f"{k}: {v}" for k, v in sorted(counts.items())))
+    if args.csv:
+        rm.to_csv(args.csv)
+        print(f"wrote {args.csv}")
+    rm.plot(args.out)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def main(argv=None) -> int:
+    """Run the ``frictionjoint`` command.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments without the program name; ``sys.argv[1:]`` if omitted.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 2 on invalid arguments.
+    """
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    sub = parser._subparsers._group_actions[0].choices[args.command]
+    _check_writable(sub, "--out", args.out)
+    _check_writable(sub, "--csv", args.csv)
+    try:
+        return args.func(args, sub)
+    except ParameterError as exc:
+        sub.error(str(exc))
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
