@@ -157,44 +157,45 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         pz = pmap(z)
         periods = 1.0 + t_s / period - 1.0  # pmap.calls counted at the end
 
-    converged = False
-    jac = None
-    jac_rnorm = math.inf
-    message = ""
-    rnorm = math.inf
     scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
-    r = pz - z
-    rnorm = float(np.max(np.abs(r) / scale0))
-    for _ in range(max_newton):
-        if rnorm <= tol:
-            converged = True
-            break
-        if jac is None:
-            jac = _jacobian(pmap, z, pz, scale0)
-            jac_rnorm = rnorm
-        a = (jac - np.eye(z.size)) / scale0[:, None] * scale0[None, :]
-        step = np.linalg.lstsq(a, -r / scale0, rcond=1e-13)[0] * scale0
-        lam = 1.0
-        while lam >= 1 / 32:
-            zn = z + lam * step
-            pzn = pmap(zn)
-            rn = float(np.max(np.abs(pzn - zn) / scale0))
-            if rn < rnorm:
-                break
-            lam *= 0.5
-        else:
-            if jac is not None and lam < 1 / 32:
-                break
-        # chord method: keep the Jacobian while the residual falls fast
-        if rn > 0.05 * rnorm:
-            jac = None
-        z, pz, r, rnorm = zn, pzn, pzn - zn, rn
-    else:
-        converged = rnorm <= tol
 
+    def newton(z, pz, iterations):
+        """Chord/Newton iterations on P(z) - z; returns (converged, z, pz, rnorm, jac, jac_rnorm)."""
+        jac, jac_rnorm = None, math.inf
+        rnorm = float(np.max(np.abs(pz - z) / scale0))
+        for _ in range(iterations):
+            if rnorm <= tol:
+                return True, z, pz, rnorm, jac, jac_rnorm
+            fresh = jac is None
+            if fresh:
+                jac = _jacobian(pmap, z, pz, scale0)
+                jac_rnorm = rnorm
+            a = (jac - np.eye(z.size)) / scale0[:, None] * scale0[None, :]
+            step = np.linalg.lstsq(a, -(pz - z) / scale0, rcond=1e-13)[0] * scale0
+            lam = 1.0
+            while lam >= 1 / 32:
+                zn = z + lam * step
+                pzn = pmap(zn)
+                rn = float(np.max(np.abs(pzn - zn) / scale0))
+                if rn < rnorm:
+                    break
+                lam *= 0.5
+            else:
+                if fresh:
+                    break  # no descent even with a fresh Jacobian
+                jac = None  # the chord Jacobian was stale: refresh it and retry
+                continue
+            # chord method: keep the Jacobian while the residual falls fast
+            if rn > 0.05 * rnorm:
+                jac = None
+            z, pz, rnorm = zn, pzn, rn
+        return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
+
+    converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
+    message = ""
     growth = None
     if not converged:
-        # fallback: march period after period; watch for growth
+        # fallback: march period after period (retrying Newton now and then); watch for growth
         amps = []
         if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
             z = z_start  # Newton wandered off: march from the start instead
@@ -208,10 +209,16 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             if rnorm <= tol:
                 converged = True
                 break
-            if k >= 30 and k % 10 == 0:
-                inc = np.diff(amps[-20:])
-                if np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc):
-                    growth = float(np.mean(inc))
+            if k >= 40 and k % 20 == 0:
+                inc = np.diff(amps[-30:])
+                # unbounded: steady increments that do not decay
+                if (np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc)
+                        and np.mean(inc[-10:]) >= 0.98 * np.mean(inc[:10]) and amps[-1] >= 2 * amps[-30]):
+                    growth = float(np.mean(inc[-10:]))
+                    break
+                scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
+                converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pmap(z), 8)
+                if converged:
                     break
 
     orbit = pmap.last
