@@ -138,3 +138,19 @@ def test_record_only_what_is_asked():
     osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
     tr = osc.simulate(5.0, record=("x",))
     assert tr.x is not None and tr.v is None and tr.friction_force is None and tr.work is None
+
+
+@pytest.mark.parametrize("r,f,per_period", [(1.5, 0.3, {"normal stop": 2}),
+                                            (0.45, 0.5, {"stick": 2, "slip": 2})])
+def test_zero_duration_stops_do_not_chatter(r, f, per_period):
+    """Over 200 steady periods: exactly the expected events per period, strictly increasing times
+    (a zero-duration stop is decided from the force, never by tiny steps)."""
+    osc = fj.CoulombOscillator(slip_force=f, force_amplitude=1.0, omega=r)
+    ss = osc.steady_state()
+    x0, v0 = ss.initial_state[:2]
+    tr = osc.simulate(200 * osc.period, x0, v0, t_eval=[0.0, 200 * osc.period])
+    times = np.array(tr.events.time)
+    assert np.all(np.diff(times) > 1e-6 * osc.period)
+    for kind, n in per_period.items():
+        assert tr.events.count(kind) == 200 * n
+    assert len(tr.events) == 200 * sum(per_period.values())
