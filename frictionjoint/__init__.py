@@ -12,7 +12,9 @@ from .results import PeriodicResponse, TimeResponse
 from .solvers.events import EventLog, Marcher
 from .solvers.response import simulate
 from .solvers.steady import periodic_response
+from .regime import RegimeMap, regime_map
 from .structure import LinearStructure
+from .sweep import FrequencyResponse, oscillator_sweep
 from .system import FrictionSystem
 
 __version__ = "0.1.0"
@@ -23,6 +25,7 @@ __all__ = [
     "ConvergenceError",
     "EventLog",
     "ExternalForce",
+    "FrequencyResponse",
     "FrictionSystem",
     "HarmonicBaseMotion",
     "HarmonicForce",
@@ -32,7 +35,10 @@ __all__ = [
     "Marcher",
     "ParameterError",
     "PeriodicResponse",
+    "RegimeMap",
     "TimeResponse",
+    "oscillator_sweep",
     "periodic_response",
+    "regime_map",
     "simulate",
 ]

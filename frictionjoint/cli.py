@@ -143,7 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="plot file (default forced_response.png)")
     demo.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     demo.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-    demo.set_defaults(func=_demo)
+    demo.set_defaults(func=_demo, subparser=demo)
 
     mp = sub.add_parser(
         "map", allow_abbrev=False,
@@ -162,7 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--csv", default=None, metavar="FILE", help="also write the map as CSV")
     mp.add_argument("--table", action="store_true", help="print the map as text")
     mp.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-    mp.set_defaults(func=_map)
+    mp.set_defaults(func=_map, subparser=mp)
     return parser
 
 
@@ -179,10 +179,7 @@ def _demo(args, parser) -> int:
 
     wn = math.sqrt(args.stiffness / args.mass)
     r0, r1 = args.ratio
-    if args.points == 1 and r0 != r1:
-        ratios = np.array([r0])
-    else:
-        ratios = np.linspace(r0, r1, args.points)
+    ratios = np.linspace(r0, r1, args.points)
     print(f"Coulomb oscillator: m = {args.mass:g} kg, k = {args.stiffness:g} N/m, "
           f"P = {args.force_amplitude:g} N, F = {args.slip_force:g} N "
           f"(F/P = {args.slip_force / args.force_amplitude:.4g}), c = {args.damping:g} N s/m, "
@@ -237,7 +234,7 @@ def main(argv=None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
-    sub = parser._subparsers._group_actions[0].choices[args.command]
+    sub = args.subparser
     _check_writable(sub, "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:

@@ -101,8 +101,9 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
     axes = [ax_a] + ([ax_p] if ax_p is not None else [])
     handles = []
 
-    ok = fr.converged
+    ok = fr.converged & np.isfinite(fr.amplitude)
     amp_ok = fr.amplitude[ok & (fr.amplitude > 0)]
+    amp_ref = np.empty(0)
     # analytic reference: dense curve, gaps where it is not the motion
     if fr.reference is not None and len(fr):
         lo, hi = float(fr.omega.min()), float(fr.omega.max())
@@ -112,6 +113,7 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
             dense = np.unique(np.concatenate([dense, [wn]]))
         d_amp, d_ph = fr.reference(dense)
         amp_line = np.ma.filled(d_amp.astype(float), np.nan)
+        amp_ref = amp_line[np.isfinite(amp_line) & (amp_line > 0)]
         ph_line = np.ma.filled(d_ph.astype(float), np.nan)
         scale = fr.natural_frequency if ratio is not None else 1.0
         xd = dense / scale
@@ -129,15 +131,19 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
             handles.append(Patch(color="0.88", label=f"{fr.analytic_name} not valid (stops / resonance)"))
 
     for branch in ("up", "down"):
-        sel = (fr.branch == branch) & ok
-        if not sel.any():
+        sel = fr.branch == branch
+        if not (sel & ok).any():
             continue
         style = dict(_BRANCH_STYLE[branch])
         label = style.pop("label")
-        order = np.argsort(xvals[sel])
-        ax_a.plot(xvals[sel][order], fr.amplitude[sel][order], zorder=3, **style)
+        order = np.argsort(xvals[sel], kind="stable")
+        xb = xvals[sel][order]
+        good = ok[sel][order]
+        # lines break at points without a periodic orbit
+        amp_b = np.where(good, fr.amplitude[sel][order], np.nan)
+        ax_a.plot(xb, amp_b, zorder=3, **style)
         if ax_p is not None:
-            ax_p.plot(xvals[sel][order], np.degrees(fr.phase[sel][order]), zorder=3, **style)
+            ax_p.plot(xb, np.where(good, np.degrees(fr.phase[sel][order]), np.nan), zorder=3, **style)
         handles.append(Line2D([], [], label=label, **style))
 
     for regime, style in _REGIME_STYLE.items():
@@ -163,8 +169,10 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
 
     if amp_ok.size:
         ax_a.set_yscale("log")
-        top = float(amp_ok.max())
-        bottom = float(amp_ok.min())
+        top, bottom = float(amp_ok.max()), float(amp_ok.min())
+        if amp_ref.size:  # show the analytic curve too, but not its resonance peak to infinity
+            top = max(top, float(np.quantile(amp_ref, 0.97)))
+            bottom = min(bottom, float(amp_ref.min()))
         ax_a.set_ylim(bottom / 1.5, top * 1.5)
     ax_a.set_ylabel("amplitude max |x| [m]")
     ax_a.grid(True, which="major", alpha=0.35)
@@ -176,7 +184,9 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
         ax_p.grid(True, alpha=0.3)
     axes[-1].set_xlabel(xlabel)
     if len(xvals):
-        axes[-1].set_xlim(float(np.min(xvals)), float(np.max(xvals)))
+        lo, hi = float(np.min(xvals)), float(np.max(xvals))
+        pad = 0.015 * (hi - lo) if hi > lo else 0.05 * abs(lo)
+        axes[-1].set_xlim(lo - pad, hi + pad)
     p = fr.parameters
     title = "Forced response"
     if {"slip_force", "force_amplitude", "base_amplitude", "stiffness"} <= set(p):

@@ -18,6 +18,7 @@ import csv
 import math
 import os
 import sys
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,15 +31,13 @@ __all__ = ["RegimeMap", "regime_map", "classify", "REGIMES"]
 REGIMES = ("stop-free", "stops", "stuck", "unbounded", "not converged")
 
 
-def classify(response, slip_force: float | None = None) -> str:
+def classify(response) -> str:
     """Regime word of a :class:`~frictionjoint.results.PeriodicResponse`.
 
     Parameters
     ----------
     response : PeriodicResponse
         Result of :meth:`~frictionjoint.CoulombOscillator.steady_state`.
-    slip_force : float, optional
-        Slip force [N] of the oscillator; with ``0`` nothing can stick, so ``stuck`` is ignored.
 
     Returns
     -------
@@ -47,12 +46,9 @@ def classify(response, slip_force: float | None = None) -> str:
         duration per cycle), ``'stuck'`` (nothing slips over the period), ``'unbounded'``
         (growth without bound) or ``'not converged'``.
     """
-    status = getattr(response, "status", None)
-    if status in REGIMES:  # a core that reports the regime itself
-        return status
-    if not response.converged:
-        return "unbounded" if "without bound" in (response.message or "") else "not converged"
-    if response.stuck and (slip_force is None or slip_force > 0):
+    if response.status != "periodic":  # 'unbounded' or 'not converged'
+        return response.status
+    if response.stuck:
         return "stuck"
     return "stops" if response.stops_per_cycle > 0 else "stop-free"
 
@@ -72,18 +68,26 @@ def _grid(name: str, values, lower: str) -> np.ndarray:
     return arr
 
 
+_FAILED = "steady-state solver failed"
+
+
 def _point(args):
     """Steady state at one grid point (module level so that worker processes can run it)."""
     from .oscillator import CoulombOscillator
 
     f, r = args
-    ss = CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=f, force_amplitude=1.0,
-                           omega=r).steady_state()
-    regime = classify(ss, slip_force=f)
+    osc = CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=f, force_amplitude=1.0, omega=r)
+    try:
+        ss = osc.steady_state()
+    except ParameterError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - reported in the map (and warned about by the caller)
+        return "not converged", -1, False, True, 0.0, f"{_FAILED}: {type(exc).__name__}: {exc}"
+    regime = classify(ss)
     return regime, int(ss.stops_per_cycle), bool(ss.converged), bool(ss.unique), float(ss.periods), ss.message
 
 
-@dataclass
+@dataclass(eq=False)
 class RegimeMap:
     """Number of stops per cycle over a grid of friction and frequency ratios.
 
@@ -259,6 +263,12 @@ def regime_map(friction_ratios, frequency_ratios, progress: bool = False, jobs: 
                     bar.update()
     finally:
         bar.close()
+    failed = [(p, res[5]) for p, res in zip(points, results) if res[5].startswith(_FAILED)]
+    if failed:
+        (f, r), msg = failed[0]
+        warnings.warn(f"{len(failed)} point(s) of the regime map marked 'not converged' after a "
+                      f"solver failure, e.g. F/P0 = {f!r}, r = {r!r}: {msg}", RuntimeWarning,
+                      stacklevel=2)
     shape = (fs.size, rs.size)
     regime = np.array([res[0] for res in results], dtype=object).reshape(shape).astype(str)
     stops = np.array([res[1] for res in results], dtype=int).reshape(shape)

@@ -84,6 +84,8 @@ class PeriodicResponse:
         False when the orbit belongs to a family (period map with an eigenvalue 1).
     message : str
         What happened, in words.
+    status : str
+        ``'periodic'``, ``'unbounded'`` (grows without bound) or ``'not converged'``.
     periods : float
         Number of excitation periods marched (all shooting iterations included).
     state : ndarray
@@ -108,6 +110,7 @@ class PeriodicResponse:
     unique: bool
     message: str
     periods: float
+    status: str = "periodic"
     state: np.ndarray = field(repr=False, default=None)
     section_time: float = 0.0
     initial_state: np.ndarray = field(repr=False, default=None)

@@ -30,7 +30,6 @@ __all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTI
 #: Allowed values of ``direction``.
 DIRECTIONS = ("up", "down", "both")
 
-_FLOAT_COLUMNS = ("omega", "amplitude", "phase", "harmonic_amplitude", "periods")
 _MASKED_COLUMNS = ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error")
 
 
@@ -47,7 +46,7 @@ def _wrap(angle):
     return np.pi - np.mod(np.pi - angle, 2 * np.pi)
 
 
-@dataclass
+@dataclass(eq=False)
 class FrequencyResponse:
     """Steady-state response at a sequence of excitation frequencies.
 
@@ -207,10 +206,13 @@ class FrequencyResponse:
                          f"{amp_err:.1e}, phase {ph_err:.1e}")
         words = {"stops": "with stops", "stuck": "permanently stuck",
                  "unbounded": "growing without bound", "not converged": "not converged"}
-        extra = [f"{int(np.count_nonzero(self.regime == w))} {text}" for w, text in words.items()
-                 if np.any(self.regime == w)]
+        extra = []
+        for word, text in words.items():
+            n = int(np.count_nonzero(self.regime == word))
+            if n:
+                extra.append(f"{n} point{'' if n == 1 else 's'} {text}")
         if extra:
-            lines.append("points " + ", ".join(extra) + " (simulation only: no closed form there)")
+            lines.append(", ".join(extra) + " (simulation only: no closed form there)")
         if not np.all(self.unique):
             lines.append("* not unique: one member of a family of periodic orbits")
         return "\n".join(lines)
@@ -256,6 +258,7 @@ class FrequencyResponse:
         Parameters
         ----------
         path : str or os.PathLike
+            A CSV file written by :meth:`to_csv`.
 
         Returns
         -------
@@ -358,9 +361,12 @@ def _reference(params, omegas):
 
 
 def _steady_state(osc, state):
-    """``osc.steady_state`` from ``state`` (or the default guess); a solver failure is retried
-    from the default guess, then reported as a non-converged point (with a warning), so that
-    one bad point does not lose a whole sweep."""
+    """``osc.steady_state`` from ``state`` (or the default guess).
+
+    A solver failure is retried from the default guess (with a warning), and if that fails too
+    the point is reported as not converged (with a warning), so that one bad point does not
+    lose a whole sweep.
+    """
     from .results import PeriodicResponse
 
     starts = [state, None] if state is not None else [None]
@@ -368,7 +374,11 @@ def _steady_state(osc, state):
     for start in starts:
         x0, v0 = (None, None) if start is None else start
         try:
-            return osc.steady_state(x0=x0, v0=v0)
+            res = osc.steady_state(x0=x0, v0=v0)
+            if errors:
+                warnings.warn(f"omega = {osc.omega!r}: steady-state solver failed ({errors[0]}); "
+                              "succeeded from the default estimate", RuntimeWarning, stacklevel=3)
+            return res
         except ParameterError:
             raise
         except Exception as exc:  # noqa: BLE001 - reported in the result and as a warning
@@ -379,7 +389,7 @@ def _steady_state(osc, state):
     nan = float("nan")
     return PeriodicResponse(omega=osc.omega, amplitude=nan, phase=nan, harmonic_amplitude=nan,
                             stops_per_cycle=0, stuck=False, converged=False, unique=True,
-                            message=message, periods=0.0)
+                            message=message, periods=0.0, status="not converged")
 
 
 def _omegas(values) -> np.ndarray:
@@ -490,7 +500,7 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
             if ref_amp is not None and ss.converged:
                 amp_err = abs(ss.amplitude - ref_amp) / ref_amp
                 ph_err = abs(float(_wrap(ss.phase - ref_ph))) / abs(ref_ph) if ref_ph != 0 else None
-            rows.append((branch, float(w), ss, classify(ss, slip_force=fr), ref_amp, ref_ph,
+            rows.append((branch, float(w), ss, classify(ss), ref_amp, ref_ph,
                          ref_reg, amp_err, ph_err))
             bar.set_postfix_str(f"{branch} r={w / wn:.3f}", refresh=False)
             bar.update()

@@ -393,7 +393,7 @@ class Marcher:
                     return a if not start_zero else self._locate_tiny(g, a, ts[0], xtol)
                 a = ts[first - 1]
                 b = ts[first]
-            return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=_RTOL)
+            return self._brent(g, a, b, xtol)
         # dip: local minimum between a and b
         if dg(a) >= 0 or dg(b) <= 0:  # a sign change of g' that was rounding noise
             return None
@@ -402,16 +402,27 @@ class Marcher:
             return None
         gm = g(tm)
         if gm < 0:
-            return scipy.optimize.brentq(g, a, tm, xtol=xtol, rtol=_RTOL) if g(a) > 0 else tm
+            return self._brent(g, a, tm, xtol)
         if gm <= tol:
             return tm
         return None
+
+    @staticmethod
+    def _brent(g, a, b, xtol):
+        """Root of ``g`` on ``[a, b]`` (g(a) >= 0 > g(b) up to rounding): where the scalar and the
+        vectorised evaluations disagree in the last bits, the end point that is zero wins."""
+        ga, gb = g(a), g(b)
+        if ga <= 0:
+            return a
+        if gb >= 0:
+            return b
+        return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=_RTOL)
 
     def _locate_tiny(self, g, a, b, xtol):
         ts = np.linspace(a, b, 65)[1:]
         for lo, hi in zip(ts[:-1], ts[1:]):
             if g(lo) > 0 > g(hi):
-                return scipy.optimize.brentq(g, lo, hi, xtol=xtol, rtol=_RTOL)
+                return self._brent(g, lo, hi, xtol)
         return b
 
     # ----------------------------------------------------------------- march

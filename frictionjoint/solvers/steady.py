@@ -33,6 +33,7 @@ class _PeriodMap:
         self.n = n
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
+        self.last = None
         # a displacement scale from the loads, the floor of the residual scaling
         load = max(float(np.max(np.abs(system.force_cos), initial=0)),
                    float(np.max(np.abs(system.force_sin), initial=0)),
@@ -221,12 +222,12 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
                 if converged:
                     break
 
-    orbit = pmap.last
+    orbit = pmap.last if pmap.last is not None and np.array_equal(pmap.last[0], z) else None
     unique = True
     if converged:
         if jac is None or jac_rnorm > 1e-6:
             # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
-            pz_orbit = orbit[1] if np.array_equal(orbit[0], z) else pmap(z)
+            pz_orbit = orbit[1] if orbit is not None else pmap(z)
             jac = _jacobian(pmap, z, pz_orbit, pmap.scales(z))
         sc = pmap.scales(z)
         a = (jac - np.eye(z.size)) / sc[:, None] * sc[None, :]
@@ -278,9 +279,8 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             d = system.slider_direction[slip]
             diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
 
-    z_last, _, pieces, log_last = orbit
-    if np.array_equal(z_last, z):
-        log = log_last
+    if orbit is not None:
+        _, _, pieces, log = orbit
         for itv, tau in pieces:
             on_interval(itv, tau)
     else:
@@ -308,6 +308,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         x_s = tr.x
     return PeriodicResponse(
         omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
-        stops_per_cycle=stops, stuck=stuck_all[0], converged=converged, unique=unique, message=message,
+        stops_per_cycle=stops, stuck=stuck_all[0] and system.n_sliders > 0,
+        status="periodic" if converged else ("unbounded" if growth is not None else "not converged"), converged=converged, unique=unique, message=message,
         periods=periods, state=z, section_time=t_s, initial_state=z0[0], events=log, dissipated_per_cycle=diss[0],
         t=t_s_arr, x=x_s)

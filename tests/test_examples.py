@@ -1,0 +1,84 @@
+"""Examples and documentation run as tests: examples/forced_response.py, the README's Python
+example, the README's two set-up commands and their agreement with .ci/run."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+TIMEOUT = 120  # seconds per subprocess
+
+
+def code_blocks(text):
+    """``(language, body)`` of every fenced code block, in order."""
+    return [(m.group(1), m.group(2)) for m in re.finditer(r"^```(\w*)\n(.*?)^```", text, re.S | re.M)]
+
+
+def test_forced_response_example(tmp_path):
+    out = tmp_path / "fr.png"
+    env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "forced_response.py"), str(out)],
+                          capture_output=True, text=True, timeout=TIMEOUT, cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert out.read_bytes()[:8] == PNG_MAGIC
+    assert "Den Hartog" in proc.stdout and f"wrote {out}" in proc.stdout
+    rows = [ln for ln in proc.stdout.splitlines() if ln.startswith(("up ", "down "))]
+    assert len(rows) == 6  # three points up, three down
+
+
+def test_forced_response_example_points_argument(tmp_path):
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "forced_response.py"),
+                           "plot.png", "2"], capture_output=True, text=True, timeout=TIMEOUT,
+                          cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "plot.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_readme_opens_with_the_two_commands():
+    text = README.read_text()
+    title, rest = text.split("\n", 1)
+    assert title.startswith("# ")
+    # title, a one-sentence description, then two code blocks with one command each
+    match = re.match(r"\s*([^\n`]+)\n\s*```bash\n([^\n]+)\n```\s*```bash\n([^\n]+)\n```\n", rest)
+    assert match, "README must open with a sentence and exactly two one-line code blocks"
+    description, main_job, tests = match.groups()
+    assert description.endswith(".") and description.count(". ") == 0
+    assert main_job.startswith("python3 -m venv .venv && .venv/bin/pip install -e . && ")
+    assert "frictionjoint demo" in main_job
+    assert tests.startswith("python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && ")
+    assert tests.endswith("pytest -q")
+    assert "<!-- numbers filled in by the core developer -->" in text or "## Accuracy" in text
+
+
+def test_readme_python_example_runs(tmp_path, monkeypatch):
+    python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
+    assert len(python) == 1
+    monkeypatch.chdir(tmp_path)
+    exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
+    assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_ci_runs_the_readme_test_command():
+    bash = shutil.which("bash")
+    if bash is None:
+        pytest.skip("bash not available")
+    script = ROOT / ".ci" / "run"
+    text = script.read_text()
+    assert text.startswith("#!/usr/bin/env bash") and "set -euo pipefail" in text
+    assert "status -eq 5" in text  # 'no tests collected' is a failure
+    proc = subprocess.run([bash, str(script), "--dry-run"], capture_output=True, text=True,
+                          timeout=TIMEOUT)
+    assert proc.returncode == 0, proc.stderr
+    readme_tests = code_blocks(README.read_text())[1][1].strip()
+    invocation = readme_tests.rsplit("&& .venv/bin/", 1)[1]
+    assert proc.stdout.splitlines()[-1] == f"$VENV/bin/{invocation}"
+    assert "python3 -m venv" in proc.stdout and "install -e '.[test]'" in proc.stdout
+    bad = subprocess.run([bash, str(script), "--bogus"], capture_output=True, text=True,
+                         timeout=TIMEOUT)
+    assert bad.returncode != 0
