@@ -651,7 +651,7 @@ def wall_base_mapping(
     friction_ratio : float
         ``f = F/P0`` [-].
     """
-    k = check_positive("stiffness", stiffness)
+    check_positive("stiffness", stiffness)  # validated; f = F/(m w^2 Y) does not depend on k
     friction = check_nonnegative("slip_force", slip_force)
     y = check_positive("base_amplitude", base_amplitude)
     w = check_positive("omega", omega)

@@ -28,34 +28,25 @@ __all__ = ["main", "build_parser"]
 PROG = "frictionjoint"
 
 
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
-    return value
+def _number(kind: str):
+    """argparse type: a finite float, ``kind`` in {'real', 'positive', 'nonnegative'}."""
+    accept = {"real": (lambda v: True, ""), "positive": (lambda v: v > 0, " > 0"),
+              "nonnegative": (lambda v: v >= 0, " >= 0")}[kind]
+
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        if not (math.isfinite(value) and accept[0](value)):
+            raise argparse.ArgumentTypeError(f"expected a finite number{accept[1]}, got {text!r}")
+        return value
+    return convert
 
 
-def _nonnegative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
-    return value
-
-
-def _real(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return value
+_positive_float = _number("positive")
+_nonnegative_float = _number("nonnegative")
+_real = _number("real")
 
 
 def _count(minimum: int):

@@ -16,6 +16,7 @@ __all__ = [
     "check_real",
     "check_positive",
     "check_nonnegative",
+    "check_grid",
 ]
 
 
@@ -51,3 +52,18 @@ def check_nonnegative(name: str, value) -> float:
     if value < 0.0:
         raise ParameterError(f"{name} must be >= 0 (allowed range [0, inf)), got {value!r}")
     return value
+
+
+def check_grid(name: str, values, positive: bool = True, unit: str = "") -> np.ndarray:
+    """Return ``values`` as a non-empty 1-D float array of finite numbers > 0 (or >= 0)."""
+    suffix = f" [{unit}]" if unit else ""
+    try:
+        arr = np.atleast_1d(np.array(values, dtype=float))
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a 1-D sequence of real numbers{suffix}, got {values!r}") from None
+    if arr.ndim != 1 or arr.size == 0:
+        raise ParameterError(f"{name} must be a non-empty 1-D sequence{suffix}, got shape {arr.shape}")
+    check = check_positive if positive else check_nonnegative
+    for i, value in enumerate(arr):
+        check(f"{name}[{i}]", float(value))
+    return arr

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 
 from .elements import CoulombSlider
 from .errors import check_nonnegative, check_positive, check_real

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParameterError, check_nonnegative, check_positive
+from .errors import ParameterError, check_grid
 
 __all__ = ["RegimeMap", "regime_map", "classify", "REGIMES"]
 
@@ -53,19 +53,6 @@ def classify(response) -> str:
     return "stops" if response.stops_per_cycle > 0 else "stop-free"
 
 
-def _grid(name: str, values, lower: str) -> np.ndarray:
-    """Validate a 1-D grid of ratios (``lower`` 'positive' or 'nonnegative')."""
-    try:
-        arr = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a 1-D sequence of real numbers, got {values!r}") from None
-    arr = np.atleast_1d(arr)
-    if arr.ndim != 1 or arr.size == 0:
-        raise ParameterError(f"{name} must be a non-empty 1-D sequence, got shape {arr.shape}")
-    check = check_positive if lower == "positive" else check_nonnegative
-    for i, value in enumerate(arr):
-        check(f"{name}[{i}]", float(value))
-    return arr
 
 
 _FAILED = "steady-state solver failed"
@@ -236,8 +223,8 @@ def regime_map(friction_ratios, frequency_ratios, progress: bool = False, jobs: 
     ParameterError
         If a ratio is negative (``f``), non-positive (``r``) or not finite, or ``jobs < 1``.
     """
-    fs = _grid("friction_ratios", friction_ratios, "nonnegative")
-    rs = _grid("frequency_ratios", frequency_ratios, "positive")
+    fs = check_grid("friction_ratios", friction_ratios, positive=False)
+    rs = check_grid("frequency_ratios", frequency_ratios)
     if not isinstance(progress, (bool, np.bool_)):
         raise ParameterError(f"progress must be True or False, got {progress!r}")
     if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)) or jobs < 1:

@@ -22,7 +22,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import ParameterError, check_nonnegative, check_positive, check_real
+from .errors import ParameterError, check_grid, check_nonnegative, check_positive, check_real
 from .regime import classify
 
 __all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTIONS"]
@@ -392,17 +392,6 @@ def _steady_state(osc, state):
                             message=message, periods=0.0, status="not converged")
 
 
-def _omegas(values) -> np.ndarray:
-    try:
-        arr = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"omegas must be a 1-D sequence of real numbers [rad/s], got {values!r}") from None
-    arr = np.atleast_1d(arr)
-    if arr.ndim != 1 or arr.size == 0:
-        raise ParameterError(f"omegas must be a non-empty 1-D sequence [rad/s], got shape {arr.shape}")
-    for i, w in enumerate(arr):
-        check_positive(f"omegas[{i}]", float(w))
-    return arr
 
 
 def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amplitude: float,
@@ -457,7 +446,7 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     p = check_real("force_amplitude", force_amplitude)
     c = check_nonnegative("damping", damping)
     y = check_real("base_amplitude", base_amplitude)
-    ws = _omegas(omegas)
+    ws = check_grid("omegas", omegas, unit="rad/s")
     if direction not in DIRECTIONS:
         raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
     if not isinstance(progress, (bool, np.bool_)):

@@ -163,7 +163,7 @@ class Interval:
         self.f_const = np.asarray(f_const, dtype=float)
         nb = config.N
         m = config.m
-        self.omega = w = system.omega
+        self.omega = system.omega
         minv = config.mr_inv_nt
         b0 = np.concatenate([np.zeros(m), minv @ (self.f_const - config.stiffness @ self.x0)])
         bc = np.concatenate([np.zeros(m), minv @ system.force_cos])
