@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from frictionjoint.errors import (
+from .errors import (
     ParameterError,
     check_nonnegative,
     check_positive,

@@ -110,6 +110,19 @@ class Marcher:
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
         self._mass_scale = float(np.max(np.diag(system.mass)))
+        self.held_force = None
+
+    def set_held_force(self, force) -> None:
+        """Hold an extra force vector (n_dof,) [N] from now on (zero-order-hold input, e.g. an
+        FMU input over a communication step); ``None`` removes it. Call :meth:`settle` (or
+        :meth:`march`, which settles at its start) afterwards: holding forces may have jumped."""
+        if force is None:
+            self.held_force = None
+            return
+        f = np.broadcast_to(np.asarray(force, dtype=float), (self.system.n_dof,)).copy()
+        if not np.all(np.isfinite(f)):
+            raise ParameterError("held force must be finite")
+        self.held_force = f
 
     # ---------------------------------------------------------------- set-up
     def config(self, status: np.ndarray) -> ConfigData:
@@ -166,7 +179,10 @@ class Marcher:
     # ---------------------------------------------------------- observables
     def _f_ext(self, t: float) -> np.ndarray:
         sysm = self.system
-        return sysm.external_force(t) if sysm.external else np.zeros(sysm.n_dof)
+        f = sysm.external_force(t) if sysm.external else np.zeros(sysm.n_dof)
+        if self.held_force is not None:
+            f = f + self.held_force
+        return f
 
     def _f_const(self, state: MarchState, f_ext: np.ndarray) -> np.ndarray:
         sysm = self.system

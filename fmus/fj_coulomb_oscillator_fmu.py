@@ -1,0 +1,6 @@
+"""FMU script: CoulombOscillator.fmu (thin adapter; physics in the bundled frictionjoint)."""
+from _frictionjoint_bundle.fmi.slaves import CoulombOscillatorSlave
+
+
+class CoulombOscillator(CoulombOscillatorSlave):
+    """Single-DOF mass on a Coulomb friction surface, spring to a moving base."""

@@ -1,0 +1,128 @@
+"""Build the FMUs with pythonfmu, post-process their model descriptions, validate with fmpy.
+
+The library is bundled into each FMU's ``resources/`` under the name ``_frictionjoint_bundle``
+(the FMU scripts import it under that name), so an FMU needs only Python with numpy and scipy at
+run time and a host's own ``frictionjoint`` can neither shadow it nor be shadowed by it.
+"""
+from __future__ import annotations
+
+import shutil
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+__all__ = ["FMUS", "BUNDLE_NAME", "build_fmus", "postprocess", "validate", "default_source_dir"]
+
+BUNDLE_NAME = "_frictionjoint_bundle"
+#: FMU name -> script in the FMU source folder (unique module names: see DESIGN.md 5)
+FMUS = {
+    "CoulombOscillator": "fj_coulomb_oscillator_fmu.py",
+    "JenkinsJoint": "fj_jenkins_joint_fmu.py",
+    "IwanJoint": "fj_iwan_joint_fmu.py",
+}
+
+
+def default_source_dir() -> Path:
+    """The repository's ``fmus/`` folder (next to the package)."""
+    return Path(__file__).resolve().parents[2] / "fmus"
+
+
+def _bundle(tmp: Path) -> Path:
+    src = Path(__file__).resolve().parents[1]
+    dest = tmp / BUNDLE_NAME
+    shutil.copytree(src, dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "cli.py", "__main__.py"))
+    return dest
+
+
+def postprocess(fmu: Path) -> None:
+    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits."""
+    fmu = Path(fmu)
+    with zipfile.ZipFile(fmu) as z:
+        items = {name: z.read(name) for name in z.namelist()}
+    root = ET.fromstring(items["modelDescription.xml"])
+    variables = root.find("ModelVariables").findall("ScalarVariable")
+    outputs = [i + 1 for i, v in enumerate(variables) if v.get("causality") == "output"]
+    structure = root.find("ModelStructure")
+    if structure is None:
+        structure = ET.SubElement(root, "ModelStructure")
+    for tag in ("Outputs", "InitialUnknowns"):
+        old = structure.find(tag)
+        if old is not None:
+            structure.remove(old)
+    outs = ET.Element("Outputs")
+    init = ET.Element("InitialUnknowns")
+    for idx in outputs:
+        ET.SubElement(outs, "Unknown", index=str(idx))
+        ET.SubElement(init, "Unknown", index=str(idx))
+    structure.insert(0, outs)
+    # Outputs, Derivatives, InitialUnknowns: keep the schema order
+    structure.append(init)
+    items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    tmp = fmu.with_suffix(".tmp")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, data in items.items():
+            z.writestr(name, data)
+    tmp.replace(fmu)
+
+
+def validate(fmu: Path) -> list[str]:
+    """Problems reported by :func:`fmpy.validation.validate_fmu` (empty when valid)."""
+    from fmpy.validation import validate_fmu
+
+    return list(validate_fmu(str(fmu)))
+
+
+def build_fmus(out_dir, names=None, source_dir=None, check: bool = True) -> list[Path]:
+    """Build, post-process and (optionally) validate the FMUs.
+
+    Parameters
+    ----------
+    out_dir : path
+        Folder for the ``.fmu`` files (created).
+    names : sequence of str, optional
+        Which of :data:`FMUS` to build; all by default.
+    source_dir : path, optional
+        Folder of the FMU scripts; the repository's ``fmus/`` by default.
+    check : bool
+        Validate each FMU and raise ``RuntimeError`` listing the problems.
+
+    Returns
+    -------
+    list of Path
+    """
+    from pythonfmu.builder import FmuBuilder
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    source = Path(source_dir) if source_dir is not None else default_source_dir()
+    names = list(FMUS) if names is None else list(names)
+    for n in names:
+        if n not in FMUS:
+            raise ValueError(f"names must be among {sorted(FMUS)}, got {n!r}")
+    built = []
+    with tempfile.TemporaryDirectory(prefix="frictionjoint_fmu_") as tmpd:
+        tmp = Path(tmpd)
+        bundle = _bundle(tmp)
+        sys.path.insert(0, str(tmp))
+        try:
+            for n in names:
+                script = source / FMUS[n]
+                if not script.is_file():
+                    raise FileNotFoundError(f"FMU script {script} not found (source_dir)")
+                path = FmuBuilder.build_FMU(script, dest=out / f"{n}.fmu", project_files=[bundle],
+                                            needsExecutionTool="false", canGetAndSetFMUstate="true",
+                                            canSerializeFMUstate="true",
+                                            canHandleVariableCommunicationStepSize="true")
+                postprocess(path)
+                if check:
+                    problems = validate(path)
+                    if problems:
+                        raise RuntimeError(f"{path.name} does not validate: " + "; ".join(problems))
+                built.append(Path(path))
+        finally:
+            sys.path.remove(str(tmp))
+            for mod in [m for m in sys.modules if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")]:
+                del sys.modules[mod]
+    return built
