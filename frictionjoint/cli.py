@@ -103,7 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "and stop-regime maps of the Coulomb oscillator.",
         allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,map}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map,build-fmus}")
     sub.required = True
 
     demo = sub.add_parser(
@@ -154,6 +154,16 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--table", action="store_true", help="print the map as text")
     mp.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     mp.set_defaults(func=_map, subparser=mp)
+
+    bf = sub.add_parser(
+        "build-fmus", allow_abbrev=False,
+        help="build the FMUs (pythonfmu), post-process and validate them",
+        description="Build CoulombOscillator.fmu, JenkinsJoint.fmu and IwanJoint.fmu from the scripts in "
+                    "fmus/, with the library bundled inside, and check each with fmpy's validate_fmu.")
+    bf.add_argument("--out", default=None, metavar="DIR",
+                    help="output folder (default: fmus/build next to the package)")
+    bf.add_argument("--only", nargs="+", default=None, metavar="NAME", help="build only these FMUs")
+    bf.set_defaults(func=_build_fmus, subparser=bf, csv=None)
     return parser
 
 
@@ -210,6 +220,19 @@ def _map(args, parser) -> int:
     return 0
 
 
+def _build_fmus(args, parser) -> int:
+    from .fmi.build import FMUS, build_fmus, default_source_dir
+
+    out = args.out or str(default_source_dir() / "build")
+    if args.only:
+        unknown = [n for n in args.only if n not in FMUS]
+        if unknown:
+            parser.error(f"--only: unknown FMU(s) {unknown}; choose from {sorted(FMUS)}")
+    for path in build_fmus(out, names=args.only):
+        print(f"built and validated {path}")
+    return 0
+
+
 def main(argv=None) -> int:
     """Run the ``frictionjoint`` command.
 
@@ -226,7 +249,8 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = args.subparser
-    _check_writable(sub, "--out", args.out)
+    if args.command != "build-fmus":
+        _check_writable(sub, "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:
         return args.func(args, sub)

@@ -1,0 +1,102 @@
+"""Checks that run a real FMU through fmpy, one per process (pythonfmu FMUs cannot be
+instantiated twice in one process: NTNU-IHB/PythonFMU #213, #228). Usage:
+
+    python tests/fmu_checks.py CHECK FMU_PATH   -> prints one JSON object
+"""
+import json
+import math
+import sys
+
+import numpy as np
+
+from frictionjoint.fmi.master import FMUInstance
+
+
+def step_independence(path):
+    """x at common times with steps T/7 and T/200, stop-free and stop cases."""
+    out = {}
+    with FMUInstance(path) as inst:
+        for f, r in [(0.3, 1.5), (0.5, 0.45)]:
+            period = 2 * math.pi / r
+            xs = {}
+            for n in (7, 200):
+                inst.initialize(dict(slip_force=f, force_amplitude=1.0, omega=r, x0=0.1, v0=-0.2))
+                vals = []
+                for k in range(8 * n):
+                    inst.step(period / n)
+                    if (k + 1) % n == 0:
+                        vals.append(inst.get(["x", "v", "dissipated_energy", "event_count"]))
+                xs[n] = np.array(vals, dtype=float)
+            amp = np.max(np.abs(xs[200][:, 0]))
+            out[f"{f},{r}"] = {"x_err": float(np.max(np.abs(xs[7][:, 0] - xs[200][:, 0])) / amp),
+                               "diss_err": float(np.max(np.abs(xs[7][:, 2] - xs[200][:, 2]))),
+                               "events": [int(xs[7][-1, 3]), int(xs[200][-1, 3])],
+                               "x_end": float(xs[200][-1, 0]), "v_end": float(xs[200][-1, 1]),
+                               "diss_end": float(xs[200][-1, 2])}
+        out["messages"] = inst.messages
+    return out
+
+
+def state_roundtrip(path):
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(slip_force=0.5, force_amplitude=1.0, omega=0.45))
+        inst.step_to(3.0)
+        saved = inst.get_state()
+        inst.set({"force": 0.2})
+        inst.step_to(9.0)
+        a = inst.get(["x", "v", "friction_force", "stuck", "dissipated_energy", "event_count"])
+        inst.step_to(11.0)
+        inst.set_state(saved)
+        inst.set({"force": 0.2})
+        inst.step_to(9.0)
+        b = inst.get(["x", "v", "friction_force", "stuck", "dissipated_energy", "event_count"])
+    return {"a": a, "b": b}
+
+
+def bad_parameter(path):
+    with FMUInstance(path) as inst:
+        try:
+            inst.initialize(dict(mass=-1.0))
+            raised = None
+        except Exception as exc:  # fmpy's FMICallException
+            raised = str(exc)
+        return {"raised": raised, "messages": inst.messages}
+
+
+def jenkins_loop(path):
+    """Force along u = u0 cos(theta) sampled at 400 points per cycle, 3 cycles."""
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(stiffness=50.0, slip_force=2.0))
+        th = np.linspace(0, 6 * np.pi, 1201)
+        u = 0.1 * np.cos(th)
+        rows = []
+        for k, uk in enumerate(u):
+            inst.set({"u": float(uk)})
+            rows.append(inst.get(["force", "tangent_stiffness", "slipping", "dissipated_energy"]))
+            inst.step(0.01)
+        saved = inst.get_state()
+        inst.set({"u": 0.05})
+        inst.step(0.01)
+        f1 = inst.get(["force"])[0]
+        inst.set_state(saved)
+        inst.set({"u": 0.05})
+        inst.step(0.01)
+        f2 = inst.get(["force"])[0]
+    return {"u": u.tolist(), "rows": rows, "restore": [f1, f2]}
+
+
+def iwan_loop(path):
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(stiffness=100.0, slip_force=1.0, chi=-0.4, beta=0.2, n_sliders=12))
+        th = np.linspace(0, 4 * np.pi, 401)
+        u = 0.012 * np.sin(th)
+        rows = []
+        for uk in u:
+            inst.set({"u": float(uk)})
+            inst.step(0.01)
+            rows.append(inst.get(["force", "dissipated_energy", "tangent_stiffness"]))
+    return {"u": u.tolist(), "rows": rows}
+
+
+if __name__ == "__main__":
+    print(json.dumps(globals()[sys.argv[1]](sys.argv[2])))

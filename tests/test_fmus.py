@@ -1,0 +1,103 @@
+"""The built FMUs run through fmpy: validation, events inside do_step (communication-step
+independence), FMU state, bad parameters, displacement-driven joints against the exact play
+operator. Each FMU run is a subprocess (tests/fmu_checks.py)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.fmi.build import FMUS, build_fmus, validate
+
+HERE = Path(__file__).parent
+STEP_TOL = 1e-9  # communication-step independence, relative to the amplitude
+
+
+@pytest.fixture(scope="session")
+def fmus(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fmus")
+    return {p.stem: p for p in build_fmus(out)}
+
+
+def run(check, path):
+    proc = subprocess.run([sys.executable, str(HERE / "fmu_checks.py"), check, str(path)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_every_fmu_validates(fmus):
+    assert set(fmus) == set(FMUS)
+    for path in fmus.values():
+        assert validate(path) == []
+
+
+def test_fmu_scripts_have_unique_module_names():
+    names = [Path(s).stem for s in FMUS.values()]
+    assert len(set(names)) == len(names)
+    assert not any(n in ("frictionjoint", "fmu", "model") for n in names)
+
+
+def test_coulomb_fmu_step_independent_and_matches_library(fmus):
+    res = run("step_independence", fmus["CoulombOscillator"])
+    for key in ("0.3,1.5", "0.5,0.45"):
+        r = res[key]
+        assert r["x_err"] <= STEP_TOL
+        assert r["diss_err"] <= STEP_TOL * r["diss_end"]
+        assert r["events"][0] == r["events"][1] > 0
+        # and the same numbers as the library itself
+        f, w = map(float, key.split(","))
+        osc = fj.CoulombOscillator(slip_force=f, force_amplitude=1.0, omega=w)
+        tr = osc.simulate(8 * osc.period, 0.1, -0.2, t_eval=[8 * osc.period], record=("x", "v", "energy"))
+        assert abs(tr.x[-1] - r["x_end"]) <= 1e-10 * abs(tr.x[-1]) + 1e-12
+        assert abs(tr.dissipated_friction[-1] - r["diss_end"]) <= 1e-10 * r["diss_end"]
+    assert not [m for m in res["messages"] if "rror" in m or "atal" in m]
+
+
+def test_fmu_state_save_restore(fmus):
+    res = run("state_roundtrip", fmus["CoulombOscillator"])
+    assert res["a"] == res["b"]
+
+
+def test_bad_parameter_is_an_fmi_error_with_message(fmus):
+    res = run("bad_parameter", fmus["CoulombOscillator"])
+    assert res["raised"] is not None
+    assert any("mass must be > 0" in m for m in res["messages"])
+
+
+def _play(u, k, f, w0=0.0):
+    """Independent exact Jenkins loop: w follows u outside the band |u - w| <= f/k; the FMU's
+    springs are unstressed at its initial input u = 0."""
+    w, out = w0, []
+    for uk in u:
+        w = min(max(w, uk - f / k), uk + f / k)
+        out.append(k * (uk - w))
+    return np.array(out)
+
+
+def test_jenkins_fmu_loop_exact(fmus):
+    res = run("jenkins_loop", fmus["JenkinsJoint"])
+    u = np.array(res["u"])
+    rows = np.array(res["rows"], dtype=float)
+    force, kt, slipping, diss = rows.T
+    ref = _play(u, 50.0, 2.0)
+    assert np.max(np.abs(force - ref)) <= 1e-12 * 2.0
+    # corners: at every reversal of u the force is +-Fs and the tangent stiffness returns to kt
+    assert np.max(np.abs(np.abs(force[200::200]) - 2.0)) <= 1e-12
+    assert set(np.unique(kt)) <= {0.0, 50.0}
+    # dissipation per steady cycle: 4 Fs (u0 - Fs/k) * ... = 4 Fs (u0 - f/k) for a Jenkins loop
+    assert abs((diss[1200] - diss[400]) / 2 - 4 * 2.0 * (0.1 - 2.0 / 50.0)) <= 1e-9
+    assert res["restore"][0] == res["restore"][1]
+
+
+def test_iwan_fmu_matches_library_segalman(fmus):
+    res = run("iwan_loop", fmus["IwanJoint"])
+    u = np.array(res["u"])
+    rows = np.array(res["rows"], dtype=float)
+    iw = fj.Iwan.segalman(1.0, 100.0, -0.4, 0.2, 12, dof=0)
+    ref = sum(_play(u, k, f) for k, f in iw.sliders_table)
+    assert np.max(np.abs(rows[:, 0] - ref)) <= 1e-12
+    assert np.all(np.diff(rows[:, 1]) >= 0)
