@@ -10,6 +10,7 @@ state get/set and pickled for serialisation.
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import pickle
 
@@ -19,8 +20,7 @@ from pythonfmu.enums import Fmi2Status
 from ..elements.driven import DrivenSliders
 from ..elements.iwan import Iwan
 from ..errors import ParameterError, check_positive
-from ..oscillator import CoulombOscillator
-from ..solvers.events import EventLog, MarchState
+from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave"]
 
@@ -91,98 +91,38 @@ class CoulombOscillatorSlave(_Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        p = self._parameter
-        p("mass", 1.0, "mass m [kg], > 0")
-        p("stiffness", 1.0, "spring k to the base [N/m], > 0")
-        p("damping", 0.0, "viscous damper to the ground [N s/m], >= 0")
-        p("slip_force", 0.0, "Coulomb friction force limit F [N], >= 0")
-        p("force_amplitude", 0.0, "amplitude of the force force_amplitude*cos(omega t) on the mass [N]")
-        p("omega", 1.0, "excitation angular frequency [rad/s], > 0")
-        p("base_amplitude", 0.0, "amplitude of the base motion base_amplitude*cos(omega t) [m]")
-        p("x0", 0.0, "displacement at the start time [m]")
-        p("v0", 0.0, "velocity at the start time [m/s]")
+        for name, (default, text) in OSCILLATOR_PARAMETERS.items():
+            self._parameter(name, default, text)
         self._input("force", 0.0, "external force on the mass, added to the harmonic one, held over a step [N]")
-        self._output("x", "displacement of the mass [m]", getter=lambda: self._out("x"))
-        self._output("v", "velocity of the mass [m/s]", getter=lambda: self._out("v"))
-        self._output("friction_force", "friction force on the mass, restoring convention [N]",
-                     getter=lambda: self._out("friction_force"))
-        self._output("stuck", "true while the mass sticks", kind=bool, getter=lambda: self._out("stuck"))
-        self._output("dissipated_energy", "energy dissipated by friction since the start [J]",
-                     getter=lambda: self._out("dissipated_energy"))
-        self._output("event_count", "number of stick/slip events since the start", kind=int,
-                     getter=lambda: self._out("event_count"))
+        for name, (kind, text) in OSCILLATOR_OUTPUTS.items():
+            self._output(name, text, kind=kind, getter=functools.partial(self._out, name))
+        self._run = None
 
     def _initialise(self):
-        self._osc = CoulombOscillator(mass=self.mass, stiffness=self.stiffness, slip_force=self.slip_force,
-                                      force_amplitude=self.force_amplitude, omega=self.omega,
-                                      damping=self.damping, base_amplitude=self.base_amplitude)
-        m = self._osc._marcher
-        m.set_held_force([self.force])
-        self._log = EventLog()
-        self._state = m.initial_state(self.x0, self.v0, t0=self.start_time, log=self._log)
-        self._diss = 0.0
-        self._held = self.force
+        params = {k: getattr(self, k) for k in OSCILLATOR_PARAMETERS}
+        self._run = OscillatorRun(params, start_time=self.start_time, force=self.force)
 
     def _out(self, name):
-        if not self._ready:
-            return {"x": self.x0, "v": self.v0}.get(name, False if name == "stuck" else 0)
-        st = self._state
-        if name == "x":
-            return float(st.x[0])
-        if name == "v":
-            return float(st.v[0])
-        if name == "stuck":
-            return bool(st.status.size and st.status[0] == 0)
-        if name == "dissipated_energy":
-            return self._diss
-        if name == "event_count":
-            return len(self._log)
-        # friction force from the configuration at the current state
-        m = self._osc._marcher
-        itv = m.interval(st)
-        red = itv.reduce(m.force_observables(itv))
-        val = itv.start_values(red)[0]
-        return float(val[0]) if val.size else 0.0
+        if self._run is None:
+            return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())
+        return self._run.output(name)
 
     def do_step(self, current_time, step_size):
-        if not math.isfinite(self.force):
-            self.log(f"input force must be finite, got {self.force!r}", status=Fmi2Status.error)
+        try:
+            self._run.hold(self.force)
+        except ParameterError as exc:
+            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
             return False
-        m = self._osc._marcher
-        if self.force != self._held:
-            m.set_held_force([self.force])
-            self._held = self.force
-        st = self._state
-        sys_ = self._osc.system
-
-        def dissipate(itv, tau):
-            if itv.status.size and itv.status[0] != 0:
-                x1, _ = itv.state(tau)
-                self._diss += float(sys_.slip_force[0] * abs(x1[0, 0] - itv.x0[0]))
-
-        m.march(st, current_time + step_size, self._log, on_interval=dissipate)
+        self._run.advance(current_time + step_size)
         return True
 
     def _snapshot(self):
-        # plain data only (floats, lists, numpy arrays): picklable whatever the bundle's import path
-        if not self._ready:
-            return None
-        st, log = self._state, self._log
-        return {"t": st.t, "x": st.x, "v": st.v, "w": st.w, "status": st.status, "diss": self._diss,
-                "log": (list(log.time), list(log.element), list(log.slider), list(log.kind)),
-                "held": self._held, "force": self.force}
+        return None if self._run is None else self._run.snapshot()
 
     def _restore(self, snap):
-        if snap is None:
-            return
-        self._state = MarchState(snap["t"], snap["x"], snap["v"], snap["w"], snap["status"])
-        log = EventLog()
-        log.time, log.element, log.slider, log.kind = (list(a) for a in snap["log"])
-        self._log = log
-        self._diss = snap["diss"]
-        self.force = snap["force"]
-        self._held = snap["held"]
-        self._osc._marcher.set_held_force([self._held])
+        if snap is not None:
+            self._run.restore(snap)
+            self.force = snap["force"]
 
 
 class _DrivenSlave(_Slave):

@@ -20,7 +20,7 @@ from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .response import gauss_pieces
 
-__all__ = ["periodic_response"]
+__all__ = ["periodic_response", "fixed_point_newton"]
 
 
 class _PeriodMap:
@@ -98,6 +98,61 @@ def _jacobian(pmap: _PeriodMap, z, pz, scale):
     return jac
 
 
+def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
+    """Chord/Newton iterations on ``P(z) - z = 0`` with backtracking.
+
+    Parameters
+    ----------
+    pmap : callable
+        The map ``P``.
+    jacobian : callable
+        ``jacobian(z, pz)``: Jacobian of ``P`` at ``z`` (``pz = P(z)`` given).
+    z, pz : ndarray
+        Start and its image.
+    scale : ndarray
+        Component scales of the residual (the norm is ``max |r_i| / scale_i``).
+    tol : float
+        Residual tolerance.
+    iterations : int
+        Newton iterations at most.
+
+    Returns
+    -------
+    tuple
+        ``(converged, z, pz, rnorm, jac, jac_rnorm)``: the last iterate, its image and residual,
+        the last Jacobian and the residual where it was computed.
+    """
+    jac, jac_rnorm = None, math.inf
+    rnorm = float(np.max(np.abs(pz - z) / scale))
+    for _ in range(iterations):
+        if rnorm <= tol:
+            return True, z, pz, rnorm, jac, jac_rnorm
+        fresh = jac is None
+        if fresh:
+            jac = jacobian(z, pz)
+            jac_rnorm = rnorm
+        a = (jac - np.eye(z.size)) / scale[:, None] * scale[None, :]
+        step = np.linalg.lstsq(a, -(pz - z) / scale, rcond=1e-13)[0] * scale
+        lam = 1.0
+        while lam >= 1 / 32:
+            zn = z + lam * step
+            pzn = pmap(zn)
+            rn = float(np.max(np.abs(pzn - zn) / scale))
+            if rn < rnorm:
+                break
+            lam *= 0.5
+        else:
+            if fresh:
+                break  # no descent even with a fresh Jacobian
+            jac = None  # the chord Jacobian was stale: refresh it and retry
+            continue
+        # chord method: keep the Jacobian while the residual falls fast
+        if rn > 0.05 * rnorm:
+            jac = None
+        z, pz, rnorm = zn, pzn, rn
+    return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
+
+
 def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
                       n_samples: int = 0) -> PeriodicResponse:
@@ -161,36 +216,8 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
 
     def newton(z, pz, iterations):
-        """Chord/Newton iterations on P(z) - z; returns (converged, z, pz, rnorm, jac, jac_rnorm)."""
-        jac, jac_rnorm = None, math.inf
-        rnorm = float(np.max(np.abs(pz - z) / scale0))
-        for _ in range(iterations):
-            if rnorm <= tol:
-                return True, z, pz, rnorm, jac, jac_rnorm
-            fresh = jac is None
-            if fresh:
-                jac = _jacobian(pmap, z, pz, scale0)
-                jac_rnorm = rnorm
-            a = (jac - np.eye(z.size)) / scale0[:, None] * scale0[None, :]
-            step = np.linalg.lstsq(a, -(pz - z) / scale0, rcond=1e-13)[0] * scale0
-            lam = 1.0
-            while lam >= 1 / 32:
-                zn = z + lam * step
-                pzn = pmap(zn)
-                rn = float(np.max(np.abs(pzn - zn) / scale0))
-                if rn < rnorm:
-                    break
-                lam *= 0.5
-            else:
-                if fresh:
-                    break  # no descent even with a fresh Jacobian
-                jac = None  # the chord Jacobian was stale: refresh it and retry
-                continue
-            # chord method: keep the Jacobian while the residual falls fast
-            if rn > 0.05 * rnorm:
-                jac = None
-            z, pz, rnorm = zn, pzn, rn
-        return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
+        return fixed_point_newton(pmap, lambda z, pz: _jacobian(pmap, z, pz, scale0), z, pz, scale0,
+                                  tol, iterations)
 
     converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
     message = ""
