@@ -121,8 +121,8 @@ class CoulombOscillator:
                 setattr(tr, name, a[0])
         return tr
 
-    def _guess(self):
-        """One-harmonic (describing-function) estimate of the state at t = 0."""
+    def initial_guess(self):
+        """One-harmonic (describing-function) estimate ``(x, v)`` of the orbit at ``t = 0``."""
         p0 = self.equivalent_force_amplitude
         k_dyn = self.stiffness - self.mass * self.omega ** 2
         fr = 4 * self.slip_force / (math.pi * abs(p0)) if p0 != 0 else math.inf
@@ -157,7 +157,7 @@ class CoulombOscillator:
             ``stops_per_cycle``, ``converged`` and ``message`` (also on unbounded growth and
             non-unique orbits).
         """
-        gx, gv = self._guess()
+        gx, gv = self.initial_guess()
         x0 = gx if x0 is None else check_real("x0", x0)
         v0 = gv if v0 is None else check_real("v0", v0)
         res = periodic_response(self.system, x0, v0, marcher=self._marcher, tol=tol,

@@ -118,3 +118,4 @@ class PeriodicResponse:
     dissipated_per_cycle: float = float("nan")
     t: Optional[np.ndarray] = field(repr=False, default=None)
     x: Optional[np.ndarray] = field(repr=False, default=None)
+    harmonics: Optional[dict] = field(repr=False, default=None)

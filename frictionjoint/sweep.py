@@ -119,6 +119,7 @@ class FrequencyResponse:
     analytic_name: str = "Den Hartog"
     parameters: dict = field(default_factory=dict)
     reference: Optional[Callable] = field(default=None, repr=False, compare=False)
+    harmonics: dict = field(default_factory=dict, repr=False, compare=False)
 
     # ------------------------------------------------------------ views
     def __len__(self) -> int:
@@ -456,6 +457,21 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
         raise ParameterError("force_amplitude + stiffness * base_amplitude must be finite and nonzero "
                              f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}")
 
+    params = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
+
+    def solve(w, state):
+        osc = CoulombOscillator(mass=m, stiffness=k, slip_force=fr, force_amplitude=p,
+                                omega=float(w), damping=c, base_amplitude=y)
+        return _steady_state(osc, state)
+
+    return _run_sweep(params, c, ws, direction, progress, solve)
+
+
+def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve) -> FrequencyResponse:
+    """The stepped-sine loop shared by every sweep: ``solve(omega, state)`` returns a
+    :class:`~frictionjoint.results.PeriodicResponse` started from ``state`` (the previous orbit's
+    ``(x0, v0)`` at ``t = 0``, or ``None``)."""
+    m, k = params["mass"], params["stiffness"]
     up = np.sort(ws)
     plan = []
     if direction in ("up", "both"):
@@ -463,7 +479,6 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     if direction in ("down", "both"):
         plan += [("down", w) for w in up[::-1]]
 
-    params = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
     analytic = {}
     if c == 0.0:
         amp_ref, ph_ref, reg_ref = den_hartog_curve(up, **params)
@@ -479,9 +494,7 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     with tqdm(total=len(plan), desc="sweep", unit="pt", file=sys.stderr, disable=not progress,
               leave=False) as bar:
         for branch, w in plan:
-            osc = CoulombOscillator(mass=m, stiffness=k, slip_force=fr, force_amplitude=p,
-                                    omega=float(w), damping=c, base_amplitude=y)
-            ss = _steady_state(osc, state)
+            ss = solve(float(w), state)
             ok = ss.converged and ss.initial_state is not None and np.all(np.isfinite(ss.initial_state[:2]))
             state = (float(ss.initial_state[0]), float(ss.initial_state[1])) if ok else None
             ref_amp, ref_ph, ref_reg = analytic.get(float(w), (None, None, "damped"))
@@ -497,6 +510,10 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     def arr(fn, dtype=float):
         return np.array([fn(row) for row in rows], dtype=dtype)
 
+    harmonics = {}
+    for name in (rows[0][2].harmonics or {}) if rows else {}:
+        harmonics[name] = {key: arr(lambda r, key=key: (r[2].harmonics or {}).get(name, {}).get(key, np.nan))
+                           for key in ("amplitude", "phase", "peak")}
     return FrequencyResponse(
         omega=arr(lambda r: r[1]),
         amplitude=arr(lambda r: r[2].amplitude),
@@ -519,4 +536,80 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
         analytic_name="Den Hartog",
         parameters=dict(params, damping=c),
         reference=None if c > 0 else functools.partial(_reference, params),
+        harmonics=harmonics,
     )
+
+
+def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", outputs=("x",),
+          n_samples: int = 256, progress: bool = False) -> FrequencyResponse:
+    """Stepped-sine sweep of the Coulomb oscillator through an FMU or directly in the library.
+
+    The same algorithm drives both (:func:`frictionjoint.drivers.shoot` on a
+    :class:`~frictionjoint.drivers.FMUDriver` or :class:`~frictionjoint.drivers.LibraryDriver`):
+    shooting on ``(x0, v0)`` with one reused instance, the state carried from point to point,
+    first harmonics from ``n_samples`` points per period, exact displacement peaks.
+
+    Parameters
+    ----------
+    model : str or path
+        A ``.fmu`` file with the variables of ``CoulombOscillator.fmu``, or ``"CoulombOscillator"``
+        for the library model.
+    omegas : (n,) array_like
+        Angular frequencies [rad/s], > 0.
+    parameters : dict, optional
+        Oscillator parameters (``mass``, ``stiffness``, ``damping``, ``slip_force``,
+        ``force_amplitude``, ``base_amplitude``); ``omega``, ``x0``, ``v0`` are set by the sweep.
+    direction : {'up', 'down', 'both'}
+    outputs : sequence of str
+        Outputs whose first harmonic and peak are reported in ``FrequencyResponse.harmonics``.
+    n_samples : int
+        Samples per period for the first harmonics, >= 16.
+    progress : bool
+        Show a progress bar (tqdm, on stderr).
+
+    Returns
+    -------
+    FrequencyResponse
+    """
+    from pathlib import Path
+
+    from .drivers import FMUDriver, LibraryDriver, shoot
+    from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS
+
+    params = dict(parameters or {})
+    allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0"}
+    unknown = set(params) - allowed
+    if unknown:
+        raise ParameterError(f"parameters must be among {sorted(allowed)}, got {sorted(unknown)}")
+    full = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items() if k in allowed}
+    full.update(params)
+    m = check_positive("mass", full["mass"])
+    k = check_positive("stiffness", full["stiffness"])
+    fr = check_nonnegative("slip_force", full["slip_force"])
+    c = check_nonnegative("damping", full["damping"])
+    p = check_real("force_amplitude", full["force_amplitude"])
+    y = check_real("base_amplitude", full["base_amplitude"])
+    if p + k * y == 0.0:
+        raise ParameterError("force_amplitude + stiffness * base_amplitude must be nonzero (no excitation)")
+    ws = check_grid("omegas", omegas, unit="rad/s")
+    if direction not in DIRECTIONS:
+        raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
+    outputs = tuple(outputs)
+    bad = [o for o in outputs if o not in OSCILLATOR_OUTPUTS]
+    if bad:
+        raise ParameterError(f"outputs must be among {sorted(OSCILLATOR_OUTPUTS)}, got {bad}")
+    if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) or n_samples < 16:
+        raise ParameterError(f"n_samples must be an integer >= 16, got {n_samples!r}")
+    if str(model) == "CoulombOscillator":
+        driver = LibraryDriver()
+    elif Path(model).suffix == ".fmu" and Path(model).is_file():
+        driver = FMUDriver(model)
+    else:
+        raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
+    base = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
+    try:
+        return _run_sweep(base, c, ws, direction, progress,
+                          lambda w, st: shoot(driver, dict(base, damping=c, omega=w), st, outputs=outputs,
+                                              n_samples=int(n_samples)))
+    finally:
+        driver.close()
