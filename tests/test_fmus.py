@@ -101,3 +101,24 @@ def test_iwan_fmu_matches_library_segalman(fmus):
     ref = sum(_play(u, k, f) for k, f in iw.sliders_table)
     assert np.max(np.abs(rows[:, 0] - ref)) <= 1e-12
     assert np.all(np.diff(rows[:, 1]) >= 0)
+
+
+def test_fmu_sweep_against_den_hartog_and_library(fmus):
+    """61 points over r in [0.5, 2.5] at F/P0 = 0.5 through CoulombOscillator.fmu (fmpy): Den
+    Hartog to <= 1e-8 wherever stop-free; the direct library sweep to <= 1e-10 everywhere."""
+    proc = subprocess.run([sys.executable, str(HERE / "fmu_sweep_check.py"), str(fmus["CoulombOscillator"]), "61"],
+                          capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    lib, fmu = res["lib"], res["fmu"]
+    unbounded = np.array(res["regime"]) == "unbounded"  # r = 1, F/P0 < pi/4
+    assert unbounded.sum() == 1
+    ok = np.array(lib["converged"])
+    assert ok.tolist() == fmu["converged"] and np.array_equal(ok, ~unbounded)
+    for key in ("amplitude", "ff"):
+        a, b = np.array(lib[key])[ok], np.array(fmu[key])[ok]
+        assert np.max(np.abs(a - b) / np.abs(a)) <= 1e-10
+    assert np.max(np.abs(np.array(lib["phase"])[ok] - np.array(fmu["phase"])[ok])) <= 1e-10
+    errs = [e for e in res["amp_err"] if e is not None]
+    assert len(errs) >= 50 and "stops" in res["regime"]
+    assert max(errs) <= 1e-8
