@@ -191,12 +191,7 @@ def _demo(args, parser) -> int:
                           ratios * wn, damping=args.damping, direction=args.direction,
                           progress=not args.no_progress)
     print(fr.table())
-    if args.csv:
-        fr.to_csv(args.csv)
-        print(f"wrote {args.csv}")
-    fr.plot(args.out)
-    print(f"wrote {args.out}")
-    return 0
+    return _write(fr, args)
 
 
 def _map(args, parser) -> int:
@@ -212,10 +207,15 @@ def _map(args, parser) -> int:
         print(rm.table())
     counts = Counter(rm.category().ravel().tolist())
     print("points per category: " + ", ".join(f"{k}: {v}" for k, v in sorted(counts.items())))
+    return _write(rm, args)
+
+
+def _write(result, args) -> int:
+    """Write the result's CSV (if asked) and its plot; say so."""
     if args.csv:
-        rm.to_csv(args.csv)
+        result.to_csv(args.csv)
         print(f"wrote {args.csv}")
-    rm.plot(args.out)
+    result.plot(args.out)
     print(f"wrote {args.out}")
     return 0
 
