@@ -196,7 +196,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     first, last = pieces[0], pieces[-1]
     margin = 0.02 * period
     if (first[2] == fewest and last[2] == fewest and first[1] > margin
-            and last[0] + last[1] - last[0] > margin and len(pieces) > 1):
+            and last[1] > margin and len(pieces) > 1):
         t_s = 0.0
         pmap = _PeriodMap(system, m, t_s)
         z = z_start
@@ -211,7 +211,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         pmap = _PeriodMap(system, m, t_s)
         z = pmap.vector(st)
         pz = pmap(z)
-        periods = 1.0 + t_s / period - 1.0  # pmap.calls counted at the end
+        periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
 
     scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
 
