@@ -17,7 +17,7 @@ import numpy as np
 import scipy.optimize
 
 from .results import PeriodicResponse
-from .solvers.steady import fixed_point_newton
+from .solvers.steady import fixed_point_newton, has_unit_eigenvalue
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["LibraryDriver", "FMUDriver", "shoot"]
@@ -154,11 +154,8 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
                 converged = True
                 break
     unique = True
-    if converged:
-        sc = scales(z)
-        a = (jacobian(z, pmap(z)) - np.eye(2)) / sc[:, None] * sc[None, :]
-        sv = np.linalg.svd(a, compute_uv=False)
-        unique = bool(sv[-1] > 1e-6 * max(sv[0], 1.0))
+    if converged:  # pz = P(z) already: the Jacobian at the orbit costs two periods, not three
+        unique = not has_unit_eigenvalue(jacobian(z, pz), scales(z))
 
     # one period, sampled
     names = tuple(dict.fromkeys(outputs + ("v", "stuck")))

@@ -441,6 +441,19 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     """
     from .oscillator import CoulombOscillator
 
+    params, c, ws = _check_sweep(mass, stiffness, slip_force, force_amplitude, damping, base_amplitude,
+                                 omegas, direction, progress)
+
+    def solve(w, state):
+        osc = CoulombOscillator(omega=float(w), damping=c, **params)
+        return _steady_state(osc, state)
+
+    return _run_sweep(params, c, ws, direction, progress, solve)
+
+
+def _check_sweep(mass, stiffness, slip_force, force_amplitude, damping, base_amplitude, omegas, direction,
+                 progress):
+    """Validate the arguments every oscillator sweep takes; return ``(params, damping, omegas)``."""
     m = check_positive("mass", mass)
     k = check_positive("stiffness", stiffness)
     fr = check_nonnegative("slip_force", slip_force)
@@ -456,15 +469,7 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     if p0 == 0.0 or not math.isfinite(p0):
         raise ParameterError("force_amplitude + stiffness * base_amplitude must be finite and nonzero "
                              f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}")
-
-    params = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
-
-    def solve(w, state):
-        osc = CoulombOscillator(mass=m, stiffness=k, slip_force=fr, force_amplitude=p,
-                                omega=float(w), damping=c, base_amplitude=y)
-        return _steady_state(osc, state)
-
-    return _run_sweep(params, c, ws, direction, progress, solve)
+    return dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y), c, ws
 
 
 def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve) -> FrequencyResponse:
@@ -583,17 +588,8 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
         raise ParameterError(f"parameters must be among {sorted(allowed)}, got {sorted(unknown)}")
     full = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items() if k in allowed}
     full.update(params)
-    m = check_positive("mass", full["mass"])
-    k = check_positive("stiffness", full["stiffness"])
-    fr = check_nonnegative("slip_force", full["slip_force"])
-    c = check_nonnegative("damping", full["damping"])
-    p = check_real("force_amplitude", full["force_amplitude"])
-    y = check_real("base_amplitude", full["base_amplitude"])
-    if p + k * y == 0.0:
-        raise ParameterError("force_amplitude + stiffness * base_amplitude must be nonzero (no excitation)")
-    ws = check_grid("omegas", omegas, unit="rad/s")
-    if direction not in DIRECTIONS:
-        raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
+    base, c, ws = _check_sweep(full["mass"], full["stiffness"], full["slip_force"], full["force_amplitude"],
+                               full["damping"], full["base_amplitude"], omegas, direction, progress)
     outputs = tuple(outputs)
     bad = [o for o in outputs if o not in OSCILLATOR_OUTPUTS]
     if bad:
@@ -606,7 +602,6 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
         driver = FMUDriver(model)
     else:
         raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
-    base = dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y)
     try:
         return _run_sweep(base, c, ws, direction, progress,
                           lambda w, st: shoot(driver, dict(base, damping=c, omega=w), st, outputs=outputs,

@@ -20,7 +20,7 @@ from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .response import gauss_pieces
 
-__all__ = ["periodic_response", "fixed_point_newton"]
+__all__ = ["periodic_response", "fixed_point_newton", "has_unit_eigenvalue"]
 
 
 class _PeriodMap:
@@ -96,6 +96,14 @@ def _jacobian(pmap: _PeriodMap, z, pz, scale):
         zp[k] += dz
         jac[:, k] = (pmap(zp) - pz) / dz
     return jac
+
+
+def has_unit_eigenvalue(jac, scale) -> bool:
+    """True when ``J - I`` (scaled by ``scale``) is singular to 1e-6: the fixed point belongs to a
+    family of periodic orbits."""
+    a = (jac - np.eye(jac.shape[0])) / scale[:, None] * scale[None, :]
+    sv = np.linalg.svd(a, compute_uv=False)
+    return bool(sv[-1] <= 1e-6 * max(sv[0], 1.0))
 
 
 def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
@@ -256,11 +264,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
             pz_orbit = orbit[1] if orbit is not None else pmap(z)
             jac = _jacobian(pmap, z, pz_orbit, pmap.scales(z))
-        sc = pmap.scales(z)
-        a = (jac - np.eye(z.size)) / sc[:, None] * sc[None, :]
-        sv = np.linalg.svd(a, compute_uv=False)
-        if sv[-1] <= 1e-6 * max(sv[0], 1.0):
-            unique = False
+        unique = not has_unit_eigenvalue(jac, pmap.scales(z))
 
     # evaluate the final period on the closed-form pieces
     log = EventLog()
