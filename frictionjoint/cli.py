@@ -4,10 +4,15 @@ Subcommands::
 
     frictionjoint demo [--slip-force F] [--points N] [--out forced_response.png] [--csv FILE]
     frictionjoint map  [--out map.png] [--friction START:STOP:N] [--ratio START:STOP:N]
+    frictionjoint sweep FMU_OR_MODEL --omega START:STOP:N [--set NAME=VALUE ...]
+                        [--direction up|down|both] [--output NAME ...] [--compare analytic]
+                        [--csv FILE] [--plot PNG]
+    frictionjoint build-fmus [--out DIR] [--only NAME ...]
 
 ``demo`` sweeps the single-DOF Coulomb oscillator across resonance (stepped sine, up and down,
 exact periodic steady state at every frequency), prints the table beside Den Hartog's closed
-form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle. Progress bars go to
+form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
+same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs. Progress bars go to
 stderr, results to stdout; invalid options exit with status 2 and a message.
 """
 from __future__ import annotations
@@ -22,6 +27,7 @@ import numpy as np
 
 from . import __version__
 from .errors import ParameterError
+from .stepping import OSCILLATOR_OUTPUTS
 
 __all__ = ["main", "build_parser"]
 
@@ -90,6 +96,15 @@ def _range(lower: float, strict: bool, with_count: bool):
     return parse
 
 
+def _setting(text: str):
+    """argparse type of ``--set NAME=VALUE``: a name and a finite float."""
+    name, sep, value = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    return name, _real(value.strip())
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``frictionjoint`` command.
 
@@ -103,7 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "and stop-regime maps of the Coulomb oscillator.",
         allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,map,build-fmus}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,build-fmus}")
     sub.required = True
 
     demo = sub.add_parser(
@@ -154,6 +169,39 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--table", action="store_true", help="print the map as text")
     mp.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     mp.set_defaults(func=_map, subparser=mp)
+
+    sw = sub.add_parser(
+        "sweep", allow_abbrev=False,
+        help="stepped-sine forced-response sweep through an FMU (fmpy) or the library model",
+        description="Stepped-sine sweep of CoulombOscillator.fmu (or any FMU with its variables), "
+                    "driven through fmpy, or of the library model 'CoulombOscillator' without the FMU "
+                    "layer: periodic steady state at every frequency by shooting with FMU state "
+                    "save/restore, the state carried from point to point. Prints the table (peak, "
+                    "first-harmonic amplitude and phase of each output) and writes the plot; with "
+                    "--compare analytic, Den Hartog's amplitude and the relative error beside each "
+                    "point, or why the closed form does not apply there (stops, damping, resonance).")
+    sw.add_argument("model", metavar="FMU_OR_MODEL",
+                    help="a .fmu file (e.g. fmus/build/CoulombOscillator.fmu) or 'CoulombOscillator'")
+    sw.add_argument("--set", dest="settings", action="append", default=[], type=_setting,
+                    metavar="NAME=VALUE",
+                    help="parameter value, repeatable: mass, stiffness, damping, slip_force, "
+                         "force_amplitude, base_amplitude (SI units; the FMU's defaults otherwise)")
+    sw.add_argument("--omega", type=_range(0.0, True, True), required=True, metavar="START:STOP:N",
+                    help="excitation angular frequencies [rad/s]: N points from START to STOP")
+    sw.add_argument("--direction", choices=("up", "down", "both"), default="up",
+                    help="sweep direction (default up)")
+    sw.add_argument("--output", dest="outputs", action="append", default=None, metavar="NAME",
+                    help="output to report (peak, first harmonic), repeatable (default x): "
+                         + ", ".join(OSCILLATOR_OUTPUTS))
+    sw.add_argument("--samples", type=_count(16), default=256,
+                    help="samples per period for the first harmonics (default 256)")
+    sw.add_argument("--compare", choices=("analytic",), default=None,
+                    help="put Den Hartog's closed form and the relative error beside each point")
+    sw.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    sw.add_argument("--plot", dest="out", default=None, metavar="PNG",
+                    help="write the plot (amplitude and phase against omega) to this file")
+    sw.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    sw.set_defaults(func=_sweep, subparser=sw)
 
     bf = sub.add_parser(
         "build-fmus", allow_abbrev=False,
@@ -210,13 +258,37 @@ def _map(args, parser) -> int:
     return _write(rm, args)
 
 
+def _sweep(args, parser) -> int:
+    from .sweep import sweep
+
+    params = {}
+    for name, value in args.settings:
+        if name in params:
+            parser.error(f"--set: {name} given twice")
+        params[name] = value
+    w0, w1, n = args.omega
+    omegas = np.linspace(w0, w1, n)
+    outputs = tuple(dict.fromkeys(["x"] + (args.outputs or [])))
+    via = "the library (no FMU layer)" if args.model == "CoulombOscillator" else "fmpy"
+    print(f"sweep of {args.model} through {via}: {n} frequencies, omega = {w0:g} ... {w1:g} rad/s, "
+          f"direction {args.direction}", flush=True)
+    fr = sweep(args.model, omegas, params, direction=args.direction, outputs=outputs,
+               n_samples=args.samples, progress=not args.no_progress)
+    p = fr.parameters
+    print(", ".join(f"{k} = {v:g}" for k, v in p.items())
+          + f", omega_n = {fr.natural_frequency:.6g} rad/s\n")
+    print(fr.table(compare=args.compare == "analytic"))
+    return _write(fr, args)
+
+
 def _write(result, args) -> int:
-    """Write the result's CSV (if asked) and its plot; say so."""
+    """Write the result's CSV (if asked) and its plot (if asked); say so."""
     if args.csv:
         result.to_csv(args.csv)
         print(f"wrote {args.csv}")
-    result.plot(args.out)
-    print(f"wrote {args.out}")
+    if args.out:
+        result.plot(args.out)
+        print(f"wrote {args.out}")
     return 0
 
 
@@ -250,7 +322,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     sub = args.subparser
     if args.command != "build-fmus":
-        _check_writable(sub, "--out", args.out)
+        _check_writable(sub, "--plot" if args.command == "sweep" else "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:
         return args.func(args, sub)

@@ -12,12 +12,14 @@ located exactly (``v = 0``, Brent's method on restored states).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import scipy.optimize
 
+from .errors import ParameterError
 from .results import PeriodicResponse
-from .solvers.steady import fixed_point_newton, has_unit_eigenvalue
+from .solvers.steady import fixed_point_newton, has_unit_eigenvalue, steady_growth
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["LibraryDriver", "FMUDriver", "shoot"]
@@ -57,6 +59,11 @@ class FMUDriver:
         from .fmi.master import FMUInstance
 
         self.inst = FMUInstance(path)
+        missing = [n for n in (*OSCILLATOR_PARAMETERS, "x", "v", "stuck") if n not in self.inst.vr]
+        if missing:
+            self.inst.close()
+            raise ParameterError(f"model {Path(path).name} is not an oscillator FMU: it lacks the variables "
+                                 f"{missing} (a sweep needs those of CoulombOscillator.fmu)")
         self.outputs = tuple(n for n in OSCILLATOR_OUTPUTS if n in self.inst.vr)
 
     def start(self, parameters: dict) -> None:
@@ -143,16 +150,27 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
             jac[:, k] = (pmap(zp) - pz) / (1e-7 * sc[k])
         return jac
 
+    z_start = z.copy()
     pz = pmap(z)
     scale = scales(z, pz)
     converged, z, pz, rnorm, jac, _ = fixed_point_newton(pmap, jacobian, z, pz, scale, tol, 20)
+    growth = None
     if not converged:
-        for _ in range(max_periods):
+        amps = []
+        if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
+            z = z_start  # Newton wandered off: march from the start instead
+            pz = pmap(z)
+        for k in range(max_periods):
             z, pz = pz, pmap(pz)
             rnorm = float(np.max(np.abs(pz - z) / scales(z, pz)))
             if rnorm <= tol:
                 converged = True
                 break
+            amps.append(math.hypot(pz[0], pz[1] / w))
+            if k >= 40 and k % 20 == 0:
+                growth = steady_growth(amps)
+                if growth is not None:
+                    break
     unique = True
     if converged:  # pz = P(z) already: the Jacobian at the orbit costs two periods, not three
         unique = not has_unit_eigenvalue(jacobian(z, pz), scales(z))
@@ -198,9 +216,13 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     harmonics["x"]["peak"] = peak
     stuck = col["stuck"] > 0.5
     stops = int(np.count_nonzero(stuck & ~np.roll(stuck, 1)))
-    status = "periodic" if converged else "not converged"
-    message = ("periodic steady state found" if converged else
-               f"no periodic steady state found (residual {rnorm:.3g} after {calls[0]} periods)")
+    status = "periodic" if converged else ("unbounded" if growth is not None else "not converged")
+    if converged:
+        message = "periodic steady state found"
+    elif growth is not None:
+        message = f"the response grows without bound (about {growth:.6g} m per period)"
+    else:
+        message = f"no periodic steady state found (residual {rnorm:.3g} after {calls[0]} periods)"
     if converged and not unique:
         message += "; NOT UNIQUE: the period map has an eigenvalue 1 (a family of periodic orbits)"
     return PeriodicResponse(

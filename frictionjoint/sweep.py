@@ -31,6 +31,11 @@ __all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTI
 DIRECTIONS = ("up", "down", "both")
 
 _MASKED_COLUMNS = ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error")
+_FIXED_COLUMNS = ("branch", "omega", "frequency_ratio", "amplitude", "phase", "harmonic_amplitude",
+                  "stops_per_cycle", "stuck", "converged", "unique", "regime", "periods",
+                  *_MASKED_COLUMNS, "analytic_regime", "message")
+#: what ``FrequencyResponse.harmonics[output]`` holds per point
+_HARMONIC_KEYS = ("amplitude", "phase", "peak")
 
 
 def _masked(values) -> np.ma.MaskedArray:
@@ -152,6 +157,8 @@ class FrequencyResponse:
             value = getattr(self, name)
             if name == "message":
                 value = tuple(m for m, k in zip(value, keep) if k)
+            elif name == "harmonics":
+                value = {out: {key: col[keep] for key, col in h.items()} for out, h in value.items()}
             elif isinstance(value, np.ndarray) and value.shape == keep.shape:
                 value = value[keep]
             out[name] = value
@@ -165,18 +172,72 @@ class FrequencyResponse:
         return res[0], res[1]
 
     # ------------------------------------------------------------ output
-    def table(self) -> str:
-        """Printed table: branch, omega, r, amplitude, analytic amplitude, relative error, stops.
+    def table(self, compare: bool = True) -> str:
+        """Printed table of the sweep.
 
-        Where the closed form is not the motion the error column holds the regime word
-        (``stops``, ``unbounded``, ``stuck``, ``damped``); where the simulation found no
-        periodic orbit the amplitude column says ``unbounded`` or ``no conv.``; ``*`` marks an
-        orbit that is one of a family (not unique).
+        With ``compare`` (the default): branch, omega, r, amplitude, analytic amplitude,
+        relative error, stops per cycle. Where the closed form is not the motion the error
+        column holds the regime word (``stops``, ``unbounded``, ``stuck``, ``damped``); where
+        the simulation found no periodic orbit the amplitude column says ``unbounded`` or
+        ``no conv.``; ``*`` marks an orbit that is one of a family (not unique). The table of
+        :meth:`harmonics_table` follows when outputs other than ``x`` were recorded.
+
+        Without ``compare``: only the simulated numbers (:meth:`harmonics_table`).
+
+        Parameters
+        ----------
+        compare : bool
+            Put the analytic answer and the relative error beside each point.
 
         Returns
         -------
         str
         """
+        if not compare:
+            return self.harmonics_table()
+        text = self._compare_table()
+        if set(self.harmonics) - {"x"}:
+            text += "\n\n" + self.harmonics_table()
+        return text
+
+    def harmonics_table(self) -> str:
+        """Simulated numbers only: per point and output, the peak ``max |y|``, the first-harmonic
+        amplitude and its phase lag behind ``cos(omega t)`` [deg]; then stops per cycle, periods
+        marched and the regime (``*``: not unique).
+
+        Without recorded harmonics (library sweeps) the ``x`` columns come from ``amplitude``,
+        ``harmonic_amplitude`` and ``phase``.
+
+        Returns
+        -------
+        str
+        """
+        ratio = self.frequency_ratio
+        outs = self.harmonics or {"x": {"peak": self.amplitude, "amplitude": self.harmonic_amplitude,
+                                       "phase": self.phase}}
+        head = f"{'branch':<6} {'omega [rad/s]':>13} {'r':>7}"
+        for name in outs:
+            head += f" {name + ' peak':>14} {name + ' H1':>14} {'phase [deg]':>11}"
+        head += f" {'stops/cycle':>11} {'periods':>7}  regime"
+        lines = [head, "-" * len(head)]
+        for i in range(len(self)):
+            row = f"{self.branch[i]:<6} {self.omega[i]:13.6g} "
+            row += f"{ratio[i]:7.4f}" if ratio is not None else f"{'-':>7}"
+            for name, h in outs.items():
+                if self.converged[i]:
+                    row += f" {h['peak'][i]:14.6e} {h['amplitude'][i]:14.6e} {math.degrees(h['phase'][i]):11.4f}"
+                else:
+                    row += f" {'-':>14} {'-':>14} {'-':>11}"
+            stops = ("stuck" if self.regime[i] == "stuck" else str(int(self.stops_per_cycle[i]))) \
+                if self.converged[i] else "-"
+            row += f" {stops:>11} {self.periods[i]:7.0f}  {self.regime[i]}" + ("" if self.unique[i] else "*")
+            lines.append(row)
+        lines.append("-" * len(head))
+        if not np.all(self.unique):
+            lines.append("* not unique: one member of a family of periodic orbits")
+        return "\n".join(lines)
+
+    def _compare_table(self) -> str:
         ratio = self.frequency_ratio
         name = self.analytic_name
         head = (f"{'branch':<6} {'omega [rad/s]':>13} {'r':>7} {'amplitude [m]':>14} "
@@ -236,9 +297,8 @@ class FrequencyResponse:
             for key, value in self.parameters.items():
                 fh.write(f"# {key} = {value!r}\n")
             w = csv.writer(fh)
-            w.writerow(["branch", "omega", "frequency_ratio", "amplitude", "phase",
-                        "harmonic_amplitude", "stops_per_cycle", "stuck", "converged", "unique",
-                        "regime", "periods", *_MASKED_COLUMNS, "analytic_regime", "message"])
+            w.writerow([*_FIXED_COLUMNS,
+                        *[f"{out}_{key}" for out, h in self.harmonics.items() for key in h]])
             for i in range(len(self)):
                 masked = []
                 for name in _MASKED_COLUMNS:
@@ -250,7 +310,8 @@ class FrequencyResponse:
                             repr(float(self.harmonic_amplitude[i])), int(self.stops_per_cycle[i]),
                             int(self.stuck[i]), int(self.converged[i]), int(self.unique[i]),
                             self.regime[i], repr(float(self.periods[i])), *masked,
-                            self.analytic_regime[i], self.message[i]])
+                            self.analytic_regime[i], self.message[i],
+                            *[repr(float(col[i])) for h in self.harmonics.values() for col in h.values()]])
 
     @classmethod
     def from_csv(cls, path) -> "FrequencyResponse":
@@ -285,6 +346,12 @@ class FrequencyResponse:
         def col(key, typ=float):
             return np.array([typ(r[key]) for r in rows])
 
+        harmonics = {}
+        for key in (rows[0].keys() if rows else ()):
+            out, _, quantity = key.rpartition("_")
+            if out and quantity in _HARMONIC_KEYS and key not in _FIXED_COLUMNS:
+                harmonics.setdefault(out, {})[quantity] = col(key)
+
         return cls(
             omega=col("omega"), amplitude=col("amplitude"), phase=col("phase"),
             harmonic_amplitude=col("harmonic_amplitude"),
@@ -295,7 +362,7 @@ class FrequencyResponse:
             message=tuple(r["message"] for r in rows),
             **{k: _masked([float(r[k]) if r[k] != "" else None for r in rows]) for k in _MASKED_COLUMNS},
             analytic_regime=col("analytic_regime", str), natural_frequency=wn,
-            analytic_name=name, parameters=params,
+            analytic_name=name, parameters=params, harmonics=harmonics,
         )
 
     def plot(self, path=None, phase: bool = True):
@@ -518,7 +585,7 @@ def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve
     harmonics = {}
     for name in (rows[0][2].harmonics or {}) if rows else {}:
         harmonics[name] = {key: arr(lambda r, key=key: (r[2].harmonics or {}).get(name, {}).get(key, np.nan))
-                           for key in ("amplitude", "phase", "peak")}
+                           for key in _HARMONIC_KEYS}
     return FrequencyResponse(
         omega=arr(lambda r: r[1]),
         amplitude=arr(lambda r: r[2].amplitude),
@@ -581,6 +648,9 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
     from .drivers import FMUDriver, LibraryDriver, shoot
     from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS
 
+    library = str(model) == "CoulombOscillator"
+    if not library and not (Path(model).suffix == ".fmu" and Path(model).is_file()):
+        raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0"}
     unknown = set(params) - allowed
@@ -596,12 +666,7 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
         raise ParameterError(f"outputs must be among {sorted(OSCILLATOR_OUTPUTS)}, got {bad}")
     if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) or n_samples < 16:
         raise ParameterError(f"n_samples must be an integer >= 16, got {n_samples!r}")
-    if str(model) == "CoulombOscillator":
-        driver = LibraryDriver()
-    elif Path(model).suffix == ".fmu" and Path(model).is_file():
-        driver = FMUDriver(model)
-    else:
-        raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
+    driver = LibraryDriver() if library else FMUDriver(model)
     try:
         return _run_sweep(base, c, ws, direction, progress,
                           lambda w, st: shoot(driver, dict(base, damping=c, omega=w), st, outputs=outputs,

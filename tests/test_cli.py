@@ -65,7 +65,20 @@ def test_bad_arguments_exit_nonzero_in_a_subprocess(tmp_path):
 
 @pytest.mark.parametrize("argv, words", [
     ([], "required"),
-    (["sweep"], "invalid choice"),
+    (["bogus"], "invalid choice"),
+    (["sweep", "CoulombOscillator"], "--omega"),
+    (["sweep", "CoulombOscillator", "--omega", "0:2:3"], "--omega"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "mass"], "NAME=VALUE"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "mass=inf"], "--set"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "mass=-1"], "mass must be > 0"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3"], "force_amplitude + stiffness * base_amplitude"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "mass=1", "--set", "mass=2"], "twice"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "omega=2"], "parameters must be among"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--set", "force_amplitude=1", "--output", "y"], "outputs must be among"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--compare", "exact"], "--compare"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--samples", "8"], "--samples"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--plot", "/nonexistent-dir/x.png"], "--plot"),
+    (["sweep", "nothing.fmu", "--omega", "1:2:3"], "existing .fmu file"),
     (["demo", "--bogus"], "unrecognized arguments"),
     (["demo", "--poin", "5"], "unrecognized arguments"),  # no silent abbreviations
     (["demo", "--points", "0"], "--points"),
@@ -97,11 +110,11 @@ def test_help_and_version(capsys):
         main(["--version"])
     assert exc.value.code == 0
     assert capsys.readouterr().out.startswith("frictionjoint ")
-    for sub in ("demo", "map"):
+    for sub in ("demo", "map", "sweep"):
         with pytest.raises(SystemExit) as exc:
             main([sub, "--help"])
         assert exc.value.code == 0
-        assert "--out" in capsys.readouterr().out
+        assert ("--plot" if sub == "sweep" else "--out") in capsys.readouterr().out
 
 
 def test_console_script_is_installed():
@@ -110,3 +123,61 @@ def test_console_script_is_installed():
         pytest.skip("console script not installed next to this interpreter")
     proc = subprocess.run([str(script), "--version"], capture_output=True, text=True, timeout=TIMEOUT)
     assert proc.returncode == 0 and proc.stdout.startswith("frictionjoint ")
+
+
+def _rows(text):
+    return [ln.split() for ln in text.splitlines() if ln.startswith(("up ", "down "))]
+
+
+def test_sweep_library_model_with_compare(tmp_path):
+    """``sweep CoulombOscillator --compare analytic``: Den Hartog beside each point, r = 1 unbounded."""
+    from frictionjoint.analytic import den_hartog_response as den_hartog
+    from frictionjoint.sweep import FrequencyResponse
+
+    png, table = tmp_path / "sw.png", tmp_path / "sw.csv"
+    proc = run("sweep", "CoulombOscillator", "--set", "slip_force=0.5", "--set", "force_amplitude=2",
+               "--set", "stiffness=4", "--omega", "1.6:2.4:3", "--compare", "analytic",
+               "--csv", str(table), "--plot", str(png))
+    assert proc.returncode == 0, proc.stderr
+    rows = _rows(proc.stdout)
+    assert [r[2] for r in rows] == ["0.8000", "1.0000", "1.2000"]  # omega_n = 2 rad/s
+    assert rows[1][3] == "unbounded" and rows[1][5] == "unbounded"
+    for row in (rows[0], rows[2]):
+        ref = den_hartog(1.0, 4.0, 0.5, 2.0, float(row[1]))  # closed form, analytic.py
+        assert float(row[4]) == pytest.approx(ref.amplitude, rel=1e-6)  # printed to 7 digits
+        assert float(row[5]) <= 1e-9
+    fr = FrequencyResponse.from_csv(table)
+    for i in (0, 2):
+        ref = den_hartog(1.0, 4.0, 0.5, 2.0, fr.omega[i])
+        assert abs(fr.amplitude[i] - ref.amplitude) <= 1e-9 * ref.amplitude
+        assert abs(fr.harmonics["x"]["peak"][i] - ref.amplitude) <= 1e-9 * ref.amplitude
+    assert png.read_bytes()[:8] == PNG_MAGIC
+
+
+def test_sweep_through_the_fmu_reports_requested_outputs(fmus, tmp_path):
+    """The FMU sweep from the command line, without --compare: simulated columns only, per output."""
+    from frictionjoint.analytic import den_hartog_response as den_hartog
+
+    table = tmp_path / "sw.csv"
+    proc = run("sweep", str(fmus["CoulombOscillator"]), "--set", "slip_force=0.3", "--set",
+               "force_amplitude=1", "--omega", "0.8:1.5:2", "--direction", "both",
+               "--output", "friction_force", "--output", "v", "--csv", str(table))
+    assert proc.returncode == 0, proc.stderr
+    assert "through fmpy" in proc.stdout and "Den Hartog" not in proc.stdout
+    head = next(ln for ln in proc.stdout.splitlines() if ln.startswith("branch"))
+    assert "friction_force peak" in head and "v peak" in head and "x peak" in head
+    rows = _rows(proc.stdout)
+    assert [(r[0], r[1]) for r in rows] == [("up", "0.8"), ("up", "1.5"), ("down", "1.5"), ("down", "0.8")]
+    for row in rows:
+        ref = den_hartog(1.0, 1.0, 0.3, 1.0, float(row[1]))
+        assert float(row[3]) == pytest.approx(ref.amplitude, rel=1e-6)  # x peak
+        assert float(row[6]) == pytest.approx(0.3, rel=1e-12)  # |friction force| = F while slipping
+        assert row[-1] == "stop-free"
+    text = table.read_text()
+    assert "friction_force_peak" in text and "v_amplitude" in text
+
+
+def test_sweep_rejects_an_fmu_without_oscillator_variables(fmus):
+    proc = run("sweep", str(fmus["JenkinsJoint"]), "--omega", "1:2:2", "--set", "force_amplitude=1")
+    assert proc.returncode == 2
+    assert "not an oscillator FMU" in proc.stderr and "lacks the variables" in proc.stderr

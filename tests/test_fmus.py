@@ -10,16 +10,10 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
-from frictionjoint.fmi.build import FMUS, build_fmus, validate
+from frictionjoint.fmi.build import FMUS, validate
 
 HERE = Path(__file__).parent
 STEP_TOL = 1e-9  # communication-step independence, relative to the amplitude
-
-
-@pytest.fixture(scope="session")
-def fmus(tmp_path_factory):
-    out = tmp_path_factory.mktemp("fmus")
-    return {p.stem: p for p in build_fmus(out)}
 
 
 def run(check, path):

@@ -161,6 +161,23 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
     return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
 
 
+def steady_growth(amplitudes) -> float | None:
+    """Growth per period if a sequence of per-period amplitudes grows without bound, else None.
+
+    Unbounded (resonant) growth of a friction oscillator is linear in time: the last 30
+    increments are all positive, nearly equal (spread <= 5 % of the mean), do not decay, and
+    the amplitude has at least doubled over them.
+    """
+    amps = np.asarray(amplitudes[-30:], dtype=float)
+    if amps.size < 30:
+        return None
+    inc = np.diff(amps)
+    if (np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc)
+            and np.mean(inc[-10:]) >= 0.98 * np.mean(inc[:10]) and amps[-1] >= 2 * amps[0]):
+        return float(np.mean(inc[-10:]))
+    return None
+
+
 def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
                       n_samples: int = 0) -> PeriodicResponse:
@@ -246,11 +263,8 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
                 converged = True
                 break
             if k >= 40 and k % 20 == 0:
-                inc = np.diff(amps[-30:])
-                # unbounded: steady increments that do not decay
-                if (np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc)
-                        and np.mean(inc[-10:]) >= 0.98 * np.mean(inc[:10]) and amps[-1] >= 2 * amps[-30]):
-                    growth = float(np.mean(inc[-10:]))
+                growth = steady_growth(amps)
+                if growth is not None:
                     break
                 scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
                 converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pmap(z), 8)
