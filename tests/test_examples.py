@@ -50,7 +50,10 @@ def test_readme_opens_with_the_two_commands():
     description, main_job, tests = match.groups()
     assert description.endswith(".") and description.count(". ") == 0
     assert main_job.startswith("python3 -m venv .venv && .venv/bin/pip install -e . && ")
-    assert "frictionjoint demo" in main_job
+    # the main job: build the FMUs, sweep CoulombOscillator.fmu through fmpy, compare, plot
+    assert "frictionjoint build-fmus" in main_job and "frictionjoint sweep " in main_job
+    assert "CoulombOscillator.fmu" in main_job and "--compare analytic" in main_job
+    assert "--plot " in main_job
     assert tests.startswith("python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && ")
     assert tests.endswith("pytest -q")
     assert "<!-- numbers filled in by the core developer -->" in text or "## Accuracy" in text
@@ -82,3 +85,33 @@ def test_ci_runs_the_readme_test_command():
     bad = subprocess.run([bash, str(script), "--bogus"], capture_output=True, text=True,
                          timeout=TIMEOUT)
     assert bad.returncode != 0
+
+
+def test_readme_main_job_runs_with_fewer_points(tmp_path):
+    """The README's main command, verbatim after installation, but with 6 frequencies instead of
+    60 (CI time): FMUs built, the FMU swept, Den Hartog beside every stop-free point, plot written."""
+    import shlex
+
+    text = README.read_text()
+    main_job = code_blocks(text)[0][1].strip()
+    steps = main_job.split(" && ")[2:]  # after 'python3 -m venv' and 'pip install -e .'
+    assert len(steps) == 2
+    for step in steps:
+        argv = shlex.split(step)
+        assert argv[0] == ".venv/bin/frictionjoint"
+        argv = [sys.executable, "-m", "frictionjoint", *argv[1:]]
+        if "sweep" in argv:
+            i = argv.index("--omega")
+            start, stop, n = argv[i + 1].split(":")
+            assert int(n) >= 60
+            argv[i + 1] = f"{start}:{stop}:6"
+        proc = subprocess.run(argv, capture_output=True, text=True, timeout=TIMEOUT, cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+    out = proc.stdout
+    assert "through fmpy" in out and "Den Hartog [m]" in out
+    errors = [ln.split()[5] for ln in out.splitlines() if ln.startswith(("up ", "down "))]
+    assert len(errors) == 12
+    numeric = [float(e) for e in errors if e[0].isdigit()]
+    assert len(numeric) >= 8 and max(numeric) <= 1e-9
+    png = argv[argv.index("--plot") + 1]
+    assert (tmp_path / png).read_bytes()[:8] == PNG_MAGIC
