@@ -98,5 +98,48 @@ def iwan_loop(path):
     return {"u": u.tolist(), "rows": rows}
 
 
+def _mass_step(x, v, t, h, m, k_eff, g0, P, w):
+    """The master's own subsystem: m x'' + k_eff x = g0 + P cos(w t) over [t, t + h], exactly."""
+    X = P / (k_eff - m * w * w)
+    om = math.sqrt(k_eff / m)
+    xp0, vp0 = g0 / k_eff + X * math.cos(w * t), -X * w * math.sin(w * t)
+    c, s = math.cos(om * h), math.sin(om * h)
+    dx, dv = x - xp0, v - vp0
+    t1 = t + h
+    return (g0 / k_eff + X * math.cos(w * t1) + dx * c + dv / om * s,
+            -X * w * math.sin(w * t1) - dx * om * s + dv * c)
+
+
+def jenkins_coupling(path):
+    """JenkinsJoint.fmu coupled to a mass-spring m x'' + k x + f_joint(x) = P cos(w t) by a master
+    loop with communication step h, explicitly (joint force held over the step) and
+    semi-implicitly (joint force linearised with the FMU's tangent_stiffness over the step)."""
+    m, k, kt, P, w = 1.0, 1.0, 1e4, 1.0, 0.8
+    period = 2 * math.pi / w
+    out = {}
+    with FMUInstance(path) as inst:
+        for slip_force in (1e12, 0.5):
+            for n in (100, 400, 1600):
+                h = period / n
+                for scheme in ("explicit", "semi-implicit"):
+                    inst.initialize(dict(stiffness=kt, slip_force=slip_force))
+                    x = v = 0.0
+                    xs = []
+                    for i in range(10 * n):
+                        inst.set({"u": x})
+                        f, K = inst.get(["force", "tangent_stiffness"])
+                        K = K if scheme == "semi-implicit" else 0.0
+                        x, v = _mass_step(x, v, i * h, h, m, k + K, -f + K * x, P, w)
+                        inst.step(h)
+                        xs.append(x)
+                        if not (math.isfinite(x) and abs(x) < 1e30):
+                            break
+                    inst.set({"u": x})
+                    diss = inst.get(["dissipated_energy"])[0]
+                    out[f"{slip_force:g},{n},{scheme}"] = {"x": xs, "h": h, "dissipated_energy": diss}
+        out["messages"] = inst.messages
+    return out
+
+
 if __name__ == "__main__":
     print(json.dumps(globals()[sys.argv[1]](sys.argv[2])))

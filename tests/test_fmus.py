@@ -116,3 +116,45 @@ def test_fmu_sweep_against_den_hartog_and_library(fmus):
     errs = [e for e in res["amp_err"] if e is not None]
     assert len(errs) >= 50 and "stops" in res["regime"]
     assert max(errs) <= 1e-8
+
+
+def test_jenkins_fmu_semi_implicit_coupling_is_stable_where_explicit_is_not(fmus):
+    """JenkinsJoint.fmu (kt = 1e4 N/m: a stuck-contact frequency of 100 rad/s) on a mass-spring
+    (m = 1 kg, k = 1 N/m, P = 1 N, omega = 0.8 rad/s), coupled by a master loop with steps
+    h = T/100, T/400, T/1600 (omega_t h = 7.9, 2.0, 0.49), 10 periods from rest.
+
+    Explicit coupling (joint force held over the step) is unstable at all three steps: with a
+    contact that should never slip (F_s = 1e12 N) the response reaches 1e8-1e10 m within the first
+    period instead of 2e-4 m, and the joint slips. Semi-implicit coupling (the FMU's
+    tangent_stiffness added to the master's subsystem over the step) is exact while the contact
+    sticks, and converges to the library's exact Jenkins response when it slips."""
+    res = run("jenkins_coupling", fmus["JenkinsJoint"])
+    m, k, kt, P, w = 1.0, 1.0, 1e4, 1.0, 0.8
+    # stuck contact: linear system from rest, x = X (cos w t - cos W t) (closed form)
+    big = np.sqrt((k + kt) / m)
+    X = P / (k + kt - m * w * w)
+    for n in (100, 400, 1600):
+        semi, expl = res[f"1e+12,{n},semi-implicit"], res[f"1e+12,{n},explicit"]
+        t = semi["h"] * np.arange(1, len(semi["x"]) + 1)
+        exact = X * (np.cos(w * t) - np.cos(big * t))
+        assert len(semi["x"]) == 10 * n
+        assert np.max(np.abs(np.array(semi["x"]) - exact)) <= 1e-9 * np.max(np.abs(exact))
+        assert semi["dissipated_energy"] == 0.0
+        blown = np.array(expl["x"][:n])  # the first period
+        assert not np.all(np.isfinite(blown)) or np.max(np.abs(blown)) >= 1e6 * np.max(np.abs(exact))
+        assert expl["dissipated_energy"] > 0  # spurious slip of a contact that sticks
+    # slipping contact (F_s = 0.5 N < P): against the exact library Jenkins response
+    system = fj.FrictionSystem(fj.LinearStructure(m, k),
+                               [fj.Jenkins(tangential_stiffness=kt, slip_force=0.5, dof=0)],
+                               omega=w, excitation=[fj.HarmonicForce(0, P)])
+    errors, diss_err = {}, {}
+    for n in (100, 400, 1600):
+        semi = res[f"0.5,{n},semi-implicit"]
+        t = semi["h"] * np.arange(1, 10 * n + 1)
+        ref = fj.simulate(system, t[-1], t_eval=t, record=("x", "energy"))
+        errors[n] = np.max(np.abs(np.array(semi["x"]) - ref.x[0])) / np.max(np.abs(ref.x[0]))
+        diss_err[n] = abs(semi["dissipated_energy"] - ref.dissipated_friction[-1]) / ref.dissipated_friction[-1]
+    # measured: 6.3e-2, 1.4e-2, 7.8e-4 (x); 5.2e-2, 1.0e-2, 6.0e-5 (dissipated energy)
+    assert errors[400] < errors[100] / 3 and errors[1600] < errors[400] / 3 and errors[1600] < 2e-3
+    assert diss_err[400] < diss_err[100] / 3 and diss_err[1600] < diss_err[400] / 3
+    assert not [msg for msg in res["messages"] if "rror" in msg or "atal" in msg]
