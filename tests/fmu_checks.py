@@ -98,6 +98,18 @@ def iwan_loop(path):
     return {"u": u.tolist(), "rows": rows}
 
 
+def trajectory(path, slip_force, omega, step_ns, n_steps):
+    """x, v, dissipated energy, event count at t_k = k * step_ns * 1e-9 s through fmpy (the
+    communication points libcosim uses), started like tests/cosim_check.py."""
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(slip_force=float(slip_force), force_amplitude=1.0, omega=float(omega), x0=0.1, v0=-0.2))
+        rows = []
+        for k in range(1, int(n_steps) + 1):
+            inst.step_to(k * int(step_ns) * 1e-9)
+            rows.append(inst.get(["x", "v", "dissipated_energy", "event_count"]))
+        return {"rows": rows, "messages": inst.messages}
+
+
 def _mass_step(x, v, t, h, m, k_eff, g0, P, w):
     """The master's own subsystem: m x'' + k_eff x = g0 + P cos(w t) over [t, t + h], exactly."""
     X = P / (k_eff - m * w * w)
@@ -142,4 +154,4 @@ def jenkins_coupling(path):
 
 
 if __name__ == "__main__":
-    print(json.dumps(globals()[sys.argv[1]](sys.argv[2])))
+    print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])))

@@ -16,8 +16,8 @@ HERE = Path(__file__).parent
 STEP_TOL = 1e-9  # communication-step independence, relative to the amplitude
 
 
-def run(check, path):
-    proc = subprocess.run([sys.executable, str(HERE / "fmu_checks.py"), check, str(path)],
+def run(check, path, *args):
+    proc = subprocess.run([sys.executable, str(HERE / "fmu_checks.py"), check, str(path), *map(str, args)],
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -158,3 +158,37 @@ def test_jenkins_fmu_semi_implicit_coupling_is_stable_where_explicit_is_not(fmus
     assert errors[400] < errors[100] / 3 and errors[1600] < errors[400] / 3 and errors[1600] < 2e-3
     assert diss_err[400] < diss_err[100] / 3 and diss_err[1600] < diss_err[400] / 3
     assert not [msg for msg in res["messages"] if "rror" in msg or "atal" in msg]
+
+
+@pytest.mark.parametrize("slip_force, omega", [(0.3, 1.5), (0.5, 0.45)])  # stop-free; 2 stops per cycle
+def test_second_importer_libcosim_gives_the_same_result(fmus, slip_force, omega):
+    """CoulombOscillator.fmu in libcosimpy (libcosim, OSP) and in fmpy: same outputs at the same
+    communication points (libcosim's integer-nanosecond grid, step ~T/7, 8 periods)."""
+    import math
+
+    import platform
+
+    wheel = sys.version_info[:2] == (3, 11) and sys.platform == "linux" and platform.machine() == "x86_64"
+    if not wheel:  # libcosimpy publishes wheels for CPython 3.11 / Linux x86_64 only
+        pytest.skip("no libcosimpy wheel for this interpreter/platform")
+    import libcosimpy  # noqa: F401  (in the [test] extra: must be installed here)
+    period = 2 * math.pi / omega
+    step_ns, n = int(round(period / 7 * 1e9)), 56
+    proc = subprocess.run([sys.executable, str(HERE / "cosim_check.py"), str(fmus["CoulombOscillator"]),
+                           str(slip_force), str(omega), str(step_ns), str(n)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    cosim = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert cosim["time_ns"] == [k * step_ns for k in range(1, n + 1)]
+    ref = run("trajectory", fmus["CoulombOscillator"], slip_force, omega, step_ns, n)
+    a, b = np.array(cosim["rows"], dtype=float), np.array(ref["rows"], dtype=float)
+    amp = np.max(np.abs(b[:, 0]))
+    assert np.max(np.abs(a[:, 0] - b[:, 0])) <= 1e-12 * amp
+    assert np.max(np.abs(a[:, 1] - b[:, 1])) <= 1e-12 * amp * omega
+    assert np.max(np.abs(a[:, 2] - b[:, 2])) <= 1e-12 * b[-1, 2]
+    assert np.array_equal(a[:, 3], b[:, 3]) and b[-1, 3] > 0
+    # and both are the exact library answer at those times
+    osc = fj.CoulombOscillator(slip_force=slip_force, force_amplitude=1.0, omega=omega)
+    t = np.arange(1, n + 1) * step_ns * 1e-9
+    tr = osc.simulate(t[-1], 0.1, -0.2, t_eval=t, record=("x",))
+    assert np.max(np.abs(tr.x - a[:, 0])) <= 1e-10 * amp
