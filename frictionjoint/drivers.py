@@ -53,12 +53,13 @@ class LibraryDriver:
 
 
 class FMUDriver:
-    """``CoulombOscillator.fmu`` (or an FMU with the same variables) through fmpy, one instance."""
+    """``CoulombOscillator.fmu`` (or an FMU with the same variables) through fmpy: one instance, in a
+    worker process (:mod:`frictionjoint.fmi.worker`)."""
 
     def __init__(self, path):
-        from .fmi.master import FMUInstance
+        from .fmi.worker import FMUWorker
 
-        self.inst = FMUInstance(path)
+        self.inst = FMUWorker(path)  # in its own process: see frictionjoint.fmi.worker
         missing = [n for n in (*OSCILLATOR_PARAMETERS, "x", "v", "stuck") if n not in self.inst.vr]
         if missing:
             self.inst.close()

@@ -192,3 +192,42 @@ def test_second_importer_libcosim_gives_the_same_result(fmus, slip_force, omega)
     t = np.arange(1, n + 1) * step_ns * 1e-9
     tr = osc.simulate(t[-1], 0.1, -0.2, t_eval=t, record=("x",))
     assert np.max(np.abs(tr.x - a[:, 0])) <= 1e-10 * amp
+
+
+def test_one_shared_instance_per_process(fmus):
+    """pythonfmu cannot instantiate a model twice in one process: sweeps reuse one shared instance
+    (also after an FMU error), and a second plain instantiation raises a clear RuntimeError."""
+    res = run("reuse", fmus["CoulombOscillator"])
+    first, bad, again = res["amplitudes"]
+    assert first == again and len(first) == 2
+    assert "slip_force must be >= 0" in bad
+    assert res["bad"] is not None
+    osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
+    x1 = osc.simulate(1.0, 0.0, 0.0, t_eval=[1.0], record=("x",)).x[-1]
+    assert abs(res["after_bad"] - x1) <= 1e-12
+    assert "already instantiated" in res["second"] and "PythonFMU #213" in res["second"]
+
+
+def test_fmu_worker_process_isolates_the_fmu(fmus):
+    """FMUWorker: the FMU in its own process, so this (pytest) process can drive it repeatedly;
+    an FMU error comes back as FMUWorkerError with the FMU's logged message."""
+    from frictionjoint.fmi.worker import FMUWorker, FMUWorkerError
+
+    osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
+    x_ref = osc.simulate(5.0, 0.1, 0.0, t_eval=[5.0], record=("x",)).x[-1]
+    for _ in range(2):  # two instances of the same pythonfmu model, one after the other
+        with FMUWorker(fmus["CoulombOscillator"]) as w:
+            with pytest.raises(FMUWorkerError, match="mass must be > 0"):
+                w.initialize(dict(mass=-1.0))
+            w.initialize(dict(slip_force=0.3, force_amplitude=1.0, omega=0.8, x0=0.1))
+            w.step_to(2.0)
+            saved = w.get_state()
+            w.step_to(5.0)
+            x1 = w.get(["x"])[0]
+            w.set_state(saved)
+            assert w.time == 2.0
+            w.step_to(5.0)
+            assert w.get(["x"])[0] == x1
+            assert abs(x1 - x_ref) <= 1e-12
+    with pytest.raises(FMUWorkerError, match="cannot instantiate"):
+        FMUWorker(HERE / "no-such.fmu")

@@ -3,14 +3,28 @@
 Every call into the FMU goes through fmpy, which turns a bad status into an exception; log
 messages of the FMU (Python errors included: logging is on) are collected in :attr:`messages`.
 pythonfmu FMUs cannot be instantiated twice in one process (NTNU-IHB/PythonFMU #213, #228):
-reuse one :class:`FMUInstance` (``initialize`` may be called again: it resets the FMU).
+reuse one :class:`FMUInstance` (``initialize`` may be called again: it resets the FMU), e.g.
+through :meth:`FMUInstance.shared`, which keeps one live instance per model for the process.
 """
 from __future__ import annotations
 
+import atexit
 import shutil
 from pathlib import Path
 
 __all__ = ["FMUInstance"]
+
+#: guid -> live instance handed out by FMUInstance.shared (closed at exit)
+_SHARED: dict = {}
+#: guids of pythonfmu models instantiated in this process (they cannot be instantiated again)
+_PYTHONFMU_GUIDS: set = set()
+
+
+@atexit.register
+def _close_shared() -> None:
+    for inst in list(_SHARED.values()):
+        inst._free()
+    _SHARED.clear()
 
 
 class FMUInstance:
@@ -29,6 +43,12 @@ class FMUInstance:
 
         self.path = Path(path)
         self.model = read_model_description(str(self.path))
+        self._pythonfmu = (self.model.generationTool or "").startswith("PythonFMU")
+        if self._pythonfmu and self.model.guid in _PYTHONFMU_GUIDS:
+            raise RuntimeError(
+                f"{self.path.name} (pythonfmu) was already instantiated in this process and cannot be "
+                "instantiated again (NTNU-IHB/PythonFMU #213, #228): reuse one instance, e.g. "
+                "FMUInstance.shared(path), or run each instance in its own process")
         self.vr = {v.name: v.valueReference for v in self.model.modelVariables}
         self.types = {v.name: v.type for v in self.model.modelVariables}
         self.messages: list[str] = []
@@ -47,20 +67,44 @@ class FMUInstance:
         cb.freeMemory = fmi2.defaultCallbacks.freeMemory
         self._callbacks = cb
         self._fmu.instantiate(loggingOn=True, callbacks=cb)
-        self._initialized = False
+        if self._pythonfmu:
+            _PYTHONFMU_GUIDS.add(self.model.guid)
+        self._initialized = self._used = False
+        self._freed = False
+        self._shared = False
         self.time = 0.0
+
+    @classmethod
+    def shared(cls, path) -> "FMUInstance":
+        """The process's live instance of the model in ``path`` (created on first use).
+
+        Instances are keyed by the model's guid; :meth:`close` on a shared instance only
+        terminates the run, and the instance is freed at interpreter exit. Messages collected
+        so far are cleared.
+        """
+        from fmpy import read_model_description
+
+        guid = read_model_description(str(path)).guid
+        inst = _SHARED.get(guid)
+        if inst is None:
+            inst = _SHARED[guid] = cls(path)
+            inst._shared = True
+        inst.messages.clear()
+        return inst
 
     # ---------------------------------------------------------------- set-up
     def initialize(self, parameters: dict | None = None, start_time: float = 0.0) -> None:
         """(Re)initialise with parameter values at ``start_time`` [s]."""
-        if self._initialized:
+        if self._used:  # initialised (and possibly terminated) before: back to 'instantiated'
             self._fmu.reset()
+        self._used = True  # also after a failed initialisation (the FMU is then in error state)
+        self._initialized = False
         self._fmu.setupExperiment(startTime=start_time)
         self._fmu.enterInitializationMode()
         if parameters:
             self.set(parameters)
         self._fmu.exitInitializationMode()
-        self._initialized = True
+        self._initialized = self._used = True
         self.time = float(start_time)
         self._t0 = float(start_time)
         self._n = 0
@@ -130,7 +174,19 @@ class FMUInstance:
         self._h = None
 
     def close(self) -> None:
-        """Terminate and free the instance; remove the extracted files."""
+        """Terminate the run; free the instance and remove the extracted files (a shared
+        instance stays alive for reuse until interpreter exit)."""
+        if self._shared:
+            if self._initialized:
+                self._fmu.terminate()
+                self._initialized = False
+            return
+        self._free()
+
+    def _free(self) -> None:
+        if self._freed:
+            return
+        self._freed = True
         try:
             if self._initialized:
                 self._fmu.terminate()
