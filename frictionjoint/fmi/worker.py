@@ -71,7 +71,11 @@ class FMUWorker:
                                       stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
         self.messages: list[str] = []
         self.time = 0.0
-        self.vr, self.types = self._reply()
+        try:
+            self.vr, self.types = self._reply()
+        except FMUWorkerError:
+            self._shutdown()
+            raise
 
     def _reply(self):
         try:
@@ -123,6 +127,9 @@ class FMUWorker:
                 self._call("close")
             except FMUWorkerError:
                 pass
+        self._shutdown()
+
+    def _shutdown(self) -> None:
         for stream in (self._proc.stdin, self._proc.stdout):
             try:
                 stream.close()
