@@ -4,7 +4,9 @@ Linear structures with Coulomb sliders, Jenkins and Iwan elements, marched exact
 event (no time step, no regularisation), periodic steady states by shooting, and the analytic
 single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
 """
+from . import contact
 from .elements import CoulombSlider, Iwan, Jenkins
+from .elements.masing import ContinuousIwan
 from .errors import ConvergenceError, ParameterError
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
 from .oscillator import CoulombOscillator
@@ -20,6 +22,7 @@ from .system import FrictionSystem
 __version__ = "0.1.0"
 
 __all__ = [
+    "ContinuousIwan",
     "CoulombOscillator",
     "CoulombSlider",
     "ConvergenceError",
@@ -37,6 +40,7 @@ __all__ = [
     "PeriodicResponse",
     "RegimeMap",
     "TimeResponse",
+    "contact",
     "oscillator_sweep",
     "periodic_response",
     "regime_map",

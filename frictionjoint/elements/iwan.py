@@ -106,6 +106,55 @@ class Iwan:
         """Macroslip force [N] (all sliders slipping)."""
         return float(sum(f for _, f in self.sliders_table))
 
+    def _table(self):
+        k = np.array([p[0] for p in self.sliders_table])
+        f = np.array([p[1] for p in self.sliders_table])
+        return k, f, f / k
+
+    def backbone(self, u):
+        """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd).
+
+        ``F(u) = sum_i min(k_i |u|, f_i) sgn(u)``: piecewise linear.
+        """
+        k, f, _ = self._table()
+        u = np.asarray(u, dtype=float)
+        if not np.all(np.isfinite(u)):
+            raise ParameterError("u must be finite")
+        out = np.sign(u) * np.minimum(np.multiply.outer(np.abs(u), k), f).sum(axis=-1)
+        return float(out) if out.ndim == 0 else out
+
+    def displacement(self, force: float) -> float:
+        """Displacement [m] where the backbone reaches ``force`` [N], ``|force| < slip_force`` (exact)."""
+        k, f, phi = self._table()
+        q = abs(float(force))
+        if not (np.isfinite(q) and q < self.slip_force):
+            raise ParameterError(f"force must be in (-{self.slip_force:g}, {self.slip_force:g}) N "
+                                 f"(below the macroslip force), got {force!r}")
+        order = np.argsort(phi)
+        k, f, phi = k[order], f[order], phi[order]
+        # at u = phi_j: F = sum_{i<j} f_i + phi_j sum_{i>=j} k_i (non-decreasing)
+        slipped = np.concatenate([[0.0], np.cumsum(f)[:-1]])
+        stuck_k = np.cumsum(k[::-1])[::-1]
+        at_knots = slipped + phi * stuck_k
+        j = int(np.searchsorted(at_knots, q, side="right"))  # sliders 0..j-1 slip at the answer
+        u = (q - (slipped[j] if j < len(k) else f.sum())) / stuck_k[j]
+        return float(np.copysign(u, force))
+
+    def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
+        """Energy [J] per cycle of ``u`` between ``±u*``: ``sum_{phi_i < u*} 4 f_i (u* - phi_i)``."""
+        a = check_real("displacement_amplitude", displacement_amplitude)
+        if a < 0:
+            raise ParameterError(f"displacement_amplitude must be >= 0, got {displacement_amplitude!r}")
+        _, f, phi = self._table()
+        return float(np.sum(4.0 * f * np.maximum(a - phi, 0.0)))
+
+    def dissipation_per_cycle(self, force_amplitude: float) -> float:
+        """Energy [J] per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``."""
+        q = check_real("force_amplitude", force_amplitude)
+        if q < 0:
+            raise ParameterError(f"force_amplitude must be >= 0, got {force_amplitude!r}")
+        return self.dissipation_per_displacement_cycle(self.displacement(q))
+
     def sliders(self) -> list[Slider]:
         """The sliders the marcher handles."""
         return [Slider(f, k) for k, f in self.sliders_table]
