@@ -148,6 +148,9 @@ def test_discrete_iwan_dissipation_is_the_sum_of_jenkins_loops():
     assert q == pytest.approx(1.0 + 5.0 * 0.3, rel=1e-15)
     assert iwan.displacement(q) == pytest.approx(0.3, rel=1e-15)
     assert iwan.dissipation_per_cycle(q) == pytest.approx(0.8, rel=1e-14)
+    # just below the macroslip force (3 N): the last slider's knot, not an index error
+    assert iwan.displacement(np.nextafter(3.0, 0.0)) == pytest.approx(0.4, rel=1e-14)
+    assert iwan.displacement(-1.0) == pytest.approx(-1.0 / 15.0, rel=1e-15)
 
 
 @pytest.mark.parametrize("kwargs, name", [

@@ -136,8 +136,9 @@ class Iwan:
         slipped = np.concatenate([[0.0], np.cumsum(f)[:-1]])
         stuck_k = np.cumsum(k[::-1])[::-1]
         at_knots = slipped + phi * stuck_k
-        j = int(np.searchsorted(at_knots, q, side="right"))  # sliders 0..j-1 slip at the answer
-        u = (q - (slipped[j] if j < len(k) else f.sum())) / stuck_k[j]
+        # sliders 0..j-1 slip at the answer (j < N: q below the macroslip force, up to rounding)
+        j = min(int(np.searchsorted(at_knots, q, side="right")), len(k) - 1)
+        u = (q - slipped[j]) / stuck_k[j]
         return float(np.copysign(u, force))
 
     def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
