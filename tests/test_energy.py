@@ -62,3 +62,16 @@ def test_energy_balance_held_external_force(steps, fs):
                              excitation=[fj.ExternalForce(0, times, steps)])
     tr = fj.simulate(sysm, 14.0, 0.0, 0.0, t_eval=np.linspace(0, 14.0, 57), record=("x", "energy"))
     _check(tr)
+
+
+def test_regression_last_interval_an_ulp_short_of_t_end():
+    """Hypothesis found: the last interval's t0 + tau fell one ulp short of t_end, so the output
+    at t_end was never written ("not all output times were reached")."""
+    m, k, zeta, f, p, y, r = 0.8062695067265537, 0.5, 0.21875, 1.1605859662984208, 0.0001, 0.5, 0.2
+    wn = np.sqrt(k / m)
+    osc = fj.CoulombOscillator(mass=m, stiffness=k, slip_force=f * max(abs(p + k * y), 0.1),
+                               force_amplitude=p, base_amplitude=y, omega=r * wn,
+                               damping=2 * zeta * np.sqrt(k * m))
+    tr = osc.simulate(6 * osc.period, 0.0, 1.0, record=("x", "energy"))
+    _check(tr)
+    assert tr.t[-1] == 6 * osc.period and np.isfinite(tr.x[-1])

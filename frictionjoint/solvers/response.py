@@ -122,8 +122,12 @@ def simulate(system, t_end: float, x0=0.0, v0=0.0, w0=None, t0: float = 0.0, t_e
                              / system.slider_stiffness[slip])[:, None]
         return w
 
+    t_close = 8.0 * np.finfo(float).eps * max(1.0, abs(t_end))
+
     def on_interval(itv, tau_end):
         t1 = itv.t0 + tau_end
+        if t_end - t1 <= t_close:  # the last interval: t0 + tau may fall an ulp short of t_end
+            t1 = max(t1, t_end)
         k0 = pos[0]
         k1 = k0
         while k1 < n_t and t_eval[k1] <= t1:
