@@ -183,4 +183,11 @@ def jenkins_coupling(path):
 
 
 if __name__ == "__main__":
-    print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])))
+    # as frictionjoint.fmi.worker: no cyclic GC next to a pythonfmu instance, and no interpreter
+    # teardown once the result is out (pythonfmu's wrapper can corrupt both; see that module)
+    import gc
+    import os
+
+    gc.disable()
+    print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])), flush=True)
+    os._exit(0)

@@ -90,3 +90,22 @@ def test_regression_last_interval_an_ulp_short_of_t_end():
     tr = osc.simulate(6 * osc.period, 0.0, 1.0, record=("x", "energy"))
     _check(tr)
     assert tr.t[-1] == 6 * osc.period and np.isfinite(tr.x[-1])
+
+
+def test_regression_decay_far_below_the_initial_velocity_scale():
+    """Hypothesis found: damped free vibration (zeta = 0.25) with a negligible slip force
+    (5.9e-25 N) decays by 1e11 within the run; with zero tolerances tied to the largest velocity
+    ever seen (v0 = 1 m/s) the settling rule cycled stick <-> slip and raised ConvergenceError.
+    Tolerances now follow the recent motion: the decay is tracked through every reversal, with
+    the linear damped oscillator's free decay as reference."""
+    m, k, c, fs = 1.0, 1.0, 0.5, 5.93416023451242e-25
+    osc = fj.CoulombOscillator(mass=m, stiffness=k, slip_force=fs, force_amplitude=0.0, omega=0.25, damping=c)
+    t_end = 6 * osc.period
+    tr = osc.simulate(t_end, 0.0, 1.0, record=("x", "energy"))
+    _check(tr, floor=0.5 * m * 1.0 ** 2)
+    # x(t) = exp(-zeta wn t) sin(wd t)/wd for v0 = 1 (friction 1e-25 N is far below round-off)
+    wn, zeta = 1.0, c / 2.0
+    wd = wn * np.sqrt(1 - zeta ** 2)
+    ref = np.exp(-zeta * wn * tr.t) * np.sin(wd * tr.t) / wd
+    assert np.max(np.abs(tr.x - ref)) <= 1e-12
+    assert len(tr.events) > 40  # a reversal every half period

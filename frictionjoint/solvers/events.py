@@ -165,7 +165,7 @@ class Marcher:
         w0[~jen] = s[~jen]
         sv = sysm.slider_direction @ v0
         status = np.sign(sv).astype(np.int8)
-        self.v_scale = max(self.v_scale, float(np.max(np.abs(v0), initial=0.0)))
+        self.v_scale = float(np.max(np.abs(v0), initial=0.0))
         # a moving Jenkins slider slips only if its spring is at the limit in the direction of motion
         tj = sysm.slider_stiffness[jen] * (s[jen] - w0[jen])
         at_limit = np.abs(np.abs(tj) - sysm.slip_force[jen]) <= 1e-12 * sysm.slip_force[jen]
@@ -304,6 +304,11 @@ class Marcher:
         old = state.status.copy()
         max_iter = 4 * sysm.n_sliders + 4
         f_ext = self._f_ext(state.t)
+        # sliders just set slipping because their stick force exceeded the limit: the net force
+        # has the slip direction (Hong & Liu), so their velocity event is judged by the sign of
+        # its derivative alone (a tolerance band on it could send them back to stick, forever,
+        # when the motion is far below the velocity scale seen earlier in the run)
+        forced = np.zeros(sysm.n_sliders, dtype=bool)
         for _ in range(max_iter):
             itv = self.interval(state, f_ext)
             red, meta = itv.events
@@ -314,7 +319,11 @@ class Marcher:
             rate = max(self.system.omega, itv.config.max_rate, 1e-300)
             atzero = np.abs(g) <= tol
             dtol = 10.0 * np.maximum(tol, 1e-300) * rate
-            bad = np.where(atzero, (dg < -dtol) | ((np.abs(dg) <= dtol) & (ddg < 0)), g < 0)
+            sure = np.array([kind == "v" and forced[i] for i, kind in meta], dtype=bool)
+            # within the band |dg| <= dtol the curvature decides, except that a forced slider
+            # whose velocity already grows (dg > 0) stays slipping
+            bad = np.where(atzero, (dg < -dtol) | ((np.abs(dg) <= dtol) & (ddg < 0) & ~(sure & (dg > 0))),
+                           g < 0)
             itv.atzero = atzero
             if not np.any(bad):
                 break
@@ -325,8 +334,10 @@ class Marcher:
             i, kind = meta[j]
             if kind == "v":
                 state.status[i] = 0
+                forced[i] = False
             else:
                 state.status[i] = 1 if kind == "+" else -1
+                forced[i] = True
             self._project(state)
         else:
             raise ConvergenceError(
@@ -364,6 +375,12 @@ class Marcher:
         dg_a = dg_a[:, 0]
         tau_a = 0.0
         vrows = np.array([k == "v" for _, k in meta])
+        # velocity scale with a fading memory (halved per interval, raised by what is seen), so
+        # that tolerances follow a response that decays by many orders of magnitude instead of
+        # staying tied to the largest velocity ever seen
+        self.v_scale *= 0.5
+        if vrows.any():
+            self.v_scale = max(self.v_scale, float(np.max(np.abs(g_a[vrows]), initial=0.0)))
         while tau_a < horizon:
             n = min(_CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
             taus = tau_a + h * np.arange(1, n + 1)
