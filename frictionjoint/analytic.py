@@ -50,8 +50,8 @@ from scipy.optimize import brentq
 from .errors import (
     ParameterError,
     check_nonnegative,
+    check_oscillator,
     check_positive,
-    check_real,
 )
 
 __all__ = [
@@ -587,18 +587,8 @@ def den_hartog_response(
     ParameterError
         If an argument is out of range or ``P + k Y == 0`` (no excitation).
     """
-    m = check_positive("mass", mass)
-    k = check_positive("stiffness", stiffness)
-    friction = check_nonnegative("slip_force", slip_force)
-    p = check_real("force_amplitude", force_amplitude)
+    m, k, friction, p, y, p0 = check_oscillator(mass, stiffness, slip_force, force_amplitude, base_amplitude)
     w = check_positive("omega", omega)
-    y = check_real("base_amplitude", base_amplitude)
-    p0 = p + k * y
-    if p0 == 0.0 or not math.isfinite(p0):
-        raise ParameterError(
-            "force_amplitude + stiffness * base_amplitude must be finite and nonzero "
-            f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}"
-        )
     wn = math.sqrt(k / m)
     sol = den_hartog(w / wn, friction / abs(p0))
     scale = abs(p0) / k

@@ -67,3 +67,21 @@ def check_grid(name: str, values, positive: bool = True, unit: str = "") -> np.n
     for i, value in enumerate(arr):
         check(f"{name}[{i}]", float(value))
     return arr
+
+
+def check_oscillator(mass, stiffness, slip_force, force_amplitude, base_amplitude):
+    """Validate the harmonically excited Coulomb oscillator's data.
+
+    Returns ``(m, k, F, P, Y, P0)`` as floats with ``P0 = P + k Y``, which must be finite and
+    nonzero (a closed form or a sweep needs excitation).
+    """
+    m = check_positive("mass", mass)
+    k = check_positive("stiffness", stiffness)
+    f = check_nonnegative("slip_force", slip_force)
+    p = check_real("force_amplitude", force_amplitude)
+    y = check_real("base_amplitude", base_amplitude)
+    p0 = p + k * y
+    if p0 == 0.0 or not math.isfinite(p0):
+        raise ParameterError("force_amplitude + stiffness * base_amplitude must be finite and nonzero "
+                             f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}")
+    return m, k, f, p, y, p0

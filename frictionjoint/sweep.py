@@ -22,7 +22,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import ParameterError, check_grid, check_nonnegative, check_positive, check_real
+from .errors import ParameterError, check_grid, check_nonnegative, check_oscillator
 from .regime import classify
 
 __all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTIONS"]
@@ -521,21 +521,13 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
 def _check_sweep(mass, stiffness, slip_force, force_amplitude, damping, base_amplitude, omegas, direction,
                  progress):
     """Validate the arguments every oscillator sweep takes; return ``(params, damping, omegas)``."""
-    m = check_positive("mass", mass)
-    k = check_positive("stiffness", stiffness)
-    fr = check_nonnegative("slip_force", slip_force)
-    p = check_real("force_amplitude", force_amplitude)
+    m, k, fr, p, y, _ = check_oscillator(mass, stiffness, slip_force, force_amplitude, base_amplitude)
     c = check_nonnegative("damping", damping)
-    y = check_real("base_amplitude", base_amplitude)
     ws = check_grid("omegas", omegas, unit="rad/s")
     if direction not in DIRECTIONS:
         raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
     if not isinstance(progress, (bool, np.bool_)):
         raise ParameterError(f"progress must be True or False, got {progress!r}")
-    p0 = p + k * y
-    if p0 == 0.0 or not math.isfinite(p0):
-        raise ParameterError("force_amplitude + stiffness * base_amplitude must be finite and nonzero "
-                             f"(allowed range (-inf, 0) U (0, inf)), got {p0!r}")
     return dict(mass=m, stiffness=k, slip_force=fr, force_amplitude=p, base_amplitude=y), c, ws
 
 
