@@ -102,14 +102,13 @@ class MindlinContact:
         u = np.asarray(u, dtype=float)
         if not np.all(np.isfinite(u)):
             raise ParameterError("u must be finite")
-        x = np.minimum(np.abs(u) / self.slip_displacement, 1.0)
-        with np.errstate(divide="ignore"):  # log1p(-1) = -inf -> F = f P exactly
-            out = np.sign(u) * self.slip_force * -np.expm1(1.5 * np.log1p(-x))
+        out = np.sign(u) * self._backbone_positive(np.abs(u))
         return float(out) if out.ndim == 0 else out
 
     def _backbone_positive(self, u):
+        """``f P [1 - (1 - u/C)^(3/2)]`` for ``u >= 0`` (``f P`` beyond ``C``)."""
         x = np.minimum(np.asarray(u, dtype=float) / self.slip_displacement, 1.0)
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore"):  # log1p(-1) = -inf -> F = f P exactly
             return self.slip_force * -np.expm1(1.5 * np.log1p(-x))
 
     def _primitive(self, u: float) -> float:
@@ -147,21 +146,18 @@ class MindlinContact:
         """
         c, fs = self.slip_displacement, self.slip_force
         if n_sliders is None:
-            def inverse(q):
-                return self.displacement(q)
-
             def density(phi):
                 return 0.75 * fs / (c * c) / math.sqrt(1.0 - phi / c)
 
             return ContinuousIwan(self._backbone_positive, self.tangential_stiffness, fs, c,
-                                  inverse=inverse, primitive=self._primitive, density=density)
+                                  inverse=self.displacement, primitive=self._primitive, density=density)
         if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
             raise ParameterError(f"n_sliders must be None or an integer >= 1, got {n_sliders!r}")
-        # stiffness below phi: K(phi) = (3 fP/(2C)) (1 - sqrt(1 - phi/C)); strength below phi:
-        # int k rho phi = fP [1 - (1 - phi/C)^(1/2) (1 + phi/(2C))]... use t = sqrt(1 - phi/C)
-        t = np.linspace(1.0, 0.0, int(n_sliders) + 1)  # equal stiffness intervals: K linear in t
+        # with t = sqrt(1 - phi/C): stiffness of the sliders below phi, int_0^phi k rho, is
+        # (3 fP/(2C)) (1 - t), linear in t, and their strength, int_0^phi k rho(s) s ds, is
+        # fP (1 - 3t/2 + t^3/2); equal steps of t are equal-stiffness intervals
+        t = np.linspace(1.0, 0.0, int(n_sliders) + 1)
         k_cum = 1.5 * fs / c * (1.0 - t)
-        # int_0^phi k rho(s) s ds with s = C (1 - t^2): fP [1 - 3 t/2 + t^3/2]
         f_cum = fs * (1.0 - 1.5 * t + 0.5 * t ** 3)
         table = list(zip(np.diff(k_cum), np.diff(f_cum)))
         return Iwan(table, dof=dof, direction=direction)

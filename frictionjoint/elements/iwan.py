@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError, check_positive, check_real
+from ..errors import ParameterError, check_nonnegative, check_positive, check_real
 from .base import Slider
 
 __all__ = ["Iwan"]
@@ -143,17 +143,13 @@ class Iwan:
 
     def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
         """Energy [J] per cycle of ``u`` between ``±u*``: ``sum_{phi_i < u*} 4 f_i (u* - phi_i)``."""
-        a = check_real("displacement_amplitude", displacement_amplitude)
-        if a < 0:
-            raise ParameterError(f"displacement_amplitude must be >= 0, got {displacement_amplitude!r}")
+        a = check_nonnegative("displacement_amplitude", displacement_amplitude)
         _, f, phi = self._table()
         return float(np.sum(4.0 * f * np.maximum(a - phi, 0.0)))
 
     def dissipation_per_cycle(self, force_amplitude: float) -> float:
         """Energy [J] per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``."""
-        q = check_real("force_amplitude", force_amplitude)
-        if q < 0:
-            raise ParameterError(f"force_amplitude must be >= 0, got {force_amplitude!r}")
+        q = check_nonnegative("force_amplitude", force_amplitude)
         return self.dissipation_per_displacement_cycle(self.displacement(q))
 
     def sliders(self) -> list[Slider]:
