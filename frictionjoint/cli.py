@@ -105,6 +105,11 @@ def _setting(text: str):
     return name, _real(value.strip())
 
 
+def _add_csv_and_progress(parser, what: str) -> None:
+    parser.add_argument("--csv", default=None, metavar="FILE", help=f"also write the {what} as CSV")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``frictionjoint`` command.
 
@@ -147,8 +152,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="sweep direction (default both)")
     demo.add_argument("--out", default="forced_response.png", metavar="PNG",
                       help="plot file (default forced_response.png)")
-    demo.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
-    demo.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    _add_csv_and_progress(demo, "table")
     demo.set_defaults(func=_demo, subparser=demo)
 
     mp = sub.add_parser(
@@ -165,9 +169,8 @@ def build_parser() -> argparse.ArgumentParser:
                     metavar="START:STOP:N", help="frequency ratios r (default 0.1:2.0:39)")
     mp.add_argument("--jobs", type=_count(1), default=os.cpu_count() or 1,
                     help="worker processes (default: the number of CPUs)")
-    mp.add_argument("--csv", default=None, metavar="FILE", help="also write the map as CSV")
     mp.add_argument("--table", action="store_true", help="print the map as text")
-    mp.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    _add_csv_and_progress(mp, "map")
     mp.set_defaults(func=_map, subparser=mp)
 
     sw = sub.add_parser(
@@ -197,10 +200,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="samples per period for the first harmonics (default 256)")
     sw.add_argument("--compare", choices=("analytic",), default=None,
                     help="put Den Hartog's closed form and the relative error beside each point")
-    sw.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     sw.add_argument("--plot", dest="out", default=None, metavar="PNG",
                     help="write the plot (amplitude and phase against omega) to this file")
-    sw.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    _add_csv_and_progress(sw, "table")
     sw.set_defaults(func=_sweep, subparser=sw)
 
     bf = sub.add_parser(
