@@ -5,7 +5,7 @@ event (no time step, no regularisation), periodic steady states by shooting, and
 single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
 """
 from . import contact
-from .elements import CoulombSlider, Iwan, Jenkins
+from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
 from .elements.masing import ContinuousIwan
 from .errors import ConvergenceError, ParameterError
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
@@ -16,7 +16,7 @@ from .solvers.response import simulate
 from .solvers.steady import periodic_response
 from .regime import RegimeMap, regime_map
 from .structure import LinearStructure
-from .sweep import FrequencyResponse, oscillator_sweep
+from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, system_sweep
 from .system import FrictionSystem
 
 __version__ = "0.1.0"
@@ -25,6 +25,7 @@ __all__ = [
     "ContinuousIwan",
     "CoulombOscillator",
     "CoulombSlider",
+    "DovetailRoot",
     "ConvergenceError",
     "EventLog",
     "ExternalForce",
@@ -45,4 +46,7 @@ __all__ = [
     "periodic_response",
     "regime_map",
     "simulate",
+    "SystemSweep",
+    "system_sweep",
+    "peak_response",
 ]

@@ -22,10 +22,11 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import ParameterError, check_grid, check_nonnegative, check_oscillator
+from .errors import ParameterError, check_grid, check_nonnegative, check_oscillator, check_positive
 from .regime import classify
 
-__all__ = ["FrequencyResponse", "oscillator_sweep", "den_hartog_curve", "DIRECTIONS"]
+__all__ = ["FrequencyResponse", "SystemSweep", "oscillator_sweep", "system_sweep", "peak_response",
+           "den_hartog_curve", "DIRECTIONS"]
 
 #: Allowed values of ``direction``.
 DIRECTIONS = ("up", "down", "both")
@@ -665,3 +666,100 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
                                               n_samples=int(n_samples)))
     finally:
         driver.close()
+
+
+@dataclass
+class SystemSweep:
+    """Stepped-sine steady states of a :class:`~frictionjoint.system.FrictionSystem` family.
+
+    Attributes
+    ----------
+    omega : (n,) ndarray
+        Excitation angular frequency [rad/s], in the order computed.
+    amplitude, harmonic_amplitude, phase : (n, n_dof) ndarray
+        Max ``|x|`` [m], first-harmonic amplitude [m] and its lag behind ``cos(omega t)`` [rad].
+    dissipated_per_cycle : (n,) ndarray
+        Friction energy per period [J].
+    stuck, converged : (n,) bool ndarray
+        Permanent stick; periodic orbit found.
+    """
+
+    omega: np.ndarray
+    amplitude: np.ndarray
+    harmonic_amplitude: np.ndarray
+    phase: np.ndarray
+    dissipated_per_cycle: np.ndarray
+    stuck: np.ndarray
+    converged: np.ndarray
+
+
+def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep:
+    """Periodic steady state of ``build(omega)`` at each ``omega`` [rad/s], in the given order,
+    each started from the previous orbit (its state at ``t = 0``).
+
+    Parameters
+    ----------
+    build : callable
+        ``build(omega) -> FrictionSystem`` with harmonic excitation at ``omega``.
+    omegas : sequence of float
+        Angular frequencies [rad/s], > 0.
+    progress : bool
+        Show a progress bar.
+    """
+    from tqdm import tqdm
+
+    from .solvers.steady import periodic_response
+
+    ws = check_grid("omegas", omegas, unit="rad/s")
+    rows = []
+    z = None
+    for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
+        system = build(float(w))
+        n = system.n_dof
+        if z is None or not np.all(np.isfinite(z)):
+            r = periodic_response(system)
+        else:
+            r = periodic_response(system, z[:n], z[n:2 * n], z[2 * n:] if z.size > 2 * n else None)
+        z = r.initial_state if r.converged else None
+        rows.append(r)
+    return SystemSweep(
+        omega=ws, amplitude=np.array([r.amplitude for r in rows]),
+        harmonic_amplitude=np.array([r.harmonic_amplitude for r in rows]),
+        phase=np.array([r.phase for r in rows]),
+        dissipated_per_cycle=np.array([r.dissipated_per_cycle for r in rows]),
+        stuck=np.array([r.stuck for r in rows]), converged=np.array([r.converged for r in rows]))
+
+
+def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int = 0, n_grid: int = 25,
+                  xtol: float = 1e-6):
+    """Resonance peak of the first-harmonic amplitude of DOF ``dof`` over ``[omega_min, omega_max]``.
+
+    A stepped sweep over ``n_grid`` frequencies brackets the largest amplitude, then a bounded
+    scalar search (Brent) refines it to ``xtol`` relative in ``omega``.
+
+    Returns
+    -------
+    (omega_peak, amplitude_peak, sweep) : (float, float, SystemSweep)
+    """
+    import scipy.optimize
+
+    lo = check_positive("omega_min", omega_min)
+    hi = check_positive("omega_max", omega_max)
+    if not hi > lo:
+        raise ParameterError(f"omega_max must be > omega_min = {lo:g}, got {hi!r}")
+    if isinstance(n_grid, bool) or not isinstance(n_grid, (int, np.integer)) or n_grid < 3:
+        raise ParameterError(f"n_grid must be an integer >= 3, got {n_grid!r}")
+    grid = np.linspace(lo, hi, int(n_grid))
+    sw = system_sweep(build, grid)
+    amps = sw.harmonic_amplitude[:, dof]
+    i = int(np.argmax(amps))
+    a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+
+    def neg(w):
+        return -float(system_sweep(build, [w]).harmonic_amplitude[0, dof])
+
+    res = scipy.optimize.minimize_scalar(neg, bounds=(a, b), method="bounded",
+                                         options={"xatol": xtol * b})
+    if -res.fun >= amps[i]:
+        return float(res.x), float(-res.fun), sw
+    return float(grid[i]), float(amps[i]), sw

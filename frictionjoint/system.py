@@ -74,8 +74,22 @@ class FrictionSystem:
         self.external = [(structure.dof_index(e.dof), e) for e in self.excitation
                          if isinstance(e, ExternalForce)]
 
-        d_rows, fsl, ksl, owner = [], [], [], []
+        d_rows, fsl, ksl, owner, pre = [], [], [], [], []
+        self.constant_force = np.zeros(n)
         for ie, el in enumerate(self.elements):
+            if hasattr(el, "attach"):
+                # elements acting along several directions (DovetailRoot): sliders with their
+                # own directions and preloads, plus linear springs and a constant force
+                att = el.attach(structure)
+                k += att.stiffness
+                self.constant_force += att.force
+                for d, s, p in zip(att.directions, att.sliders, att.preload):
+                    d_rows.append(d)
+                    fsl.append(s.slip_force)
+                    ksl.append(s.stiffness)
+                    pre.append(p)
+                    owner.append(ie)
+                continue
             if not hasattr(el, "sliders"):
                 raise ParameterError(f"elements[{ie}] is not a joint element: {el!r}")
             d = structure.direction(getattr(el, "dof", None), getattr(el, "direction", None))
@@ -83,12 +97,16 @@ class FrictionSystem:
                 d_rows.append(d)
                 fsl.append(s.slip_force)
                 ksl.append(s.stiffness)
+                pre.append(0.0)
                 owner.append(ie)
         self.slider_direction = np.array(d_rows, dtype=float).reshape(len(d_rows), n)
         self.slip_force = np.array(fsl, dtype=float)
         self.slider_stiffness = np.array(ksl, dtype=float)
         self.rigid = np.isinf(self.slider_stiffness)
         self.slider_owner = np.array(owner, dtype=int)
+        #: Jenkins spring forces [N] in the initial state ``x = 0`` (static preload, e.g. of a
+        #: dovetail flank after spin-up); the default initial slider positions carry them
+        self.slider_preload = np.array(pre, dtype=float)
 
     @property
     def n_dof(self) -> int:
@@ -101,8 +119,8 @@ class FrictionSystem:
         return self.slip_force.size
 
     def external_force(self, t: float) -> np.ndarray:
-        """Held external force vector (n_dof,) [N] at time ``t``."""
-        f = np.zeros(self.n_dof)
+        """Held external force vector (n_dof,) [N] at time ``t``, with the elements' constant force."""
+        f = self.constant_force.copy()
         for i, e in self.external:
             f[i] += e.value(t)
         return f

@@ -1,6 +1,7 @@
 """Joint elements with exact stick/slip."""
 from .coulomb import CoulombSlider
+from .dovetail import DovetailRoot
 from .iwan import Iwan
 from .jenkins import Jenkins
 
-__all__ = ["CoulombSlider", "Jenkins", "Iwan"]
+__all__ = ["CoulombSlider", "DovetailRoot", "Jenkins", "Iwan"]

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
-__all__ = ["Slider"]
+__all__ = ["Attachment", "Slider"]
 
 
 @dataclass(frozen=True)
@@ -33,3 +33,29 @@ class Slider:
     def rigid(self) -> bool:
         """True for a rigid Coulomb slider (no spring in series)."""
         return math.isinf(self.stiffness)
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """What an element acting along several directions adds to a structure (see
+    :meth:`~frictionjoint.elements.dovetail.DovetailRoot.attach`).
+
+    Attributes
+    ----------
+    directions : (k, n_dof) ndarray
+        Direction vector of each slider over the structure DOFs.
+    sliders : list of Slider
+        The ``k`` sliders.
+    preload : (k,) ndarray
+        Spring force [N] of each Jenkins slider in the state ``x = 0``.
+    stiffness : (n_dof, n_dof) ndarray
+        Linear stiffness [N/m] the element adds (e.g. normal contact springs).
+    force : (n_dof,) ndarray
+        Constant force [N] on the structure (e.g. the load that makes ``x = 0`` a static state).
+    """
+
+    directions: object
+    sliders: list
+    preload: object
+    stiffness: object
+    force: object

@@ -141,7 +141,8 @@ class Marcher:
     def initial_state(self, x0, v0, w0=None, t0: float = 0.0, log: EventLog | None = None) -> MarchState:
         """Consistent state at ``t0`` from displacement, velocity and slider positions.
 
-        ``w0`` defaults to ``s = d . x0`` (unstressed Jenkins springs). Sliders moving at ``t0``
+        ``w0`` defaults to ``s = d . x0`` minus the slider's preload over its stiffness (unstressed
+        Jenkins springs unless an element declares a static preload). Sliders moving at ``t0``
         slip in their direction of motion; the others are settled by the stick/slip rules.
         """
         sysm = self.system
@@ -154,11 +155,16 @@ class Marcher:
         s = sysm.slider_direction @ x0
         if w0 is None:
             w0 = s.copy()
+            pre = sysm.slider_preload != 0
+            w0[pre] -= sysm.slider_preload[pre] / sysm.slider_stiffness[pre]
         w0 = np.broadcast_to(np.asarray(w0, dtype=float), s.shape).copy()
         if not np.all(np.isfinite(w0)):
             raise ParameterError("w0 must be finite")
         jen = ~sysm.rigid
-        over = np.abs(sysm.slider_stiffness[jen] * (s[jen] - w0[jen])) > sysm.slip_force[jen] * (1 + 1e-12)
+        # rounding of s - w0 (both may be far larger than the slip reach F/k) is allowed for
+        k_jen = sysm.slider_stiffness[jen]
+        over = (np.abs(k_jen * (s[jen] - w0[jen]))
+                > sysm.slip_force[jen] * (1 + 1e-12) + 4 * np.finfo(float).eps * k_jen * np.abs(s[jen]))
         if np.any(over):
             raise ParameterError("w0 must keep every Jenkins spring force within its slip force "
                                  "(|stiffness (d.x0 - w0)| <= slip_force)")
@@ -179,7 +185,7 @@ class Marcher:
     # ---------------------------------------------------------- observables
     def _f_ext(self, t: float) -> np.ndarray:
         sysm = self.system
-        f = sysm.external_force(t) if sysm.external else np.zeros(sysm.n_dof)
+        f = sysm.external_force(t)
         if self.held_force is not None:
             f = f + self.held_force
         return f

@@ -1,0 +1,429 @@
+"""Dovetail blade root: two flanks inclined at ``gamma``, loaded by the centrifugal force.
+
+Geometry and sign convention (DESIGN.md section 4). Root coordinates ``(X, Y)``: ``X``
+tangential (in the plane of the dovetail, across the root), ``Y`` radial, positive outward; the
+centrifugal force ``Fc`` pulls the blade in ``+Y``. The flank angle ``gamma`` is the angle
+between each flank's normal and the radial axis. The disc pushes on the blade through the
+*right* flank (at ``X > 0``) along ``n_R = (-sin g, -cos g)`` and through the *left* flank
+along ``n_L = (+sin g, -cos g)`` (towards the centre line and inward). Each flank's tangent
+points outward along the flank: ``t_R = (-cos g, sin g)``, ``t_L = (cos g, sin g)``. For a root
+displacement ``u = (X, Y)`` the normal approach of a flank is ``-n . u`` and its tangential
+displacement is ``s = t . u``. The flank force on the blade is ``N n - T t``: ``N >= 0`` the
+normal force, ``T`` the friction force, positive when it acts radially inward on the blade,
+i.e. against the outward slip of the blade during run-up.
+
+Static (spun-up) state, both flanks alike, radial equilibrium ``Fc = 2 (N cos g + T sin g)``,
+flanks elastic in the normal (``kn``) and tangential (``kt``) directions, ``Fc`` raised
+monotonically from zero (radial root motion ``Y0``: approach ``Y0 cos g``, slip ``Y0 sin g``):
+
+* frictionless: ``N = Fc/(2 cos g)``;
+* stuck, when ``(kt/kn) tan g <= mu`` (the ratio ``T/N`` is then constant during run-up, so the
+  flanks never slip): ``Y0 = Fc/(2 (kn cos^2 g + kt sin^2 g))``, ``N = kn Y0 cos g``,
+  ``T = kt Y0 sin g``;
+* slipping during run-up otherwise: ``N = Fc/(2 (cos g + mu sin g))``, ``T = mu N``,
+  ``Y0 = N/(kn cos g)``.
+
+Dynamics around the static state (the structure's coordinates are measured from it): each flank is
+a joint element along its own tangent -- one Jenkins slider (``kt``, ``mu N0``) for a flat flank
+with sharp edges, which sticks or slips as a whole, or the Iwan sliders of a microslip contact
+(rounded edges) built by ``flank_contact``; the normal flank springs ``kn`` act along the
+normals. In the marched model the slip limit uses the static normal load ``N0`` (frozen); the
+displacement-driven :class:`DrivenDovetail` lets the normal load follow the root motion,
+``N = kn max(N0/kn - n . u, 0)``, with lift-off.
+
+For purely tangential root motion ``X`` and a frozen ``N0``, the two flanks in steady cycles are
+the equivalent Jenkins element of stiffness ``2 kt cos^2 g`` and slip force ``2 mu N0 cos g``
+(slip onset ``X_s = mu N0/(kt cos g)``, dissipation ``8 mu N0 (X cos g - mu N0/kt)``) in parallel
+with the linear spring ``2 kn sin^2 g``; from the preloaded static state the virgin loading
+differs (one flank starts at ``T0``, the other at ``-T0`` relative to the motion), and without
+preload (``T0 = 0``) the equivalence is exact along any path.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from ..errors import ParameterError, check_positive, check_real
+from .base import Attachment, Slider
+from .driven import DrivenSliders
+from .jenkins import Jenkins
+
+__all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail"]
+
+FLANKS = ("right", "left")
+
+
+@dataclass(frozen=True)
+class DovetailStatic:
+    """Static state of the spun-up root (both flanks alike).
+
+    Attributes
+    ----------
+    normal_force : float
+        ``N0`` per flank [N].
+    friction_force : float
+        ``T0`` per flank [N], radially inward on the blade (>= 0).
+    radial_displacement : float
+        Outward root displacement ``Y0`` during run-up [m].
+    regime : str
+        ``'stuck'`` or ``'slipping'`` (the flanks during run-up).
+    """
+
+    normal_force: float
+    friction_force: float
+    radial_displacement: float
+    regime: str
+
+
+class DovetailRoot:
+    """Dovetail blade-root damping element (two inclined flanks, centrifugal load).
+
+    Parameters
+    ----------
+    centrifugal_force : float
+        ``Fc`` [N], > 0 (or use :meth:`from_rotor`).
+    flank_angle : float
+        ``gamma`` [rad], angle between the flank normal and the radial axis, in [0, pi/2).
+    friction_coefficient : float
+        ``mu`` [-], > 0.
+    normal_stiffness : float
+        Normal contact stiffness ``kn`` of one flank [N/m], > 0.
+    tangential_stiffness : float, optional
+        Tangential stiffness ``kt`` of one flat flank [N/m], > 0. Required unless
+        ``flank_contact`` is given (the contact's initial stiffness is then used).
+    tangential_dof, radial_dof : str or int, optional
+        Structure DOFs of the root's tangential and radial translation; at least one.
+    flank_contact : callable, optional
+        ``flank_contact(normal_load)`` -> a microslip contact (e.g.
+        :class:`~frictionjoint.contact.MindlinContact` or a half-plane contact of a rounded
+        flank) with ``slip_force == mu normal_load`` and ``to_iwan(n_sliders)``; each flank is
+        then the discrete Iwan element of that contact at the static normal load.
+    n_sliders : int
+        Sliders per microslip flank, >= 1.
+    """
+
+    def __init__(self, centrifugal_force, flank_angle, friction_coefficient, normal_stiffness,
+                 tangential_stiffness=None, tangential_dof=None, radial_dof=None, flank_contact=None,
+                 n_sliders: int = 16):
+        self.centrifugal_force = check_positive("centrifugal_force", centrifugal_force)
+        g = check_real("flank_angle", flank_angle)
+        if not 0.0 <= g < 0.5 * math.pi:
+            raise ParameterError(f"flank_angle must be in [0, pi/2) rad, got {flank_angle!r}")
+        self.flank_angle = g
+        self.friction_coefficient = check_positive("friction_coefficient", friction_coefficient)
+        self.normal_stiffness = check_positive("normal_stiffness", normal_stiffness)
+        if tangential_dof is None and radial_dof is None:
+            raise ParameterError("give tangential_dof, radial_dof or both (the root DOFs)")
+        self.tangential_dof = tangential_dof
+        self.radial_dof = radial_dof
+        self.flank_contact = flank_contact
+        if flank_contact is None:
+            if tangential_stiffness is None:
+                raise ParameterError("tangential_stiffness is required for flat flanks "
+                                     "(flank_contact is None)")
+            self.tangential_stiffness = check_positive("tangential_stiffness", tangential_stiffness)
+            self._table = None
+        else:
+            if not callable(flank_contact):
+                raise ParameterError("flank_contact must be a callable normal_load -> contact")
+            if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
+                raise ParameterError(f"n_sliders must be an integer >= 1, got {n_sliders!r}")
+            kt = check_positive("tangential_stiffness", tangential_stiffness) \
+                if tangential_stiffness is not None else None
+            # the flank stiffness sets the static N0 (stuck run-up) and the contact at N0 sets the
+            # stiffness: iterate to the fixed point (the stiffness grows only like N0^(1/3))
+            k_guess = kt if kt is not None else 1.0
+            for _ in range(100):
+                n0 = self._static(k_guess).normal_force
+                contact = flank_contact(n0)
+                iwan = contact.to_iwan(int(n_sliders))
+                k_new = iwan.stiffness if kt is None else kt
+                if abs(self._static(k_new).normal_force - n0) <= 1e-15 * n0:
+                    break
+                k_guess = k_new
+            else:
+                raise ParameterError("flank_contact: the static normal load and the flank stiffness "
+                                     "did not reach a fixed point in 100 iterations")
+            fs = float(contact.slip_force)
+            if not math.isclose(fs, self.friction_coefficient * n0, rel_tol=1e-9):
+                raise ParameterError(
+                    f"flank_contact(N) must have slip_force = friction_coefficient * N "
+                    f"= {self.friction_coefficient * n0:g} N, got {fs:g} N")
+            self.tangential_stiffness = k_new
+            self._table = iwan
+        self.static = self._static(self.tangential_stiffness)
+        c, s = math.cos(g), math.sin(g)
+        #: flank normals (force directions on the blade) and tangents, rows right/left, (X, Y)
+        self.normals = np.array([[-s, -c], [s, -c]])
+        self.tangents = np.array([[-c, s], [c, s]])
+
+    @classmethod
+    def from_rotor(cls, rotor_speed, blade_mass, radius, **kwargs):
+        """Root with ``Fc = blade_mass * rotor_speed**2 * radius`` (rotor speed [rad/s], blade mass
+        [kg], radius of the blade's centre of mass [m]); other arguments as the constructor."""
+        w = check_positive("rotor_speed", rotor_speed)
+        m = check_positive("blade_mass", blade_mass)
+        r = check_positive("radius", radius)
+        return cls(m * w * w * r, **kwargs)
+
+    # ----------------------------------------------------------------- statics
+    def _static(self, kt: float) -> DovetailStatic:
+        g, mu, kn, fc = self.flank_angle, self.friction_coefficient, self.normal_stiffness, \
+            self.centrifugal_force
+        c, s = math.cos(g), math.sin(g)
+        if kt * s <= mu * kn * c:  # (kt/kn) tan g <= mu, written without dividing by cos g
+            y0 = fc / (2.0 * (kn * c * c + kt * s * s))
+            return DovetailStatic(kn * y0 * c, kt * y0 * s, y0, "stuck")
+        n0 = fc / (2.0 * (c + mu * s))
+        return DovetailStatic(n0, mu * n0, n0 / (kn * c), "slipping")
+
+    @staticmethod
+    def frictionless_normal_force(centrifugal_force, flank_angle) -> float:
+        """``N = Fc/(2 cos g)`` [N] per flank without friction."""
+        return check_positive("centrifugal_force", centrifugal_force) / (
+            2.0 * math.cos(check_real("flank_angle", flank_angle)))
+
+    def root_force(self, normal_forces, friction_forces) -> np.ndarray:
+        """Force ``sum_i (N_i n_i - T_i t_i)`` [N] of the flanks on the blade, ``(X, Y)``."""
+        n = np.asarray(normal_forces, dtype=float)
+        t = np.asarray(friction_forces, dtype=float)
+        return n @ self.normals - t @ self.tangents
+
+    # ----------------------------------------------------------- flank sliders
+    def flank_sliders(self) -> list[tuple[Slider, float]]:
+        """One flank's sliders with their static preloads [N] (the same on both flanks).
+
+        Flat flank: one Jenkins slider ``(kt, mu N0)`` carrying ``T0``. Microslip flank: the
+        contact's Iwan sliders, preloaded as on monotonic tangential loading to ``T0`` at the
+        constant load ``N0`` (an approximation: during run-up ``N`` grows with ``T``).
+        """
+        st = self.static
+        if self._table is None:
+            return [(Slider(self.friction_coefficient * st.normal_force, self.tangential_stiffness),
+                     st.friction_force)]
+        k, f, _ = self._table._table()
+        if st.friction_force >= self._table.slip_force * (1 - 1e-12):
+            pre = f.copy()
+        else:
+            u = self._table.displacement(st.friction_force)
+            pre = np.minimum(k * u, f)
+        return [(Slider(float(fi), float(ki)), float(p)) for ki, fi, p in zip(k, f, pre)]
+
+    def stuck_stiffness(self) -> np.ndarray:
+        """Root stiffness (2, 2) [N/m] in ``(X, Y)`` with both flanks stuck:
+        ``sum_i kn n_i n_i^T + kt t_i t_i^T``; ``XX = 2 (kn sin^2 g + kt cos^2 g)``."""
+        return (self.normal_stiffness * self.normals.T @ self.normals
+                + self.tangential_stiffness * self.tangents.T @ self.tangents)
+
+    def equivalent_jenkins(self, dof=None, direction=None) -> tuple[Jenkins, float]:
+        """Equivalent element for purely tangential root motion (frozen ``N0``).
+
+        Returns ``(Jenkins(2 kt cos^2 g, 2 mu N0 cos g), 2 kn sin^2 g)``: the Jenkins element and
+        the stiffness [N/m] of the linear spring in parallel with it (flat flanks only).
+        """
+        if self._table is not None:
+            raise ParameterError("equivalent_jenkins needs flat flanks (flank_contact is None)")
+        c, s = math.cos(self.flank_angle), math.sin(self.flank_angle)
+        jen = Jenkins(2.0 * self.tangential_stiffness * c * c,
+                      2.0 * self.friction_coefficient * self.static.normal_force * c,
+                      dof=dof, direction=direction)
+        return jen, 2.0 * self.normal_stiffness * s * s
+
+    # ---------------------------------------------------------- attachment
+    def _root_map(self, structure) -> np.ndarray:
+        """(2, n_dof) map from structure DOFs to the root displacement ``(X, Y)``."""
+        a = np.zeros((2, structure.n_dof))
+        for row, dof in enumerate((self.tangential_dof, self.radial_dof)):
+            if dof is not None:
+                a[row, structure.dof_index(dof)] = 1.0
+        return a
+
+    def attach(self, structure) -> Attachment:
+        """Sliders along each flank tangent, normal springs and the centrifugal force, projected
+        onto the structure's root DOFs (coordinates measured from the static state)."""
+        a = self._root_map(structure)
+        directions, sliders, preload = [], [], []
+        for i in range(2):
+            d = self.tangents[i] @ a
+            for sl, p in self.flank_sliders():
+                if np.any(d):
+                    directions.append(d)
+                    sliders.append(sl)
+                    preload.append(p)
+        kn = self.normal_stiffness * sum(np.outer(self.normals[i] @ a, self.normals[i] @ a) for i in range(2))
+        # x = 0 is the static state: Fc and the normal preloads N0 n_i (the linear normal springs
+        # carry only the change) balance the preloaded sliders' -T0 t_i
+        f_root = self.centrifugal_force * np.array([0.0, 1.0]) + self.static.normal_force * self.normals.sum(axis=0)
+        force = f_root @ a
+        return Attachment(np.array(directions).reshape(len(directions), structure.n_dof), sliders,
+                          np.array(preload), kn, force)
+
+    def driven(self, normal_load_variation: bool = False) -> "DrivenDovetail":
+        """Displacement-driven flanks starting in the static state (:class:`DrivenDovetail`)."""
+        return DrivenDovetail(self, normal_load_variation)
+
+    def __repr__(self) -> str:
+        return (f"DovetailRoot(centrifugal_force={self.centrifugal_force:g}, flank_angle="
+                f"{self.flank_angle:g}, friction_coefficient={self.friction_coefficient:g}, "
+                f"normal_stiffness={self.normal_stiffness:g}, tangential_stiffness="
+                f"{self.tangential_stiffness:g})")
+
+
+class DrivenDovetail:
+    """Dovetail flanks driven by a prescribed root displacement ``u = (X, Y)`` from the static
+    state, exact for paths linear between updates.
+
+    Per flank: normal force ``N = N0 - kn n . u`` and a slip limit from ``N0`` (frozen; flat or
+    microslip flanks: each flank's sliders are the exact play operator
+    :class:`~frictionjoint.elements.driven.DrivenSliders` along ``s = t . u``), or, with
+    ``normal_load_variation=True`` (flat flanks), ``N = kn max(N0/kn - n . u, 0)`` with lift-off and
+    the Jenkins friction ``T = kt (s - w)``, ``|T| <= mu N``. Along a linear path segment ``s`` and
+    ``N`` are linear, so ``|T_trial| - mu N`` is linear: a flank stuck at both ends is stuck
+    throughout, and one that reaches the limit slips to the end of the segment. The update is the
+    return map at the segment end; the energy dissipated is ``mu (N(lambda*) + N(1))/2 |dw|``
+    from the onset ``lambda*`` (trapezoid, exact). A segment that crosses lift-off is split there.
+
+    Attributes
+    ----------
+    u : (2,) ndarray
+        Current root displacement [m].
+    normal_force, friction_force : (2,) ndarray
+        Flank forces [N], right and left (sign convention of :mod:`~frictionjoint.elements.dovetail`).
+    slipping : (2,) bool ndarray
+        Flanks in gross slip (all their sliders slipping) at the end of the last update.
+    dissipated_energy : float
+        Energy dissipated since the start [J].
+    """
+
+    def __init__(self, root: DovetailRoot, normal_load_variation: bool = True):
+        self.root = root
+        self.vary = bool(normal_load_variation)
+        st = root.static
+        self.kn, self.mu = root.normal_stiffness, root.friction_coefficient
+        self.gap0 = st.normal_force / self.kn  # static approach of each flank
+        self.u = np.zeros(2)
+        if self.vary:
+            if root._table is not None:
+                raise ParameterError("normal_load_variation needs flat flanks (flank_contact is None)")
+            self.kt = root.tangential_stiffness
+            self.w = np.full(2, -st.friction_force / self.kt)
+            self._flanks = None
+        else:
+            table = root.flank_sliders()
+            k = [sl.stiffness for sl, _ in table]
+            self._flanks = []
+            for _ in range(2):
+                d = DrivenSliders(k, [sl.slip_force for sl, _ in table])
+                d.w = -np.array([p for _, p in table]) / np.array(k)  # preloaded: force T0 at s = 0
+                self._flanks.append(d)
+        self.slipping = np.zeros(2, dtype=bool)
+        self._dissipated = 0.0
+        self._update_forces()
+
+    @property
+    def dissipated_energy(self) -> float:
+        if self._flanks is None:
+            return self._dissipated
+        return self._flanks[0].dissipated_energy + self._flanks[1].dissipated_energy
+
+    def _normal(self, u) -> np.ndarray:
+        approach = self.gap0 - self.root.normals @ u
+        if self.vary:
+            return self.kn * np.maximum(approach, 0.0)
+        return self.kn * approach
+
+    def _update_forces(self) -> None:
+        self.normal_force = self._normal(self.u)
+        if self._flanks is None:
+            self.friction_force = self.kt * (self.root.tangents @ self.u - self.w)
+        else:
+            self.friction_force = np.array([f.force for f in self._flanks])
+
+    @property
+    def root_force(self) -> np.ndarray:
+        """Flank forces on the blade ``(X, Y)`` [N] (the static part balances ``Fc``)."""
+        return self.root.root_force(self.normal_force, self.friction_force)
+
+    def update(self, u) -> None:
+        """Move the root linearly from the current ``u`` to ``u`` [m]."""
+        u = np.asarray(u, dtype=float).reshape(-1)
+        if u.shape != (2,) or not np.all(np.isfinite(u)):
+            raise ParameterError(f"u must be a finite (X, Y) pair [m], got {u!r}")
+        if self._flanks is not None:
+            s = self.root.tangents @ u
+            for i, f in enumerate(self._flanks):
+                f.update(float(s[i]))
+                self.slipping[i] = bool(f.slipping.all())
+        else:
+            u0 = self.u
+            cuts = [0.0, 1.0]
+            a0 = self.gap0 - self.root.normals @ u0
+            a1 = self.gap0 - self.root.normals @ u
+            for x0, x1 in zip(a0, a1):  # split where a flank lifts off or closes
+                if (x0 > 0) != (x1 > 0):
+                    cuts.append(x0 / (x0 - x1))
+            cuts = sorted(set(min(max(c, 0.0), 1.0) for c in cuts))
+            for la, lb in zip(cuts[:-1], cuts[1:]):
+                self._segment(u0 + la * (u - u0), u0 + lb * (u - u0))
+        self.u = u.copy()
+        self._update_forces()
+
+    def _segment(self, ua, ub) -> None:
+        t = self.root.tangents
+        sa, sb = t @ ua, t @ ub
+        la, lb = self.mu * self._normal(ua), self.mu * self._normal(ub)
+        trial = self.kt * (sb - self.w)
+        slip = np.abs(trial) > lb
+        for i in np.flatnonzero(slip):
+            sig = math.copysign(1.0, trial[i])
+            # onset: kt (s(l) - w) = sig mu N(l), both linear in l
+            ga = self.kt * (sa[i] - self.w[i]) - sig * la[i]
+            gb = trial[i] - sig * lb[i]
+            lam = 0.0 if ga * sig >= 0 or gb == ga else ga / (ga - gb)
+            lim_on = la[i] + lam * (lb[i] - la[i])
+            w_new = sb[i] - sig * lb[i] / self.kt
+            self._dissipated += 0.5 * (lim_on + lb[i]) * abs(w_new - self.w[i])
+            self.w[i] = w_new
+        self.slipping = slip
+
+    def tangent_stiffness(self) -> np.ndarray:
+        """Root tangent stiffness (2, 2) [N/m], ``-d(root force)/du`` in the current state: normal
+        springs in contact, stuck sliders, and for slipping flanks with varying normal load the
+        non-symmetric term ``-sig mu kn t n^T``."""
+        n, t = self.root.normals, self.root.tangents
+        k = np.zeros((2, 2))
+        for i in range(2):
+            in_contact = self.normal_force[i] > 0 or not self.vary
+            if in_contact:
+                k += self.kn * np.outer(n[i], n[i])
+            if self._flanks is not None:
+                f = self._flanks[i]
+                kt = float(f.stiffness[~f.slipping].sum())
+                k += kt * np.outer(t[i], t[i])
+            elif not self.slipping[i]:
+                if in_contact:
+                    k += self.kt * np.outer(t[i], t[i])
+            elif in_contact:
+                sig = math.copysign(1.0, self.friction_force[i])
+                # T = sig mu kn (gap0 - n.u): force -T t, so -dF/du = -sig mu kn t n^T
+                k += -sig * self.mu * self.kn * np.outer(t[i], n[i])
+        return k
+
+    def state(self):
+        """Copy of the internal state (for FMU get/set state)."""
+        if self._flanks is None:
+            inner = (self.w.copy(), self._dissipated)
+        else:
+            inner = tuple(f.copy() for f in self._flanks)
+        return (self.u.copy(), self.slipping.copy(), inner)
+
+    def set_state(self, state) -> None:
+        u, slipping, inner = state
+        self.u, self.slipping = np.array(u, float), np.array(slipping, bool)
+        if self._flanks is None:
+            self.w, self._dissipated = np.array(inner[0], float), float(inner[1])
+        else:
+            self._flanks = [f.copy() for f in inner]
+        self._update_forces()
