@@ -3,6 +3,8 @@ independent FMI importer; one run per process (pythonfmu FMUs cannot be instanti
 process). Usage:
 
     python tests/cosim_check.py FMU_PATH SLIP_FORCE OMEGA STEP_NS N_STEPS  -> prints one JSON object
+    python tests/cosim_check.py dovetail|microslip FMU_PATH SUBSTEPS       -> DovetailRoot.fmu or
+                         MicroslipJoint.fmu driven along tests/fmu_checks.py's paths
 
 libcosim counts time in integer nanoseconds: communication points are k * STEP_NS * 1e-9 s.
 """
@@ -12,6 +14,7 @@ import sys
 from libcosimpy.CosimEnums import CosimVariableType  # noqa: F401  (import check of the package)
 from libcosimpy.CosimExecution import CosimExecution
 from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+from libcosimpy.CosimManipulator import CosimManipulator
 from libcosimpy.CosimObserver import CosimObserver
 from libcosimpy.CosimSlave import CosimLocalSlave
 
@@ -36,6 +39,66 @@ def main(path, slip_force, omega, step_ns, n_steps):
     return {"time_ns": times, "rows": rows}
 
 
+def dovetail(path, substeps):
+    """DovetailRoot.fmu with its inputs set by libcosim's override manipulator before each step,
+    along the same corners as ``fmu_checks.dovetail_path`` (rows at the corners)."""
+    import numpy as np
+
+    from fmu_checks import DOVETAIL_OUT, dovetail_corners
+
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(int(1e6 / substeps))  # 1 ms per leg
+    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="root"))
+    vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    man = CosimManipulator.create_override()
+    ex.add_manipulator(man)
+    assert ex.real_initial_value(idx, vr["centrifugal_force"], 2e3)
+    corners = dovetail_corners()
+    reals = [n for n in DOVETAIL_OUT if not n.startswith("slipping")]
+    rows = []
+    for a, b in zip(corners[:-1], corners[1:]):
+        for lam in np.arange(1, substeps + 1) / substeps:
+            u = a + lam * (b - a)
+            man.slave_real_values(idx, [vr["u_tangential"], vr["u_radial"]], [float(u[0]), float(u[1])])
+            assert ex.step()
+        rows.append(dict(zip(reals, obs.last_real_values(idx, [vr[n] for n in reals]))))
+    return {"rows": rows}
+
+
+def microslip(path, substeps):
+    """MicroslipJoint.fmu along ``fmu_checks.microslip_loop``'s triangles, inputs set by libcosim's
+    override manipulator (rows at the turning points)."""
+    import numpy as np
+
+    from fmu_checks import MICROSLIP_AMPLITUDES, MICROSLIP_PARAMETERS
+
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(int(1e6 / substeps))
+    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="joint"))
+    vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    man = CosimManipulator.create_override()
+    ex.add_manipulator(man)
+    for name, value in MICROSLIP_PARAMETERS.items():
+        if isinstance(value, int):
+            assert ex.integer_initial_value(idx, vr[name], value)
+        else:
+            assert ex.real_initial_value(idx, vr[name], value)
+    rows, u_prev = [], 0.0
+    for a in MICROSLIP_AMPLITUDES:
+        for target in (a, -a, a):
+            for lam in np.arange(1, substeps + 1) / substeps:
+                man.slave_real_values(idx, [vr["u"]], [float(u_prev + lam * (target - u_prev))])
+                assert ex.step()
+            u_prev = target
+            rows.append(obs.last_real_values(idx, [vr[n] for n in ("force", "tangent_stiffness",
+                                                                   "dissipated_energy")]))
+    return {"rows": rows}
+
+
 if __name__ == "__main__":
     # pythonfmu's wrapper can leave the heap inconsistent for the host's cyclic garbage collector
     # and for interpreter teardown ("corrupted double-linked list" at exit, seen once in ~10 runs):
@@ -44,6 +107,9 @@ if __name__ == "__main__":
     import os
 
     gc.disable()
-    path, f, w, step, n = sys.argv[1:]
-    print(json.dumps(main(path, float(f), float(w), int(step), int(n))), flush=True)
+    if sys.argv[1] in ("dovetail", "microslip"):
+        print(json.dumps(globals()[sys.argv[1]](sys.argv[2], int(sys.argv[3]))), flush=True)
+    else:
+        path, f, w, step, n = sys.argv[1:]
+        print(json.dumps(main(path, float(f), float(w), int(step), int(n))), flush=True)
     os._exit(0)

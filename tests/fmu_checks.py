@@ -53,10 +53,11 @@ def state_roundtrip(path):
     return {"a": a, "b": b}
 
 
-def bad_parameter(path):
+def bad_parameter(path, name="mass", value="-1.0"):
+    value = json.loads(value)
     with FMUInstance(path) as inst:
         try:
-            inst.initialize(dict(mass=-1.0))
+            inst.initialize({name: value})
             raised = None
         except Exception as exc:  # fmpy's FMICallException
             raised = str(exc)
@@ -180,6 +181,60 @@ def jenkins_coupling(path):
                     out[f"{slip_force:g},{n},{scheme}"] = {"x": xs, "h": h, "dissipated_energy": diss}
         out["messages"] = inst.messages
     return out
+
+
+DOVETAIL_OUT = ("root_force_tangential", "root_force_radial", "normal_force_right", "normal_force_left",
+                "friction_force_right", "friction_force_left", "slipping_right", "slipping_left",
+                "stiffness_tt", "stiffness_tr", "stiffness_rt", "stiffness_rr", "dissipated_energy")
+
+
+def dovetail_corners(n_corners=40, seed=3, lift=1):
+    """Corners of a random piecewise-linear root path (X, Y) [m] that opens the flanks at times."""
+    rng = np.random.default_rng(int(seed))
+    c = rng.normal(scale=2e-6, size=(int(n_corners), 2))
+    if int(lift):
+        c[10:13, 1] = -1e-4  # radial pull-in far enough to lift both flanks off
+    c[0] = 0.0
+    return c
+
+
+def dovetail_path(path, substeps, profile=0, vary=1):
+    """Drive DovetailRoot.fmu along the corners, each straight leg in ``substeps`` equal steps;
+    rows at the corners only (the communication points common to every ``substeps``)."""
+    corners = dovetail_corners()
+    rows = []
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(centrifugal_force=2e3, flank_profile=int(profile),
+                             normal_load_variation=bool(int(vary))))
+        for a, b in zip(corners[:-1], corners[1:]):
+            for lam in np.arange(1, int(substeps) + 1) / int(substeps):
+                u = a + lam * (b - a)
+                inst.set({"u_tangential": float(u[0]), "u_radial": float(u[1])})
+                inst.step(1e-3 / int(substeps))
+            rows.append(inst.get(list(DOVETAIL_OUT)))
+    return {"corners": corners.tolist(), "rows": rows}
+
+
+MICROSLIP_PARAMETERS = dict(normal_load=100.0, friction_coefficient=0.3, radius=0.01, youngs_modulus=210e9,
+                           poisson_ratio=0.3, n_sliders=16)
+MICROSLIP_AMPLITUDES = [0.2e-6, 0.5e-6, 1.0e-6, 1.0e-6]
+
+
+def microslip_loop(path, substeps):
+    """MicroslipJoint.fmu along u = +-A triangles (4 cycles), each leg in ``substeps`` steps."""
+    amps = MICROSLIP_AMPLITUDES
+    rows = []
+    with FMUInstance(path) as inst:
+        inst.initialize(MICROSLIP_PARAMETERS)
+        u_prev = 0.0
+        for a in amps:
+            for target in (a, -a, a):
+                for lam in np.arange(1, int(substeps) + 1) / int(substeps):
+                    inst.set({"u": float(u_prev + lam * (target - u_prev))})
+                    inst.step(1e-3 / int(substeps))
+                u_prev = target
+                rows.append(inst.get(["force", "tangent_stiffness", "dissipated_energy"]))
+    return {"amplitudes": amps, "rows": rows}
 
 
 if __name__ == "__main__":

@@ -231,3 +231,104 @@ def test_fmu_worker_process_isolates_the_fmu(fmus):
             assert abs(x1 - x_ref) <= 1e-12
     with pytest.raises(FMUWorkerError, match="cannot instantiate"):
         FMUWorker(HERE / "no-such.fmu")
+
+
+# ----------------------------------------------------------- DovetailRoot, MicroslipJoint
+@pytest.mark.parametrize("profile, vary", [(0, 1), (0, 0), (1, 0)])
+def test_dovetail_fmu_step_independent_and_matches_library(fmus, profile, vary):
+    """Root path linear between corners: 1 or 4 communication steps per leg give the same outputs
+    at the corners, equal to the library's DrivenDovetail (flat flanks with normal-load variation
+    and lift-off; frozen normal load; rounded Mindlin flanks)."""
+    from frictionjoint.fmi.slaves import DOVETAIL_OUTPUTS
+
+    sys.path.insert(0, str(HERE))
+    from fmu_checks import dovetail_corners
+
+    a = run("dovetail_path", fmus["DovetailRoot"], 1, profile, vary)
+    b = run("dovetail_path", fmus["DovetailRoot"], 4, profile, vary)
+    ra, rb = np.array(a["rows"], dtype=float), np.array(b["rows"], dtype=float)
+    scale = np.max(np.abs(ra), axis=0) + 1e-300
+    assert np.max(np.abs(ra - rb) / scale) <= 1e-12
+    # library reference
+    args = dict(flank_angle=0.5235987755982988, friction_coefficient=0.3, normal_stiffness=2e8,
+                tangential_dof=0, radial_dof=1)
+    if profile == 0:
+        root = fj.DovetailRoot(2e3, tangential_stiffness=1e8, **args)
+    else:
+        root = fj.DovetailRoot(2e3, flank_contact=lambda n: fj.contact.MindlinContact(n, 0.3, 0.02, 210e9, 0.3),
+                               n_sliders=32, **args)
+    d = root.driven(normal_load_variation=bool(vary))
+    names = list(DOVETAIL_OUTPUTS)
+    for u, row in zip(dovetail_corners()[1:], ra):
+        d.update(u)
+        k = d.tangent_stiffness()
+        ref = [*d.root_force, *d.normal_force, *d.friction_force, *d.slipping, k[0, 0], k[0, 1], k[1, 0],
+               k[1, 1], d.dissipated_energy]
+        assert np.allclose(row, ref, rtol=1e-12, atol=1e-12 * scale.max()), names
+    assert ra[-1, names.index("dissipated_energy")] > 0
+    if vary:  # the path lifts both flanks off
+        assert np.any((ra[:, 2] == 0) & (ra[:, 3] == 0))
+
+
+def test_microslip_fmu_loops_match_mindlin_iwan(fmus):
+    """MicroslipJoint.fmu: forces at the turning points and the energy of each +-A cycle equal
+    the discrete Iwan of MindlinContact.to_iwan(16) (Iwan backbone/loop formulas); step-independent."""
+    a = run("microslip_loop", fmus["MicroslipJoint"], 1)
+    b = run("microslip_loop", fmus["MicroslipJoint"], 5)
+    ra, rb = np.array(a["rows"]), np.array(b["rows"])
+    assert np.max(np.abs(ra - rb) / (np.max(np.abs(ra), axis=0) + 1e-300)) <= 1e-12
+    c = fj.contact.MindlinContact(100.0, 0.3, 0.01, 210e9, 0.3)
+    iw = c.to_iwan(16)
+    amps = a["amplitudes"]
+    # first leg from the virgin state: the backbone
+    assert ra[0, 0] == pytest.approx(iw.backbone(amps[0]), rel=1e-12)
+    # the repeated amplitude: a closed Masing loop, dissipation per cycle from the Iwan formula
+    e = ra[:, 2]
+    d_cycle = e[11] - e[8]  # third leg of the 3rd amplitude to the third leg of the 4th (same A)
+    assert d_cycle == pytest.approx(iw.dissipation_per_displacement_cycle(amps[3]), rel=1e-12)
+    assert ra[11, 0] == pytest.approx(iw.backbone(amps[3]), rel=1e-12)  # loop tip on the backbone
+    # and the 16-slider Iwan is within its documented discretisation error of the theory
+    exact = c.to_iwan(None).dissipation_per_displacement_cycle(amps[3])
+    assert abs(d_cycle - exact) <= 0.81 / 16 ** 2 * c.dissipation_per_cycle(c.slip_force)
+
+
+def test_dovetail_fmu_in_libcosim_equals_fmpy(fmus):
+    """DovetailRoot.fmu in libcosim (inputs set by its override manipulator) gives the fmpy
+    outputs at the same communication points; so does MicroslipJoint.fmu."""
+    import platform
+
+    if not (sys.version_info[:2] == (3, 11) and sys.platform == "linux" and platform.machine() == "x86_64"):
+        pytest.skip("no libcosimpy wheel for this interpreter/platform")
+    from frictionjoint.fmi.slaves import DOVETAIL_OUTPUTS
+
+    proc = subprocess.run([sys.executable, str(HERE / "cosim_check.py"), "dovetail", str(fmus["DovetailRoot"]),
+                           "2"], capture_output=True, text=True, timeout=300, cwd=HERE)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    cosim = json.loads(proc.stdout.strip().splitlines()[-1])["rows"]
+    ref = run("dovetail_path", fmus["DovetailRoot"], 2, 0, 1)
+    names = list(DOVETAIL_OUTPUTS)
+    assert len(cosim) == len(ref["rows"])
+    for c, r in zip(cosim, ref["rows"]):
+        for name, value in c.items():
+            expected = r[names.index(name)]
+            assert value == pytest.approx(expected, rel=1e-14, abs=1e-9), name
+    assert ref["rows"][-1][names.index("dissipated_energy")] > 0
+    proc = subprocess.run([sys.executable, str(HERE / "cosim_check.py"), "microslip",
+                           str(fmus["MicroslipJoint"]), "3"], capture_output=True, text=True, timeout=300, cwd=HERE)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    cosim = np.array(json.loads(proc.stdout.strip().splitlines()[-1])["rows"])
+    ref = np.array(run("microslip_loop", fmus["MicroslipJoint"], 3)["rows"])
+    assert np.max(np.abs(cosim - ref) / (np.max(np.abs(ref), axis=0) + 1e-300)) <= 1e-14
+
+
+@pytest.mark.parametrize("fmu, name, value, text", [
+    ("DovetailRoot", "flank_angle", 2.0, "flank_angle must be in [0, pi/2)"),
+    ("DovetailRoot", "flank_profile", 7, "flank_profile must be 0 (flat) or 1 (rounded)"),
+    ("DovetailRoot", "friction_coefficient", 0.0, "friction_coefficient must be > 0"),
+    ("MicroslipJoint", "poisson_ratio", 0.5, "poisson_ratio"),
+    ("MicroslipJoint", "n_sliders", 0, "n_sliders"),
+])
+def test_new_fmus_reject_bad_parameters_with_a_message(fmus, name, value, text, fmu):
+    res = run("bad_parameter", fmus[fmu], name, json.dumps(value))
+    assert res["raised"] is not None
+    assert any(text in m for m in res["messages"]), res["messages"]

@@ -21,6 +21,8 @@ FMUS = {
     "CoulombOscillator": "fj_coulomb_oscillator_fmu.py",
     "JenkinsJoint": "fj_jenkins_joint_fmu.py",
     "IwanJoint": "fj_iwan_joint_fmu.py",
+    "MicroslipJoint": "fj_microslip_joint_fmu.py",
+    "DovetailRoot": "fj_dovetail_root_fmu.py",
 }
 
 

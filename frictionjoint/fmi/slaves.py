@@ -22,7 +22,8 @@ from ..elements.iwan import Iwan
 from ..errors import ParameterError, check_positive
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
-__all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave"]
+__all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
+           "DovetailRootSlave"]
 
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
@@ -212,3 +213,147 @@ class IwanJointSlave(_DrivenSlave):
         iw = Iwan.segalman(self.slip_force, self.stiffness, self.chi, self.beta, int(self.n_sliders), dof=0)
         k, f = zip(*iw.sliders_table)
         return list(k), list(f)
+
+
+class MicroslipJointSlave(_DrivenSlave):
+    """Microslip joint: the discrete Iwan element of a Cattaneo-Mindlin sphere-on-flat contact,
+    driven by a displacement."""
+
+    description = ("Microslip joint: Iwan element with n_sliders sliders built from Cattaneo-Mindlin "
+                   "contact theory (sphere on flat, constant normal load), displacement-driven")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._parameter("normal_load", 100.0, "normal load P [N], > 0")
+        self._parameter("friction_coefficient", 0.3, "friction coefficient f, > 0")
+        self._parameter("radius", 0.01, "sphere radius R [m], > 0")
+        self._parameter("youngs_modulus", 210e9, "Young's modulus E of both bodies [Pa], > 0")
+        self._parameter("poisson_ratio", 0.3, "Poisson's ratio of both bodies, in (-1, 0.5)")
+        self._parameter("n_sliders", 64, "number of Iwan sliders, >= 1 (error ~0.8/n^2 of the dissipation)",
+                        kind=int)
+        self._declare_io()
+
+    def _slider_table(self):
+        from ..contact.mindlin import MindlinContact
+
+        c = MindlinContact(self.normal_load, self.friction_coefficient, self.radius, self.youngs_modulus,
+                           self.poisson_ratio)
+        k, f = zip(*c.to_iwan(int(self.n_sliders)).sliders_table)
+        return list(k), list(f)
+
+
+#: DovetailRoot.fmu outputs: name -> (kind, description)
+DOVETAIL_OUTPUTS = {
+    "root_force_tangential": (float, "tangential force of both flanks on the blade [N]"),
+    "root_force_radial": (float, "radial force of both flanks on the blade [N] (-Fc in the static state)"),
+    "normal_force_right": (float, "normal force of the right flank [N]"),
+    "normal_force_left": (float, "normal force of the left flank [N]"),
+    "friction_force_right": (float, "friction force of the right flank, positive radially inward on the blade [N]"),
+    "friction_force_left": (float, "friction force of the left flank, positive radially inward on the blade [N]"),
+    "slipping_right": (bool, "true while the right flank slips"),
+    "slipping_left": (bool, "true while the left flank slips"),
+    "stiffness_tt": (float, "tangent stiffness -dF_tangential/du_tangential [N/m]"),
+    "stiffness_tr": (float, "tangent stiffness -dF_tangential/du_radial [N/m]"),
+    "stiffness_rt": (float, "tangent stiffness -dF_radial/du_tangential [N/m]"),
+    "stiffness_rr": (float, "tangent stiffness -dF_radial/du_radial [N/m]"),
+    "dissipated_energy": (float, "energy dissipated since the start [J]"),
+}
+
+
+class DovetailRootSlave(_Slave):
+    """Dovetail blade root (two inclined flanks under centrifugal load) driven by the root's
+    tangential and radial displacement from the static state
+    (:class:`~frictionjoint.elements.dovetail.DrivenDovetail`)."""
+
+    description = ("Dovetail blade root: two flanks inclined at flank_angle, loaded by the centrifugal "
+                   "force, each a Jenkins (flat flank) or a Cattaneo-Mindlin microslip Iwan (rounded "
+                   "flank), driven by the root displacement; exact for inputs linear between steps")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._parameter("centrifugal_force", 1e4, "centrifugal force Fc on the blade [N], > 0")
+        self._parameter("flank_angle", 0.5235987755982988, "angle between flank normal and radial axis [rad], "
+                        "in [0, pi/2)")
+        self._parameter("friction_coefficient", 0.3, "friction coefficient mu, > 0")
+        self._parameter("normal_stiffness", 2e8, "normal contact stiffness of one flank [N/m], > 0")
+        self._parameter("tangential_stiffness", 1e8, "tangential stiffness of one flat flank [N/m], > 0")
+        self._parameter("normal_load_variation", True, "normal loads follow the root motion, with lift-off "
+                        "(flat flanks only); false: slip limits from the static normal load", kind=bool)
+        self._parameter("flank_profile", 0, "0: flat flank with sharp edges (Jenkins); 1: rounded flank, "
+                        "Cattaneo-Mindlin microslip Iwan of radius flank_radius", kind=int)
+        self._parameter("flank_radius", 0.02, "flank_profile 1: radius of the rounded contact [m], > 0")
+        self._parameter("youngs_modulus", 210e9, "flank_profile 1: Young's modulus [Pa], > 0")
+        self._parameter("poisson_ratio", 0.3, "flank_profile 1: Poisson's ratio, in (-1, 0.5)")
+        self._parameter("n_sliders", 32, "flank_profile 1: Iwan sliders per flank, >= 1", kind=int)
+        self._input("u_tangential", 0.0, "tangential root displacement from the static state [m]")
+        self._input("u_radial", 0.0, "radial root displacement from the static state, outward [m]")
+        for name, (kind, text) in DOVETAIL_OUTPUTS.items():
+            self._output(name, text, kind=kind, getter=functools.partial(self._out, name))
+        self._root = None
+
+    def _initialise(self):
+        from ..contact.mindlin import MindlinContact
+        from ..elements.dovetail import DovetailRoot
+
+        args = dict(flank_angle=self.flank_angle, friction_coefficient=self.friction_coefficient,
+                    normal_stiffness=self.normal_stiffness, tangential_dof=0, radial_dof=1)
+        profile = int(self.flank_profile)
+        if profile == 0:
+            root = DovetailRoot(self.centrifugal_force, tangential_stiffness=self.tangential_stiffness, **args)
+        elif profile == 1:
+            def contact(n):
+                return MindlinContact(n, self.friction_coefficient, self.flank_radius, self.youngs_modulus,
+                                      self.poisson_ratio)
+            root = DovetailRoot(self.centrifugal_force, flank_contact=contact, n_sliders=int(self.n_sliders),
+                                **args)
+        else:
+            raise ParameterError(f"flank_profile must be 0 (flat) or 1 (rounded), got {profile}")
+        self._root = root.driven(normal_load_variation=bool(self.normal_load_variation) and profile == 0)
+        self._root.update([self.u_tangential, self.u_radial])
+
+    def _probe(self):
+        u = (self.u_tangential, self.u_radial)
+        if not all(math.isfinite(x) for x in u):
+            return None
+        if tuple(self._root.u) == u:
+            return self._root
+        p = copy.deepcopy(self._root)
+        p.update(u)
+        return p
+
+    def _out(self, name):
+        kind = DOVETAIL_OUTPUTS[name][0]
+        p = self._probe() if self._root is not None else None
+        if p is None:
+            return kind()
+        if name.startswith("root_force"):
+            return float(p.root_force[0 if name.endswith("tangential") else 1])
+        side = 0 if name.endswith("right") else 1
+        if name.startswith("normal_force"):
+            return float(p.normal_force[side])
+        if name.startswith("friction_force"):
+            return float(p.friction_force[side])
+        if name.startswith("slipping"):
+            return bool(p.slipping[side])
+        if name.startswith("stiffness"):
+            k = p.tangent_stiffness()
+            return float(k["tr".index(name[-2]), "tr".index(name[-1])])
+        return float(p.dissipated_energy)
+
+    def do_step(self, current_time, step_size):
+        u = (self.u_tangential, self.u_radial)
+        if not all(math.isfinite(x) for x in u):
+            self.log(f"inputs u_tangential, u_radial must be finite, got {u!r}", status=Fmi2Status.error)
+            return False
+        self._root.update(u)
+        return True
+
+    def _snapshot(self):
+        if self._root is None:
+            return None
+        return {"root": self._root.state(), "u": (self.u_tangential, self.u_radial)}
+
+    def _restore(self, snap):
+        if snap is not None:
+            self._root.set_state(snap["root"])
+            self.u_tangential, self.u_radial = snap["u"]

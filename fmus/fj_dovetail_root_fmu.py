@@ -1,0 +1,6 @@
+"""FMU script: DovetailRoot.fmu (thin adapter; physics in the bundled frictionjoint)."""
+from _frictionjoint_bundle.fmi.slaves import DovetailRootSlave
+
+
+class DovetailRoot(DovetailRootSlave):
+    """Dovetail blade root driven by the root's tangential and radial displacement."""
