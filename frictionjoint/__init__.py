@@ -4,7 +4,7 @@ Linear structures with Coulomb sliders, Jenkins and Iwan elements, marched exact
 event (no time step, no regularisation), periodic steady states by shooting, and the analytic
 single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
 """
-from . import contact
+from . import contact, shakedown
 from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
 from .elements.masing import ContinuousIwan
 from .errors import ConvergenceError, ParameterError
@@ -15,6 +15,7 @@ from .solvers.events import EventLog, Marcher
 from .solvers.response import simulate
 from .solvers.steady import periodic_response
 from .regime import RegimeMap, regime_map
+from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
 from .structure import LinearStructure
 from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, system_sweep
 from .system import FrictionSystem
@@ -42,6 +43,11 @@ __all__ = [
     "RegimeMap",
     "TimeResponse",
     "contact",
+    "shakedown",
+    "QuasiStaticFrictionSystem",
+    "PeriodicLoad",
+    "melan_check",
+    "shakedown_check",
     "oscillator_sweep",
     "periodic_response",
     "regime_map",

@@ -8,7 +8,47 @@ import numpy as np
 from ..errors import ParameterError, check_nonnegative, check_positive, check_real
 from .base import Slider
 
-__all__ = ["Iwan"]
+__all__ = ["Iwan", "segalman_density"]
+
+
+def segalman_density(slip_force, stiffness, chi, beta):
+    """Validated Segalman parameters and the density they define.
+
+    Segalman (2005), "A four-parameter Iwan model for lap-type joints", J. Appl. Mech. 72:
+    slider stiffness density ``rho(phi) = R phi**chi`` on ``0 < phi < phi_max`` plus
+    ``S delta(phi - phi_max)``, with ``beta = S / (R phi_max**(chi+1)/(chi+1))`` the stiffness
+    of the delta over that of the power-law part, so that the total stiffness is
+    ``K_T = R phi_max**(chi+1)/(chi+1) + S`` and the macroslip force
+    ``F_S = R phi_max**(chi+2)/(chi+2) + S phi_max``.
+
+    Parameters
+    ----------
+    slip_force, stiffness, chi, beta : float
+        F_S [N], K_T [N/m], chi and beta as in :meth:`Iwan.segalman` (validated here).
+
+    Returns
+    -------
+    chi : float
+    phi_max : float
+        Largest slider slip displacement [m].
+    r : float
+        ``R`` [N/m^(chi+2)].
+    s : float
+        ``S`` [N/m].
+    """
+    fs = check_positive("slip_force", slip_force)
+    kt = check_positive("stiffness", stiffness)
+    chi = check_real("chi", chi)
+    if not -1.0 < chi <= 0.0:
+        raise ParameterError(f"chi must be in (-1, 0], got {chi!r}")
+    beta = check_real("beta", beta)
+    if beta < 0:
+        raise ParameterError(f"beta must be >= 0, got {beta!r}")
+    c = (chi + 1.0) / (chi + 2.0)
+    phi_max = fs * (1.0 + beta) / (kt * (beta + c))
+    r = fs * (chi + 1.0) / (phi_max ** (chi + 2.0) * (beta + c))
+    s = fs * beta / (phi_max * (beta + c))
+    return chi, phi_max, r, s
 
 
 @dataclass(frozen=True)
@@ -52,11 +92,13 @@ class Iwan:
         """Discrete Segalman 4-parameter Iwan element.
 
         Density of slider slip displacements (Segalman 2005, "A four-parameter Iwan model
-        for lap-type joints", J. Appl. Mech. 72):
+        for lap-type joints", J. Appl. Mech. 72; see :func:`segalman_density`):
         ``rho(phi) = R phi**chi`` on ``0 < phi < phi_max`` plus ``S delta(phi - phi_max)``, with
         ``phi_max = F_S (1 + beta) / (K_T (beta + (chi+1)/(chi+2)))``,
         ``R = F_S (chi+1) / (phi_max**(chi+2) (beta + (chi+1)/(chi+2)))`` and
-        ``S = F_S beta / (phi_max (beta + (chi+1)/(chi+2)))``.
+        ``S = F_S beta / (phi_max (beta + (chi+1)/(chi+2)))``. The continuous element with the
+        same parameters is :meth:`frictionjoint.elements.masing.ContinuousIwan.segalman`; this
+        one converges to it as ``O(n_sliders**-2)`` in dissipation per cycle.
         The power-law part is split into ``n_sliders`` equal intervals of ``phi``; each slider
         carries that interval's exact stiffness and strength, so the total stiffness ``K_T`` and
         the total slip force ``F_S`` are reproduced exactly.
@@ -70,24 +112,13 @@ class Iwan:
         chi : float
             Power-law exponent, -1 < chi <= 0 (typical -0.5 ... -0.1).
         beta : float
-            Strength of the delta at ``phi_max`` relative to the power-law part, >= 0.
+            Stiffness of the delta at ``phi_max`` relative to the power-law part, >= 0.
         n_sliders : int
             Number of sliders for the power-law part, >= 1.
         """
-        fs = check_positive("slip_force", slip_force)
-        kt = check_positive("stiffness", stiffness)
-        chi = check_real("chi", chi)
-        if not -1.0 < chi <= 0.0:
-            raise ParameterError(f"chi must be in (-1, 0], got {chi!r}")
-        beta = check_real("beta", beta)
-        if beta < 0:
-            raise ParameterError(f"beta must be >= 0, got {beta!r}")
+        chi, phi_max, r, s = segalman_density(slip_force, stiffness, chi, beta)
         if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
             raise ParameterError(f"n_sliders must be an integer >= 1, got {n_sliders!r}")
-        c = (chi + 1.0) / (chi + 2.0)
-        phi_max = fs * (1.0 + beta) / (kt * (beta + c))
-        r = fs * (chi + 1.0) / (phi_max ** (chi + 2.0) * (beta + c))
-        s = fs * beta / (phi_max * (beta + c))
         edges = np.linspace(0.0, phi_max, int(n_sliders) + 1)
         k = r * np.diff(edges ** (chi + 1.0)) / (chi + 1.0)
         f = r * np.diff(edges ** (chi + 2.0)) / (chi + 2.0)

@@ -20,6 +20,7 @@ import scipy.integrate
 import scipy.optimize
 
 from ..errors import ParameterError, check_nonnegative, check_positive
+from .iwan import segalman_density
 
 __all__ = ["ContinuousIwan", "MasingMemory"]
 
@@ -41,18 +42,23 @@ class ContinuousIwan:
     inverse : callable, optional
         ``u(F)`` on ``0 <= F < slip_force``, if known in closed form (else Brent's method).
     primitive : callable, optional
-        ``int_0^u F(s) ds`` in closed form (else adaptive quadrature, ~1e-14 relative).
+        ``int_0^u F(s) ds`` in closed form (else adaptive quadrature, ~2e-14 relative).
     density : callable, optional
         Slider stiffness density ``k rho(phi) = -F''(phi)`` [N/m^2] on ``0 < phi < slip_displacement``.
         With it the dissipation is ``int_0^u* 4 k rho(phi) phi (u* - phi) dphi`` (a positive
         integrand, accurate at small amplitude); without it, Masing's
         ``8 int F - 4 u* F(u*)``, which loses digits to cancellation as ``u*`` -> 0 (the
         result is ``O(u*^3)`` from terms ``O(u*^2)``).
+    point_sliders : sequence of (stiffness, slip_displacement) pairs, optional
+        Concentrated parts of the density, ``k_j delta(phi - phi_j)`` (e.g. Segalman's delta at
+        ``phi_max``): stiffness ``k_j`` [N/m] > 0 and slip displacement ``phi_j`` [m] > 0. They are
+        already in ``backbone``; with ``density`` they add ``4 k_j phi_j (u* - phi_j)`` for
+        ``u* > phi_j`` to the dissipation (a delta is no density function).
     """
 
     def __init__(self, backbone: Callable, stiffness: float, slip_force: float, slip_displacement: float,
                  inverse: Callable | None = None, primitive: Callable | None = None,
-                 density: Callable | None = None):
+                 density: Callable | None = None, point_sliders=()):
         self._backbone = backbone
         self.stiffness = check_positive("stiffness", stiffness)
         self.slip_force = check_positive("slip_force", slip_force)
@@ -63,6 +69,52 @@ class ContinuousIwan:
         self._inverse = inverse
         self._primitive = primitive
         self._density = density
+        pairs = []
+        for i, pair in enumerate(point_sliders):
+            if np.shape(pair) != (2,):
+                raise ParameterError(f"point_sliders[{i}] must be a (stiffness, slip_displacement) pair, "
+                                     f"got {pair!r}")
+            pairs.append((check_positive(f"point_sliders[{i}] stiffness", pair[0]),
+                          check_positive(f"point_sliders[{i}] slip_displacement", pair[1])))
+        self._point_sliders = tuple(pairs)
+
+    @classmethod
+    def segalman(cls, slip_force: float, stiffness: float, chi: float, beta: float) -> "ContinuousIwan":
+        """Segalman's 4-parameter Iwan element, continuous (no slider discretisation).
+
+        Density ``R phi**chi`` on ``0 < phi < phi_max`` plus ``S delta(phi - phi_max)`` (parameters
+        as in :func:`~frictionjoint.elements.iwan.segalman_density`). Backbone, primitive and
+        dissipation in closed form (DESIGN.md section 4, checked with sympy), ``u* = |u|``:
+
+        - ``F = K_T u - R u**(chi+2)/((chi+1)(chi+2))`` for ``u <= phi_max``, ``F_S`` beyond: the
+          slope drops from ``S`` to 0 at ``phi_max`` (the delta's sliders slip at once);
+        - ``D = 4 R u***(chi+3)/((chi+2)(chi+3))`` for ``u* <= phi_max`` and
+          ``D = 4 R phi_max**(chi+3)/((chi+2)(chi+3)) + 4 F_S (u* - phi_max)`` beyond.
+
+        The backbone has no closed-form inverse (Brent's method is used).
+
+        Parameters
+        ----------
+        slip_force, stiffness, chi, beta : float
+            Macroslip force F_S [N] > 0, initial stiffness K_T [N/m] > 0, exponent
+            -1 < chi <= 0 and delta-to-power-law stiffness ratio beta >= 0, as in
+            :meth:`frictionjoint.elements.iwan.Iwan.segalman`.
+        """
+        chi, phi_max, r, s = segalman_density(slip_force, stiffness, chi, beta)
+        kt = float(stiffness)
+        c = r / ((chi + 1.0) * (chi + 2.0))
+
+        def backbone(u):
+            return kt * u - c * u ** (chi + 2.0)
+
+        def primitive(u):
+            return 0.5 * kt * u * u - c * u ** (chi + 3.0) / (chi + 3.0)
+
+        def density(phi):
+            return r * phi ** chi
+
+        return cls(backbone, kt, float(slip_force), phi_max, primitive=primitive, density=density,
+                   point_sliders=((s, phi_max),) if s > 0 else ())
 
     def backbone(self, u):
         """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd)."""
@@ -85,14 +137,14 @@ class ContinuousIwan:
         hi = self.slip_displacement if math.isfinite(self.slip_displacement) else q / self.stiffness
         while not math.isfinite(self.slip_displacement) and self._backbone(hi) < q:
             hi *= 2.0
-        u = scipy.optimize.brentq(lambda x: self._backbone(x) - q, 0.0, hi, xtol=1e-300, rtol=4e-16)
+        u = scipy.optimize.brentq(lambda x: self._backbone(x) - q, 0.0, hi, xtol=1e-300, rtol=4.0 * np.finfo(float).eps)
         return math.copysign(u, force)
 
     def _energy(self, u: float) -> float:
         """``int_0^u F(s) ds`` for ``u >= 0``."""
         if self._primitive is not None:
             return float(self._primitive(u))
-        val, _ = scipy.integrate.quad(self._backbone, 0.0, u, epsabs=0.0, epsrel=1e-14, limit=200)
+        val, _ = scipy.integrate.quad(self._backbone, 0.0, u, epsabs=0.0, epsrel=2e-14, limit=200)
         return float(val)
 
     def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
@@ -102,7 +154,7 @@ class ContinuousIwan:
             top = min(a, self.slip_displacement)
             val, _ = scipy.integrate.quad(lambda p: 4.0 * self._density(p) * p * (a - p), 0.0, top,
                                           epsabs=0.0, epsrel=1e-13, limit=400)
-            return float(val)
+            return float(val) + sum(4.0 * k * phi * (a - phi) for k, phi in self._point_sliders if a > phi)
         return 8.0 * self._energy(min(a, self.slip_displacement)) \
             + 8.0 * self.slip_force * max(a - self.slip_displacement, 0.0) - 4.0 * a * self.backbone(a)
 

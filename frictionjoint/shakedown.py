@@ -1,0 +1,526 @@
+"""Shakedown and cyclic slip of uncoupled discrete frictional systems under periodic load.
+
+Model (Barber, Klarbring, Ciavarella et al.; seed ``frictional_contacts_periodic_loading_shakedown``,
+eq. 4 with ``B = 0``): ``n`` contact nodes with tangential slips ``w`` [m], a symmetric positive
+definite tangential contact stiffness ``K`` (n x n) [N/m] that couples the nodes elastically, and
+the tangential nodal forces
+
+    q(t) = q_ext(t) - K w,        |q_i| <= g_i(t) = f_i N_i(t),
+
+where ``q_ext`` is the force the external load would produce with all nodes welded (``w = 0``)
+and ``N_i(t) > 0`` the normal nodal forces. Coulomb's law at each node: stick (``w_i' = 0``) or
+slip in the direction of the force (``q_i = g_i sgn(w_i')``). Quasi-static, no inertia.
+
+Uncoupled means ``B = 0`` in the seed's eq. (4): the normal forces do not depend on the slips,
+so ``N(t)`` is part of the load. Coupled systems (``B != 0``, where shakedown and the steady
+dissipation depend on the initial state) and separation are out of scope.
+
+What is exact. The load (``q_ext`` and ``N``) is linear in time between its samples. On such a
+piece the rate problem -- for the nodes at the friction bound (signs ``s``), slip rates
+``lambda >= 0`` with ``y = g' - s q_ext' + (S K S) lambda >= 0`` and ``lambda . y = 0`` -- is a
+linear complementarity problem with the positive definite matrix ``S K S`` (``S = diag(s)``),
+hence has one solution, found by Murty's least-index principal pivoting (finite for P-matrices).
+The rates stay constant until a stuck node reaches its bound, and that time is the root of a
+linear function; so the march from event to event is exact up to rounding, with no time step.
+(The one-step projection ``q_new = argmin_{|q| <= g} ||q - q_trial||_{K^-1}`` -- backward Euler --
+is exact only for diagonal ``K``: with coupling, a node that slips early in a step and is
+unloaded by its neighbours later is mispredicted; it converges at first order in the step.)
+Dissipation ``sum_i int g_i |w_i'| dt`` and the work ``int q . K^-1 q_ext' dt`` are integrals of
+linear functions over each piece, evaluated exactly; the stored energy is ``q . K^-1 q / 2``.
+
+Theorems checked by :func:`shakedown_check` and the tests: the frictional Melan theorem
+(Klarbring et al. 2007) -- for ``B = 0`` the system shakes down from every initial state iff
+a residual slip ``w_r`` exists with ``|q_ext(t) - K w_r| <= g(t)`` for all ``t`` (a linear
+feasibility problem, :func:`melan_check`); and Andersson et al. (2014) -- above that limit the
+steady-state dissipation per cycle does not depend on the initial slips.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+
+from .errors import ConvergenceError, ParameterError, check_positive
+
+__all__ = [
+    "PeriodicLoad",
+    "QuasiStaticFrictionSystem",
+    "CycleResult",
+    "MelanResult",
+    "ShakedownResult",
+    "melan_check",
+    "shakedown_check",
+]
+
+_RTOL = 1e-12  # relative tolerance of the friction bound (rounding of q = q_ext - K w)
+
+
+def _check_count(name: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ParameterError(f"{name} must be an integer >= 1, got {value!r}")
+    return int(value)
+
+
+def _finite_array(name: str, value, shape_text: str) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be an array of real numbers {shape_text}, got {value!r}") from None
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} must be finite (no NaN or inf)")
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicLoad:
+    """A periodic load sampled over one period, linear in time between the samples.
+
+    The path runs through the samples in order and from the last one back to the first at
+    ``t = period``.
+
+    Parameters
+    ----------
+    times : (m,) array_like
+        Sample times [s], strictly increasing, ``times[0] = 0``, ``times[-1] < period``.
+    tangential : (m, n) array_like
+        Welded tangential nodal forces ``q_ext`` [N] at the sample times.
+    normal : (m, n) or (n,) array_like
+        Normal nodal forces ``N`` [N] > 0 at the sample times (``(n,)``: constant).
+    period : float
+        Period [s], > ``times[-1]``.
+    """
+
+    times: np.ndarray
+    tangential: np.ndarray
+    normal: np.ndarray
+    period: float
+
+    def __post_init__(self):
+        t = _finite_array("times", self.times, "(m,)")
+        if t.ndim != 1 or t.size == 0:
+            raise ParameterError(f"times must be a non-empty 1-D array (m,), got shape {t.shape}")
+        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise ParameterError("times must start at 0 and increase strictly")
+        period = check_positive("period", self.period)
+        if not period > t[-1]:
+            raise ParameterError(f"period must be > times[-1] = {t[-1]!r} s, got {period!r}")
+        q = _finite_array("tangential", self.tangential, "(m, n)")
+        if q.ndim != 2 or q.shape[0] != t.size or q.shape[1] == 0:
+            raise ParameterError(f"tangential must have shape (m, n) = ({t.size}, n), got {q.shape}")
+        p = _finite_array("normal", self.normal, "(m, n) or (n,)")
+        if p.ndim == 1:
+            p = np.broadcast_to(p, q.shape).copy() if p.shape == (q.shape[1],) else p
+        if p.shape != q.shape:
+            raise ParameterError(f"normal must have shape {q.shape} or ({q.shape[1]},), got {np.shape(self.normal)}")
+        if not np.all(p > 0):
+            raise ParameterError("normal must be > 0 at every sample (allowed range (0, inf); separation "
+                                 "is out of scope)")
+        for name, value in (("times", t), ("tangential", q), ("normal", p), ("period", period)):
+            object.__setattr__(self, name, value)
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.tangential.shape[1])
+
+    def closed(self):
+        """``(times, tangential, normal)`` with the first sample repeated at ``t = period``."""
+        return (np.append(self.times, self.period), np.vstack([self.tangential, self.tangential[:1]]),
+                np.vstack([self.normal, self.normal[:1]]))
+
+    @classmethod
+    def from_function(cls, tangential, normal, period: float, n_samples: int) -> "PeriodicLoad":
+        """Sample ``tangential(t)`` and ``normal(t)`` (callables returning ``(n,)`` [N]) at
+        ``n_samples`` equally spaced times ``k period / n_samples``."""
+        period = check_positive("period", period)
+        n_samples = _check_count("n_samples", n_samples)
+        t = period * np.arange(n_samples) / n_samples
+        return cls(t, [tangential(x) for x in t], [normal(x) for x in t], period)
+
+
+@dataclass
+class CycleResult:
+    """One period of the exact quasi-static march.
+
+    Attributes
+    ----------
+    slip_at_samples : (m+1, n) ndarray
+        Slips ``w`` [m] at the sample times and at the end of the period.
+    dissipation : float
+        Energy dissipated by friction over the period [J].
+    slip_variation : (n,) ndarray
+        ``int |w_i'| dt`` over the period [m] (0: node ``i`` did not slip).
+    work : float
+        Work of the load, ``int q . K^-1 q_ext' dt`` [J].
+    stored_energy_change : float
+        Change of ``q . K^-1 q / 2`` over the period [J]; ``work = stored_energy_change + dissipation``.
+    n_events : int
+        Pieces of constant slip rates marched.
+    """
+
+    slip_at_samples: np.ndarray
+    dissipation: float
+    slip_variation: np.ndarray
+    work: float
+    stored_energy_change: float
+    n_events: int
+
+    @property
+    def slip_end(self) -> np.ndarray:
+        """Slips [m] at the end of the period, (n,)."""
+        return self.slip_at_samples[-1]
+
+
+def _lcp(m: np.ndarray, r: np.ndarray, tol: float):
+    """``lambda >= 0``, ``y = r + m lambda >= 0``, ``lambda . y = 0`` for a P-matrix ``m``.
+
+    Murty's least-index (Bard-type) principal pivoting: finite for every P-matrix. ``tol`` [units
+    of r] absorbs rounding in the sign tests.
+    """
+    n = r.size
+    basis = r < -tol
+    tol_lam = tol / max(float(np.max(np.diag(m))), 1e-300)
+    for _ in range(50 * n * n + 100):
+        lam = np.zeros(n)
+        if basis.any():
+            lam[basis] = np.linalg.solve(m[np.ix_(basis, basis)], -r[basis])
+        y = r + m @ lam
+        bad = np.flatnonzero((basis & (lam < -tol_lam)) | (~basis & (y < -tol)))
+        if bad.size == 0:
+            return np.maximum(lam, 0.0), np.where(basis, 0.0, y)
+        basis[bad[0]] = ~basis[bad[0]]
+    raise ConvergenceError("the slip-rate complementarity problem did not terminate (is K positive definite?)")
+
+
+def _march_piece(k, w, q_a, q_b, g_a, g_b, dt, tol_q, kinv_dq):
+    """March the slips exactly over one linear piece of the load; see the module docstring.
+
+    Returns ``(w, dissipation, slip_variation, work, n_events)``.
+    """
+    dq = (q_b - q_a) / dt
+    dg = (g_b - g_a) / dt
+    tau = 0.0
+    dissipation = work = 0.0
+    variation = np.zeros(w.size)
+    tol_r = _RTOL * (float(np.max(np.abs(dq) + np.abs(dg))) + 1e-300)
+    n_events = 0
+    max_events = 20 * w.size + 100
+    while tau < dt:
+        if n_events >= max_events:
+            raise ConvergenceError(f"more than {max_events} slip events in one load piece")
+        n_events += 1
+        q = q_a + tau * dq - k @ w
+        g = g_a + tau * dg
+        sign = np.where(q >= 0, 1.0, -1.0)
+        active = np.flatnonzero(np.abs(q) >= g - tol_q)
+        lam = np.zeros(w.size)
+        if active.size:
+            s = sign[active]
+            m = s[:, None] * k[np.ix_(active, active)] * s[None, :]
+            lam[active], _ = _lcp(m, dg[active] - s * dq[active], tol_r)
+        rate = sign * lam  # w'
+        q_rate = dq - k @ rate
+        step = dt - tau
+        free = lam == 0.0
+        for gap, closing in ((g - q, dg - q_rate), (g + q, dg + q_rate)):
+            hit = free & (gap > tol_q) & (closing < 0)
+            if hit.any():
+                step = min(step, float(np.min(gap[hit] / -closing[hit])))
+        end = step >= dt - tau
+        if end:
+            step = dt - tau
+        g_next = g_b if end else g + step * dg
+        dissipation += float(np.sum(lam * step * 0.5 * (g + g_next)))
+        variation += lam * step
+        work += float((q + 0.5 * step * q_rate) @ kinv_dq) * step
+        w = w + rate * step
+        tau = dt if end else tau + step
+    return w, dissipation, variation, work, n_events
+
+
+@dataclass(frozen=True, eq=False)
+class QuasiStaticFrictionSystem:
+    """Uncoupled (``B = 0``) discrete frictional system: n contact nodes coupled elastically.
+
+    ``q = q_ext(t) - K w``, ``|q_i| <= f_i N_i(t)`` (module docstring). Coupled systems
+    (normal forces depending on the slips, ``B != 0``) are out of scope.
+
+    Parameters
+    ----------
+    stiffness : (n, n) array_like
+        Tangential contact stiffness ``K`` [N/m], symmetric positive definite (statically
+        reduced onto the contact nodes).
+    friction_coefficient : float or (n,) array_like
+        Coulomb friction coefficient ``f`` [-] per node, > 0.
+    """
+
+    stiffness: np.ndarray
+    friction_coefficient: np.ndarray
+    _cho: tuple = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        k = _finite_array("stiffness", self.stiffness, "(n, n)")
+        if k.ndim == 0:
+            k = k.reshape(1, 1)
+        if k.ndim != 2 or k.shape[0] != k.shape[1] or k.shape[0] == 0:
+            raise ParameterError(f"stiffness must be a square (n, n) matrix, got shape {k.shape}")
+        scale = float(np.max(np.abs(k)))
+        if not np.allclose(k, k.T, rtol=0.0, atol=1e-12 * scale):
+            raise ParameterError("stiffness must be symmetric")
+        try:
+            cho = scipy.linalg.cho_factor(k)
+        except np.linalg.LinAlgError:
+            raise ParameterError("stiffness must be positive definite") from None
+        if np.min(np.linalg.eigvalsh(k)) <= 1e-13 * scale * k.shape[0]:
+            raise ParameterError("stiffness must be positive definite (it is singular to rounding)")
+        f = _finite_array("friction_coefficient", self.friction_coefficient, "scalar or (n,)")
+        if f.ndim == 0:
+            f = np.full(k.shape[0], float(f))
+        if f.shape != (k.shape[0],):
+            raise ParameterError(f"friction_coefficient must be a scalar or shape ({k.shape[0]},), got {f.shape}")
+        if not np.all(f > 0):
+            raise ParameterError("friction_coefficient must be > 0 (allowed range (0, inf))")
+        object.__setattr__(self, "stiffness", k)
+        object.__setattr__(self, "friction_coefficient", f)
+        object.__setattr__(self, "_cho", cho)
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.stiffness.shape[0])
+
+    def _check_load(self, load: PeriodicLoad) -> None:
+        if not isinstance(load, PeriodicLoad):
+            raise ParameterError(f"load must be a PeriodicLoad, got {type(load).__name__}")
+        if load.n_nodes != self.n_nodes:
+            raise ParameterError(f"load has {load.n_nodes} nodes, the system {self.n_nodes}")
+
+    def _tol(self, load: PeriodicLoad) -> np.ndarray:
+        """Per-node tolerance [N] of the friction bound: rounding of ``q = q_ext - K w``."""
+        g = self.friction_coefficient * load.normal
+        return _RTOL * np.max(g + np.abs(load.tangential), axis=0)
+
+    def tangential_force(self, load_tangential, slip) -> np.ndarray:
+        """``q = q_ext - K w`` [N], (n,)."""
+        return np.asarray(load_tangential, dtype=float) - self.stiffness @ np.asarray(slip, dtype=float)
+
+    def check_slip(self, load: PeriodicLoad, slip, name: str = "slip") -> np.ndarray:
+        """Return ``slip`` (n,) [m] as an array if it satisfies the friction bound at ``t = 0``,
+        else raise :class:`ParameterError` naming ``name`` and the first violating node."""
+        self._check_load(load)
+        w = _finite_array(name, slip, f"({self.n_nodes},)")
+        if w.shape != (self.n_nodes,):
+            raise ParameterError(f"{name} must have shape ({self.n_nodes},), got {w.shape}")
+        excess = np.abs(self.tangential_force(load.tangential[0], w)) \
+            - self.friction_coefficient * load.normal[0]
+        bad = np.flatnonzero(excess > self._tol(load))
+        if bad.size:
+            raise ParameterError(f"{name} violates the friction bound |q_i| <= f_i N_i at t = 0 at node "
+                                 f"{bad[0]} (by {excess[bad[0]]:.3g} N)")
+        return w
+
+    def run_cycle(self, load: PeriodicLoad, slip) -> CycleResult:
+        """March one period of ``load`` exactly from the slips ``slip`` (n,) [m] at ``t = 0``.
+
+        ``slip`` must satisfy the friction bound at ``t = 0`` (see :meth:`check_slip`).
+        Nothing is mutated: the state is the returned ``slip_end``.
+        """
+        w = self.check_slip(load, slip)
+        times, q_ext, normal = load.closed()
+        g = self.friction_coefficient * normal
+        k = self.stiffness
+        tol = self._tol(load)
+        out = [w]
+        dissipation = work = 0.0
+        variation = np.zeros(w.size)
+        n_events = 0
+        for i in range(times.size - 1):
+            dt = times[i + 1] - times[i]
+            kinv_dq = scipy.linalg.cho_solve(self._cho, (q_ext[i + 1] - q_ext[i]) / dt)
+            w, d, v, wk, ne = _march_piece(k, w, q_ext[i], q_ext[i + 1], g[i], g[i + 1], dt, tol, kinv_dq)
+            dissipation += d
+            work += wk
+            variation += v
+            n_events += ne
+            out.append(w)
+        q0 = self.tangential_force(q_ext[0], out[0])
+        q1 = self.tangential_force(q_ext[0], w)
+        energy = 0.5 * (q1 @ scipy.linalg.cho_solve(self._cho, q1) - q0 @ scipy.linalg.cho_solve(self._cho, q0))
+        return CycleResult(np.array(out), dissipation, variation, work, float(energy), n_events)
+
+    def run(self, load: PeriodicLoad, initial_slip, n_cycles: int) -> list:
+        """``n_cycles`` consecutive periods from ``initial_slip`` (n,) [m]: list of :class:`CycleResult`."""
+        n_cycles = _check_count("n_cycles", n_cycles)
+        w = self.check_slip(load, initial_slip, "initial_slip")
+        out = []
+        for _ in range(n_cycles):
+            out.append(self.run_cycle(load, w))
+            w = out[-1].slip_end
+        return out
+
+
+@dataclass
+class MelanResult:
+    """Frictional Melan check: is there a residual slip that keeps the load inside the friction cone?
+
+    Attributes
+    ----------
+    safe : bool
+        ``margin >= 0``: a residual slip ``w_r`` exists with ``|q_ext(t) - K w_r| <= g(t)`` for all
+        ``t``. For ``B = 0``, ``margin > 0`` means shakedown from every initial state (Klarbring et al.
+        2007); ``margin < 0`` means cyclic slip from every initial state.
+    margin : float
+        Largest ``mu <= 1`` with ``|q_ext(t) - K w_r| <= (1 - mu) g(t)`` for all ``t`` [-].
+    residual_slip : (n,) ndarray
+        The ``w_r`` [m] attaining ``margin``.
+    success : bool
+    message : str
+    """
+
+    safe: bool
+    margin: float
+    residual_slip: np.ndarray
+    success: bool = True
+    message: str = "ok"
+
+
+def melan_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad) -> MelanResult:
+    """Frictional Melan theorem: the largest uniform safety margin of a residual slip state.
+
+    Linear programme (``scipy.optimize.linprog``, HiGHS) in ``z = K w_r`` and ``mu``: maximise
+    ``mu`` subject to ``|q_ext(t_k) - z| <= (1 - mu) g(t_k)`` at every sample ``t_k``, ``mu <= 1``.
+    The load is linear between samples, so the samples suffice (each constraint is linear in
+    ``t`` on every piece). With a positive definite ``K`` every residual force ``z`` is reachable,
+    so the programme separates node by node: node ``i`` is safe iff
+    ``max_t (q_ext,i - g_i) <= min_t (q_ext,i + g_i)``; the LP also returns ``w_r``.
+
+    Parameters
+    ----------
+    system : QuasiStaticFrictionSystem
+    load : PeriodicLoad
+
+    Returns
+    -------
+    MelanResult
+    """
+    system._check_load(load)
+    q = load.tangential
+    g = system.friction_coefficient * load.normal
+    m, n = q.shape
+    eye = np.tile(np.eye(n), (m, 1))
+    gcol = g.reshape(-1, 1)
+    a_ub = np.vstack([np.hstack([-eye, gcol]), np.hstack([eye, gcol])])
+    b_ub = np.concatenate([(g - q).ravel(), (g + q).ravel()])
+    cost = np.zeros(n + 1)
+    cost[-1] = -1.0
+    bounds = [(None, None)] * n + [(None, 1.0)]
+    res = scipy.optimize.linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs")
+    if res.status != 0:
+        return MelanResult(False, float("nan"), np.full(n, np.nan), False, res.message)
+    z, mu = res.x[:n], float(res.x[-1])
+    w_r = scipy.linalg.cho_solve(system._cho, z)
+    return MelanResult(bool(mu >= -_RTOL), mu, w_r)
+
+
+@dataclass
+class ShakedownResult:
+    """Outcome of :func:`shakedown_check`.
+
+    Attributes
+    ----------
+    status : str
+        ``'shakedown'`` (a whole period without slip: slip has stopped for good),
+        ``'cyclic slip'`` (the state repeats after a period and the period dissipates energy) or
+        ``'transient'`` (neither within ``n_cycles``).
+    shakedown : bool
+        ``status == 'shakedown'``.
+    dissipation : (n_run,) ndarray
+        Energy dissipated in each period marched [J].
+    slip_increment : (n_run,) ndarray
+        ``max_i |w_i(end) - w_i(start)|`` of each period [m].
+    steady_dissipation : float
+        Dissipation per period in the steady state [J] (0 after shakedown; ``nan`` if transient).
+    steady_cycle : int
+        Index of the first period of the steady state (-1 if transient).
+    final_slip : (n,) ndarray
+        Slips [m] at the end of the last period.
+    last_cycle : CycleResult
+    melan : MelanResult or None
+    success : bool
+    message : str
+    """
+
+    status: str
+    dissipation: np.ndarray
+    slip_increment: np.ndarray
+    steady_dissipation: float
+    steady_cycle: int
+    final_slip: np.ndarray
+    last_cycle: CycleResult
+    melan: Optional[MelanResult] = None
+    success: bool = True
+    message: str = "ok"
+
+    @property
+    def shakedown(self) -> bool:
+        return self.status == "shakedown"
+
+
+def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initial_slip=None,
+                    n_cycles: int = 200, rtol: float = 1e-12, melan: bool = True) -> ShakedownResult:
+    """March periods of ``load`` until the response is periodic, and classify it.
+
+    Slip stops (shakedown) when a whole period passes without slip -- the state then repeats
+    for ever. Otherwise the march stops at the first period whose end state equals its start
+    state to ``rtol`` times the slip scale ``max_t |K^-1 g(t)|``, or whose dissipation is below
+    ``rtol`` times the energy scale ``max_t g . K^-1 g`` (shakedown approached geometrically, as in
+    a zig-zag towards a corner of the safe region). Above the Melan limit the steady dissipation
+    per cycle is the same for every initial state (Andersson et al. 2014, ``B = 0``).
+
+    Parameters
+    ----------
+    system : QuasiStaticFrictionSystem
+    load : PeriodicLoad
+    initial_slip : (n,) array_like, optional
+        Slips [m] at ``t = 0`` (default 0), within the friction bound at ``t = 0``.
+    n_cycles : int
+        Most periods to march, >= 1.
+    rtol : float
+        Relative tolerance of the periodicity test, > 0.
+    melan : bool
+        Also run :func:`melan_check`.
+
+    Returns
+    -------
+    ShakedownResult
+    """
+    system._check_load(load)
+    n_cycles = _check_count("n_cycles", n_cycles)
+    rtol = check_positive("rtol", rtol)
+    w = np.zeros(system.n_nodes) if initial_slip is None else initial_slip
+    w = system.check_slip(load, w, "initial_slip")
+    g = system.friction_coefficient * load.normal
+    kinv_g = scipy.linalg.cho_solve(system._cho, g.T)
+    slip_scale = float(np.max(np.abs(kinv_g)))
+    energy_scale = float(np.max(np.sum(g.T * kinv_g, axis=0)))
+    dissipation, increment = [], []
+    status, steady, first = "transient", float("nan"), -1
+    cycle = None
+    for k in range(n_cycles):
+        cycle = system.run_cycle(load, w)
+        dissipation.append(cycle.dissipation)
+        increment.append(float(np.max(np.abs(cycle.slip_end - w))))
+        w = cycle.slip_end
+        if not np.any(cycle.slip_variation > 0) or cycle.dissipation <= rtol * energy_scale:
+            status, steady, first = "shakedown", 0.0, k
+            break
+        if increment[-1] <= rtol * slip_scale:
+            status, steady, first = "cyclic slip", cycle.dissipation, k
+            break
+    result = ShakedownResult(status, np.array(dissipation), np.array(increment), steady, first, w, cycle,
+                             melan_check(system, load) if melan else None)
+    if status == "transient":
+        result.success = False
+        result.message = f"no periodic state within {n_cycles} periods"
+    return result

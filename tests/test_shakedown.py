@@ -1,0 +1,310 @@
+"""Shakedown and cyclic slip of uncoupled discrete frictional systems (frictionjoint.shakedown).
+
+References: the seed ``frictional_contacts_periodic_loading_shakedown`` -- frictional Melan
+theorem (Klarbring et al. 2007, seed section 2.5) and Andersson et al. (2014, seed section 2.7):
+for B = 0 the steady dissipation per cycle does not depend on the initial slips. Independent
+checks: the single-node closed form derived below, the library's exact play operator
+(frictionjoint.elements.driven.DrivenSliders) and Iwan closed form, and a backward-Euler
+catch-up scheme whose K-norm projection is done by enumerating the faces of the box.
+"""
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings, strategies as st
+
+import frictionjoint as fj
+from frictionjoint.elements.driven import DrivenSliders
+from frictionjoint.shakedown import (PeriodicLoad, QuasiStaticFrictionSystem, melan_check,
+                                     shakedown_check)
+
+EXACT = 1e-12    # relative: closed forms, play operator, energy balance, subdivision
+ANDERSSON = 1e-9  # relative: steady dissipation from different initial slips (the issue's bound)
+HYPO = settings(max_examples=12, deadline=None)
+
+
+def random_case(seed, n, m, amplitude):
+    """Random SPD stiffness (coupled nodes), sampled load of mean ~1 N and the given amplitude,
+    normal forces in [1, 3] N varying in time (B = 0: they do not depend on the slips)."""
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(n, n))
+    k = a @ a.T / n + np.eye(n) * rng.uniform(0.05, 1.0)
+    t = np.sort(rng.uniform(0.0, 1.0, m))
+    t[0] = 0.0
+    q = rng.normal(size=n) + amplitude * rng.normal(size=(m, n))
+    normal = 2.0 + rng.uniform(-1.0, 1.0, (m, n))
+    return k, PeriodicLoad(t, q, normal, 1.0), rng
+
+
+def random_admissible_slip(system, load, rng):
+    """Slips at t = 0 whose forces lie anywhere inside the friction bound."""
+    g0 = system.friction_coefficient * load.normal[0]
+    return np.linalg.solve(system.stiffness, load.tangential[0] - g0 * rng.uniform(-1.0, 1.0, g0.size))
+
+
+def energy_scale(system, load):
+    g = system.friction_coefficient * load.normal
+    return float(np.max(np.sum(g * np.linalg.solve(system.stiffness, g.T).T, axis=1)))
+
+
+# --- (3) single node: closed form -------------------------------------------------------------
+
+@pytest.mark.parametrize("amplitude", [10.0, 20.0, 35.0, 100.0])
+def test_single_node_closed_form(amplitude):
+    """One node (a Jenkins element driven through its spring): q = q_ext - k w, |q| <= F_s.
+
+    Steady state (derivation): once q_ext has swept both extremes, w oscillates between
+    (q_max - F_s)/k and (q_min + F_s)/k, each sweep slipping 2 (Q_a - F_s)/k at force F_s, so
+    D = 4 F_s (Q_a - F_s)/k = 4 F_s (A - F_s/k), A = Q_a/k the welded displacement amplitude,
+    for Q_a > F_s; D = 0 (shakedown, Melan safe) for Q_a <= F_s.
+    """
+    k, f, normal, mean = 3e4, 0.4, 50.0, 5.0
+    fs = f * normal
+    load = PeriodicLoad.from_function(lambda t: [mean + amplitude * np.sin(2 * np.pi * t / 0.02)],
+                                      lambda t: [normal], period=0.02, n_samples=16)
+    system = QuasiStaticFrictionSystem([[k]], f)
+    res = shakedown_check(system, load, initial_slip=[0.3 * fs / k])
+    exact = 4.0 * fs * (amplitude - fs) / k if amplitude > fs else 0.0
+    assert res.success and res.steady_cycle <= 1
+    assert abs(res.steady_dissipation - exact) <= EXACT * max(exact, fs * fs / k)
+    assert res.shakedown == (amplitude <= fs) == res.melan.safe
+    assert abs(res.melan.margin - (1.0 - amplitude / fs)) <= EXACT  # per node interval rule
+
+
+# --- (1) below the Melan limit: shakedown from every initial state ------------------------------
+
+@pytest.mark.parametrize("seed", [3, 5, 14, 28])
+def test_below_melan_limit_shakes_down(seed):
+    """Slip stops after a transient from random initial slips; the energy dissipated on the way is
+    bounded by Melan's estimate ``(w0 - w_r).K(w0 - w_r) / (2 margin)`` (from
+    d/dt |w - w_r|_K^2 / 2 = (q_r - q).w' <= -margin sum g |w'|)."""
+    k, load, rng = random_case(seed, n=4, m=8, amplitude=0.15)
+    system = QuasiStaticFrictionSystem(k, 0.3)
+    melan = melan_check(system, load)
+    assert melan.safe and melan.margin > 0.1
+    scale = energy_scale(system, load)
+    finite = 0
+    for _ in range(6):
+        w0 = random_admissible_slip(system, load, rng)
+        res = shakedown_check(system, load, w0, melan=False)
+        assert res.success and res.shakedown
+        assert res.last_cycle.dissipation <= 1e-12 * scale
+        d = w0 - melan.residual_slip
+        assert res.dissipation.sum() <= (d @ k @ d) / (2.0 * melan.margin) * (1 + EXACT)
+        finite += res.last_cycle.dissipation <= 1e-15 * scale  # slip stopped at once (rounding)
+    assert finite >= 1  # some stop after finitely many cycles; others decay geometrically
+
+
+@pytest.mark.parametrize("amplitude", [0.1, 0.3, 0.6, 1.0, 2.0])
+def test_melan_verdict_agrees_with_march(amplitude):
+    """linprog's safe-state verdict = what the march finds; its margin = the per-node interval rule
+    (every residual force is reachable with an SPD K)."""
+    k, load, rng = random_case(11, n=3, m=10, amplitude=amplitude)
+    system = QuasiStaticFrictionSystem(k, 0.3)
+    res = shakedown_check(system, load, random_admissible_slip(system, load, rng), n_cycles=400)
+    g = 0.3 * load.normal
+    q = load.tangential
+    # node i: the largest mu with max_t (q - (1-mu) g) <= min_t (q + (1-mu) g), by bisection
+    mu_nodes = []
+    for i in range(3):
+        lo, hi = -50.0, 1.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            ok = np.max(q[:, i] - (1 - mid) * g[:, i]) <= np.min(q[:, i] + (1 - mid) * g[:, i])
+            lo, hi = (mid, hi) if ok else (lo, mid)
+        mu_nodes.append(lo)
+    assert abs(res.melan.margin - min(mu_nodes)) <= 1e-9
+    assert res.success and res.shakedown == res.melan.safe
+    q_r = q - (k @ res.melan.residual_slip)
+    assert np.all(np.abs(q_r) <= (1 - res.melan.margin) * g + 1e-9)
+
+
+# --- (2) above the limit: steady dissipation independent of the initial slips ------------------
+
+@HYPO
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 5), m=st.integers(2, 10),
+       amplitude=st.floats(0.3, 3.0), f=st.floats(0.1, 0.8))
+def test_andersson_same_steady_dissipation(seed, n, m, amplitude, f):
+    """Random SPD K, loads and initial slips: the same steady dissipation per cycle (<= 1e-9
+    relative) and the same slip velocities (slips differ by a constant vector)."""
+    k, load, rng = random_case(seed, n, m, amplitude)
+    system = QuasiStaticFrictionSystem(k, f)
+    melan = melan_check(system, load)
+    assume(melan.margin < -0.02)  # clearly above the shakedown limit
+    runs = [shakedown_check(system, load, random_admissible_slip(system, load, rng), n_cycles=500, melan=False)
+            for _ in range(3)]
+    assert all(r.success and r.status == "cyclic slip" for r in runs)
+    d = np.array([r.steady_dissipation for r in runs])
+    assert np.ptp(d) <= ANDERSSON * d.max()
+    slip_scale = np.max(np.abs(np.linalg.solve(k, (f * load.normal).T)))
+    for r in runs[1:]:
+        diff = r.last_cycle.slip_at_samples - runs[0].last_cycle.slip_at_samples
+        assert np.max(np.abs(diff - diff[0])) <= ANDERSSON * slip_scale
+
+
+# --- exactness of the march -----------------------------------------------------------------------
+
+@HYPO
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 5), m=st.integers(1, 8),
+       amplitude=st.floats(0.1, 3.0))
+def test_energy_balance_and_subdivision(seed, n, m, amplitude):
+    """work = stored energy change + dissipation per cycle, and splitting every linear load piece
+    into three gives the same march (the solution between events is exact, not a time step)."""
+    k, load, rng = random_case(seed, n, m, amplitude)
+    system = QuasiStaticFrictionSystem(k, 0.4)
+    w0 = random_admissible_slip(system, load, rng)
+    scale = energy_scale(system, load)
+    cycles = system.run(load, w0, 3)
+    for c in cycles:
+        assert c.dissipation >= 0.0
+        assert abs(c.work - c.stored_energy_change - c.dissipation) <= EXACT * scale
+    t, q, p = load.closed()
+    s = np.linspace(0.0, 1.0, 4)[:-1]
+    fine = PeriodicLoad(np.concatenate([t[i] + s * (t[i + 1] - t[i]) for i in range(m)]),
+                        np.vstack([q[i] + np.outer(s, q[i + 1] - q[i]) for i in range(m)]),
+                        np.vstack([p[i] + np.outer(s, p[i + 1] - p[i]) for i in range(m)]), 1.0)
+    w = w0
+    for c in cycles:
+        cf = system.run_cycle(fine, w)
+        w = cf.slip_end
+        assert abs(cf.dissipation - c.dissipation) <= EXACT * scale
+        assert np.max(np.abs(cf.slip_at_samples[::3] - c.slip_at_samples)) <= EXACT * max(1.0, np.max(np.abs(w0)))
+
+
+def _catch_up(k, w, q_trial, g):
+    """K^-1-norm projection of q_trial onto the box |q| <= g, by enumerating free/upper/lower sets
+    (the convex QP's minimum over the feasible stationary points). Returns the new slips."""
+    kinv = np.linalg.inv(k)
+    n = w.size
+    best, best_q = np.inf, None
+    for faces in itertools.product((0, 1, -1), repeat=n):
+        faces = np.array(faces)
+        fixed = faces != 0
+        q = q_trial.copy()
+        q[fixed] = faces[fixed] * g[fixed]
+        free = ~fixed
+        if free.any():
+            rhs = kinv[np.ix_(free, fixed)] @ (q[fixed] - q_trial[fixed])
+            q[free] = q_trial[free] - np.linalg.solve(kinv[np.ix_(free, free)], rhs)
+        if np.any(np.abs(q) > g * (1 + 1e-12)):
+            continue
+        val = (q - q_trial) @ kinv @ (q - q_trial)
+        if val < best:
+            best, best_q = val, q
+    return w + kinv @ (q_trial - best_q)
+
+
+def test_backward_euler_converges_to_the_exact_march():
+    """Backward Euler (catch-up) with 50 and 509 steps per load piece approaches the exact march
+    (first order: its error is at most the slip between the last grid point and each event),
+    while one projection per piece misses the slip that coupling stops mid-piece."""
+    k, load, _ = random_case(31, n=2, m=4, amplitude=1.5)
+    system = QuasiStaticFrictionSystem(k, 0.5)
+    exact = system.run_cycle(load, [0.0, 0.0]).slip_at_samples
+    tc, qc, pc = load.closed()
+    errors = []
+    for sub in (1, 50, 509):
+        w, err = np.zeros(2), 0.0
+        for i in range(4):
+            for j in range(1, sub + 1):
+                s = j / sub
+                q_ext = qc[i] + s * (qc[i + 1] - qc[i])
+                g = 0.5 * (pc[i] + s * (pc[i + 1] - pc[i]))
+                w = _catch_up(k, w, q_ext - k @ w, g)
+            err = max(err, float(np.max(np.abs(w - exact[i + 1]))))
+        errors.append(err)
+    # measured: 5.6e-2, 2.2e-3, 1.4e-4 (slips ~ 1 m)
+    assert errors[0] > 1e-2
+    assert errors[2] < errors[1] / 3.0
+    assert errors[2] < 1e-3
+
+
+# --- (6) the library's displacement-driven sliders: uncoupled diagonal case ---------------------
+
+def test_driven_iwan_same_steady_dissipation():
+    """A discrete Segalman Iwan (DrivenSliders, the exact play operator) driven by a periodic
+    displacement from random initial slider positions: the same dissipation per cycle from the
+    second cycle on, equal to Iwan's closed form, and to QuasiStaticFrictionSystem with the
+    diagonal K = diag(k_i), q_ext = k u(t), f N_i = F_i."""
+    iw = fj.Iwan.segalman(slip_force=2.0, stiffness=1e5, chi=-0.5, beta=0.3, n_sliders=20)
+    k, fsl = (np.array(c) for c in zip(*iw.sliders_table))
+    u_amp = 0.6 * iw.displacement(0.99 * iw.slip_force)  # some sliders never slip (permanent stick)
+    period, m = 0.01, 24
+    times = period * np.arange(m) / m
+    u = u_amp * np.sin(2 * np.pi * times / period)
+    exact = iw.dissipation_per_displacement_cycle(u_amp)
+    assert np.any(fsl / k > u_amp)
+    system = QuasiStaticFrictionSystem(np.diag(k), 1.0)
+    load = PeriodicLoad(times, np.outer(u, k), np.tile(fsl, (m, 1)), period)
+    rng = np.random.default_rng(7)
+    steady = []
+    for _ in range(5):
+        w0 = u[0] + (fsl / k) * rng.uniform(-1, 1, k.size)
+        sliders = DrivenSliders(k, fsl)
+        sliders.w = w0.copy()
+        per_cycle = []
+        for _cycle in range(3):
+            e0 = sliders.dissipated_energy
+            for x in np.append(u[1:], u[0]):
+                sliders.update(float(x))
+            per_cycle.append(sliders.dissipated_energy - e0)
+        qs = system.run(load, w0, 3)
+        for c, d in zip(qs, per_cycle):
+            assert abs(c.dissipation - d) <= EXACT * exact
+        np.testing.assert_allclose(qs[-1].slip_end, sliders.w, rtol=0, atol=EXACT * u_amp)
+        steady.append(per_cycle[1:])
+    steady = np.array(steady)
+    assert np.max(np.abs(steady - exact)) <= EXACT * exact
+
+
+# --- (5) bad input --------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("stiffness,friction,match", [
+    ([[1.0, 2.0], [2.0, 1.0]], 0.3, "stiffness"),           # indefinite
+    ([[1.0, 0.5], [0.4, 1.0]], 0.3, "stiffness"),           # not symmetric
+    ([[1.0, 1.0], [1.0, 1.0]], 0.3, "stiffness"),           # singular
+    ([[1.0, 0.0, 0.0]], 0.3, "stiffness"),                  # not square
+    ([[1.0, np.nan], [np.nan, 1.0]], 0.3, "stiffness"),
+    ([[1.0, 0.0], [0.0, 1.0]], -0.3, "friction_coefficient"),
+    ([[1.0, 0.0], [0.0, 1.0]], [0.3, 0.2, 0.1], "friction_coefficient"),
+    ([[1.0, 0.0], [0.0, 1.0]], np.nan, "friction_coefficient"),
+])
+def test_bad_system(stiffness, friction, match):
+    with pytest.raises(fj.ParameterError, match=match):
+        QuasiStaticFrictionSystem(stiffness, friction)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(normal=[[1.0, -1.0], [1.0, 1.0]]), "normal"),
+    (dict(normal=[[1.0, 0.0], [1.0, 1.0]]), "normal"),
+    (dict(normal=[1.0, 2.0, 3.0]), "normal"),
+    (dict(tangential=[[0.0, np.nan], [1.0, 1.0]]), "tangential"),
+    (dict(tangential=[0.0, 1.0]), "tangential"),
+    (dict(times=[0.0, 0.0]), "times"),
+    (dict(times=[0.1, 0.5]), "times"),
+    (dict(period=0.5), "period"),
+    (dict(period=np.inf), "period"),
+])
+def test_bad_load(kwargs, match):
+    args = dict(times=[0.0, 0.5], tangential=[[0.0, 0.0], [1.0, -1.0]], normal=[[1.0, 1.0], [1.0, 1.0]],
+                period=1.0)
+    args.update(kwargs)
+    with pytest.raises(fj.ParameterError, match=match):
+        PeriodicLoad(**args)
+
+
+def test_bad_run_arguments():
+    system = QuasiStaticFrictionSystem(np.eye(2), 0.5)
+    load = PeriodicLoad([0.0, 0.5], [[0.0, 0.0], [1.0, -1.0]], [1.0, 1.0], 1.0)
+    with pytest.raises(fj.ParameterError, match="initial_slip"):
+        shakedown_check(system, load, initial_slip=[10.0, 0.0])  # outside the friction bound
+    with pytest.raises(fj.ParameterError, match="initial_slip"):
+        shakedown_check(system, load, initial_slip=[0.0, np.nan])
+    with pytest.raises(fj.ParameterError, match="initial_slip"):
+        shakedown_check(system, load, initial_slip=[0.0])
+    with pytest.raises(fj.ParameterError, match="load"):
+        shakedown_check(QuasiStaticFrictionSystem(np.eye(3), 0.5), load)
+    with pytest.raises(fj.ParameterError, match="n_cycles"):
+        shakedown_check(system, load, n_cycles=0)
+    with pytest.raises(fj.ParameterError, match="rtol"):
+        shakedown_check(system, load, rtol=-1.0)
