@@ -17,6 +17,7 @@ __all__ = [
     "check_positive",
     "check_nonnegative",
     "check_grid",
+    "check_poisson_ratio",
 ]
 
 
@@ -51,6 +52,14 @@ def check_nonnegative(name: str, value) -> float:
     value = check_real(name, value)
     if value < 0.0:
         raise ParameterError(f"{name} must be >= 0 (allowed range [0, inf)), got {value!r}")
+    return value
+
+
+def check_poisson_ratio(name: str, value) -> float:
+    """Return ``value`` as a float in (-1, 0.5) (an isotropic elastic solid's Poisson ratio)."""
+    value = check_real(name, value)
+    if not -1.0 < value < 0.5:
+        raise ParameterError(f"{name} must be in (-1, 0.5), got {value!r}")
     return value
 
 

@@ -19,8 +19,8 @@ import math
 import numpy as np
 
 from ..elements.iwan import Iwan
-from ..elements.masing import ContinuousIwan
-from ..errors import ParameterError, check_nonnegative, check_positive, check_real
+from ..elements.masing import ContinuousIwan, odd_backbone
+from ..errors import ParameterError, check_nonnegative, check_poisson_ratio, check_positive
 
 __all__ = ["MindlinContact"]
 
@@ -61,9 +61,7 @@ class MindlinContact:
         self.friction_coefficient = check_positive("friction_coefficient", friction_coefficient)
         self.radius = check_positive("radius", radius)
         self.youngs_modulus = check_positive("youngs_modulus", youngs_modulus)
-        nu = check_real("poisson_ratio", poisson_ratio)
-        if not -1.0 < nu < 0.5:
-            raise ParameterError(f"poisson_ratio must be in (-1, 0.5), got {poisson_ratio!r}")
+        nu = check_poisson_ratio("poisson_ratio", poisson_ratio)
         self.poisson_ratio = nu
         e_star = self.youngs_modulus / (2.0 * (1.0 - nu * nu))
         shear = self.youngs_modulus / (2.0 * (1.0 + nu))
@@ -99,11 +97,7 @@ class MindlinContact:
 
     def backbone(self, u):
         """Tangential force [N] on monotonic loading to displacement ``u`` [m] (odd; f P beyond C)."""
-        u = np.asarray(u, dtype=float)
-        if not np.all(np.isfinite(u)):
-            raise ParameterError("u must be finite")
-        out = np.sign(u) * self._backbone_positive(np.abs(u))
-        return float(out) if out.ndim == 0 else out
+        return odd_backbone(self._backbone_positive, u)
 
     def _backbone_positive(self, u):
         """``f P [1 - (1 - u/C)^(3/2)]`` for ``u >= 0`` (``f P`` beyond ``C``)."""

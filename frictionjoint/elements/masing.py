@@ -22,7 +22,16 @@ import scipy.optimize
 from ..errors import ParameterError, check_nonnegative, check_positive
 from .iwan import segalman_density
 
-__all__ = ["ContinuousIwan", "MasingMemory"]
+__all__ = ["ContinuousIwan", "MasingMemory", "odd_backbone"]
+
+
+def odd_backbone(positive: Callable, u):
+    """``sgn(u) F(|u|)`` for a backbone ``F`` given on ``u >= 0``; a float for a scalar ``u``."""
+    u = np.asarray(u, dtype=float)
+    if not np.all(np.isfinite(u)):
+        raise ParameterError("u must be finite")
+    out = np.sign(u) * positive(np.abs(u))
+    return float(out) if out.ndim == 0 else out
 
 
 class ContinuousIwan:
@@ -118,11 +127,7 @@ class ContinuousIwan:
 
     def backbone(self, u):
         """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd)."""
-        u = np.asarray(u, dtype=float)
-        if not np.all(np.isfinite(u)):
-            raise ParameterError("u must be finite")
-        out = np.sign(u) * self._backbone(np.minimum(np.abs(u), self.slip_displacement))
-        return float(out) if out.ndim == 0 else out
+        return odd_backbone(lambda a: self._backbone(np.minimum(a, self.slip_displacement)), u)
 
     def displacement(self, force: float) -> float:
         """Displacement amplitude [m] at which the backbone reaches ``force`` [N], ``|force| < slip_force``."""
