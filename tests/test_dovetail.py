@@ -281,3 +281,33 @@ def test_driven_microslip_flanks_dissipate_as_their_iwan_elements():
         assert d.dissipated_energy - e0 == pytest.approx(expected, rel=1e-12)
     with pytest.raises(fj.ParameterError, match="normal_load_variation"):
         r.driven(normal_load_variation=True)
+
+
+def test_rounded_flanks_microslip_where_flat_flanks_stick():
+    """A flat flank with sharp edges sticks as a whole below its slip onset (seed: a flat region
+    sticks or slips as a whole); a flat with rounded edges (half-plane Ciavarella-Jaeger contact)
+    dissipates by microslip at every amplitude, growing like A^3 at small amplitude, and equals
+    its contact theory's Iwan element."""
+    def contact(n):
+        return fj.contact.HalfPlaneContact(fj.contact.RoundedFlatPunch(2e-3, 5e-3), n, MU, 210e9, 0.3,
+                                           reference_depth=0.01, length=0.02)
+    rounded = root(2e3, tangential_stiffness=None, flank_contact=contact, n_sliders=64)
+    flat = root(2e3, tangential_stiffness=rounded.tangential_stiffness)
+    iwan = contact(rounded.static.normal_force).to_iwan(64)
+    x_slip = MU * flat.static.normal_force * (1 - 0.2) / (flat.tangential_stiffness * math.cos(G))
+    d = {}
+    for name, r in (("flat", flat), ("rounded", rounded)):
+        for a in (0.1 * x_slip, 0.2 * x_slip):
+            drv = r.driven()
+            for x in (a, -a, a):
+                drv.update([x, 0.0])
+            e0 = drv.dissipated_energy
+            drv.update([-a, 0.0])
+            drv.update([a, 0.0])
+            d[name, a] = drv.dissipated_energy - e0
+    a1, a2 = 0.1 * x_slip, 0.2 * x_slip
+    assert d["flat", a1] == 0.0 and d["flat", a2] == 0.0
+    assert d["rounded", a1] > 0
+    assert d["rounded", a2] == pytest.approx(2 * iwan.dissipation_per_displacement_cycle(a2 * math.cos(G)),
+                                             rel=1e-12)
+    assert 6.0 < d["rounded", a2] / d["rounded", a1] < 10.0  # ~A^3 (8) with 64 sliders

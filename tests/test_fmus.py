@@ -234,7 +234,7 @@ def test_fmu_worker_process_isolates_the_fmu(fmus):
 
 
 # ----------------------------------------------------------- DovetailRoot, MicroslipJoint
-@pytest.mark.parametrize("profile, vary", [(0, 1), (0, 0), (1, 0)])
+@pytest.mark.parametrize("profile, vary", [(0, 1), (0, 0), (1, 0), (2, 0)])
 def test_dovetail_fmu_step_independent_and_matches_library(fmus, profile, vary):
     """Root path linear between corners: 1 or 4 communication steps per leg give the same outputs
     at the corners, equal to the library's DrivenDovetail (flat flanks with normal-load variation
@@ -254,9 +254,12 @@ def test_dovetail_fmu_step_independent_and_matches_library(fmus, profile, vary):
                 tangential_dof=0, radial_dof=1)
     if profile == 0:
         root = fj.DovetailRoot(2e3, tangential_stiffness=1e8, **args)
-    else:
+    elif profile == 1:
         root = fj.DovetailRoot(2e3, flank_contact=lambda n: fj.contact.MindlinContact(n, 0.3, 0.02, 210e9, 0.3),
                                n_sliders=32, **args)
+    else:
+        root = fj.DovetailRoot(2e3, flank_contact=lambda n: fj.contact.HalfPlaneContact(
+            fj.contact.RoundedFlatPunch(2e-3, 5e-3), n, 0.3, 210e9, 0.3, 0.01, length=0.02), n_sliders=32, **args)
     d = root.driven(normal_load_variation=bool(vary))
     names = list(DOVETAIL_OUTPUTS)
     for u, row in zip(dovetail_corners()[1:], ra):
@@ -323,7 +326,7 @@ def test_dovetail_fmu_in_libcosim_equals_fmpy(fmus):
 
 @pytest.mark.parametrize("fmu, name, value, text", [
     ("DovetailRoot", "flank_angle", 2.0, "flank_angle must be in [0, pi/2)"),
-    ("DovetailRoot", "flank_profile", 7, "flank_profile must be 0 (flat) or 1 (rounded)"),
+    ("DovetailRoot", "flank_profile", 7, "flank_profile must be 0 (flat), 1 (sphere) or 2 (rounded flat)"),
     ("DovetailRoot", "friction_coefficient", 0.0, "friction_coefficient must be > 0"),
     ("MicroslipJoint", "poisson_ratio", 0.5, "poisson_ratio"),
     ("MicroslipJoint", "n_sliders", 0, "n_sliders"),

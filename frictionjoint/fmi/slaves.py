@@ -266,7 +266,7 @@ class DovetailRootSlave(_Slave):
     (:class:`~frictionjoint.elements.dovetail.DrivenDovetail`)."""
 
     description = ("Dovetail blade root: two flanks inclined at flank_angle, loaded by the centrifugal "
-                   "force, each a Jenkins (flat flank) or a Cattaneo-Mindlin microslip Iwan (rounded "
+                   "force, each a Jenkins (flat flank) or a microslip Iwan from contact theory (rounded "
                    "flank), driven by the root displacement; exact for inputs linear between steps")
 
     def __init__(self, **kwargs):
@@ -279,12 +279,18 @@ class DovetailRootSlave(_Slave):
         self._parameter("tangential_stiffness", 1e8, "tangential stiffness of one flat flank [N/m], > 0")
         self._parameter("normal_load_variation", True, "normal loads follow the root motion, with lift-off "
                         "(flat flanks only); false: slip limits from the static normal load", kind=bool)
-        self._parameter("flank_profile", 0, "0: flat flank with sharp edges (Jenkins); 1: rounded flank, "
-                        "Cattaneo-Mindlin microslip Iwan of radius flank_radius", kind=int)
-        self._parameter("flank_radius", 0.02, "flank_profile 1: radius of the rounded contact [m], > 0")
-        self._parameter("youngs_modulus", 210e9, "flank_profile 1: Young's modulus [Pa], > 0")
-        self._parameter("poisson_ratio", 0.3, "flank_profile 1: Poisson's ratio, in (-1, 0.5)")
-        self._parameter("n_sliders", 32, "flank_profile 1: Iwan sliders per flank, >= 1", kind=int)
+        self._parameter("flank_profile", 0, "0: flat flank with sharp edges (Jenkins); 1: spherical contact "
+                        "of radius flank_radius (Cattaneo-Mindlin Iwan); 2: flat with rounded edges (2D "
+                        "half-plane, Ciavarella-Jaeger Iwan)", kind=int)
+        self._parameter("flank_radius", 0.02, "flank_profile 1: sphere radius [m], > 0")
+        self._parameter("flat_half_width", 2e-3, "flank_profile 2: half-width of the flat [m], > 0")
+        self._parameter("corner_radius", 5e-3, "flank_profile 2: radius of the rounded edges [m], > 0")
+        self._parameter("flank_length", 0.02, "flank_profile 2: contact length along the root [m], > 0")
+        self._parameter("reference_depth", 0.01, "flank_profile 2: depth of the points whose relative "
+                        "displacement is the flank slip (2D half-plane) [m], > contact half-width")
+        self._parameter("youngs_modulus", 210e9, "flank_profile 1, 2: Young's modulus [Pa], > 0")
+        self._parameter("poisson_ratio", 0.3, "flank_profile 1, 2: Poisson's ratio, in (-1, 0.5)")
+        self._parameter("n_sliders", 32, "flank_profile 1, 2: Iwan sliders per flank, >= 1", kind=int)
         self._input("u_tangential", 0.0, "tangential root displacement from the static state [m]")
         self._input("u_radial", 0.0, "radial root displacement from the static state, outward [m]")
         for name, (kind, text) in DOVETAIL_OUTPUTS.items():
@@ -292,7 +298,7 @@ class DovetailRootSlave(_Slave):
         self._root = None
 
     def _initialise(self):
-        from ..contact.mindlin import MindlinContact
+        from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
         from ..elements.dovetail import DovetailRoot
 
         args = dict(flank_angle=self.flank_angle, friction_coefficient=self.friction_coefficient,
@@ -300,14 +306,18 @@ class DovetailRootSlave(_Slave):
         profile = int(self.flank_profile)
         if profile == 0:
             root = DovetailRoot(self.centrifugal_force, tangential_stiffness=self.tangential_stiffness, **args)
-        elif profile == 1:
+        elif profile in (1, 2):
             def contact(n):
-                return MindlinContact(n, self.friction_coefficient, self.flank_radius, self.youngs_modulus,
-                                      self.poisson_ratio)
+                if profile == 1:
+                    return MindlinContact(n, self.friction_coefficient, self.flank_radius, self.youngs_modulus,
+                                          self.poisson_ratio)
+                return HalfPlaneContact(RoundedFlatPunch(self.flat_half_width, self.corner_radius), n,
+                                        self.friction_coefficient, self.youngs_modulus, self.poisson_ratio,
+                                        self.reference_depth, length=self.flank_length)
             root = DovetailRoot(self.centrifugal_force, flank_contact=contact, n_sliders=int(self.n_sliders),
                                 **args)
         else:
-            raise ParameterError(f"flank_profile must be 0 (flat) or 1 (rounded), got {profile}")
+            raise ParameterError(f"flank_profile must be 0 (flat), 1 (sphere) or 2 (rounded flat), got {profile}")
         self._root = root.driven(normal_load_variation=bool(self.normal_load_variation) and profile == 0)
         self._root.update([self.u_tangential, self.u_radial])
 
