@@ -32,6 +32,13 @@ _CHUNK = 48
 _RTOL = 4 * np.finfo(float).eps
 
 
+def _absmax(a: np.ndarray) -> float:
+    """``max |a|`` (0 for an empty array); plain Python for the tiny arrays of the marcher."""
+    if a.size <= 16:
+        return max(map(abs, a.ravel().tolist()), default=0.0)
+    return float(np.max(np.abs(a), initial=0.0))
+
+
 class EventLog:
     """Events in time order: ``time`` [s], ``element`` and ``slider`` indices, ``kind``.
 
@@ -98,6 +105,19 @@ class MarchState:
         return np.concatenate([self.x, self.v, self.w])
 
 
+class _Pattern:
+    """What depends on the status vector only (not on the state): built once per status and cached.
+
+    Event functions (rows of ``meta``) are ``g = cy y + ax x0 + af F + a0`` with
+    ``a0 = a0c + a0k * w[widx]`` (Jenkins springs' constant parts).
+    """
+
+    __slots__ = ("cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
+                 "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
+                 "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
+                 "has_rigid_stuck", "n_rows")
+
+
 class Marcher:
     """Marches a :class:`~frictionjoint.system.FrictionSystem` exactly from event to event.
 
@@ -107,9 +127,16 @@ class Marcher:
     def __init__(self, system):
         self.system = system
         self._configs: dict[bytes, ConfigData] = {}
+        self._patterns: dict[bytes, _Pattern] = {}
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
         self._mass_scale = float(np.max(np.diag(system.mass)))
+        # load scales of the tolerances that do not depend on the state
+        self._fscale_fixed = max(float(np.max(np.abs(system.force_cos), initial=0.0)),
+                                 float(np.max(np.abs(system.force_sin), initial=0.0)),
+                                 float(np.max(system.slip_force, initial=0.0)))
+        self._rigid_idx = np.flatnonzero(system.rigid)
+        self._rigid_dir = system.slider_direction[self._rigid_idx]
         self.held_force = None
 
     def set_held_force(self, force) -> None:
@@ -132,6 +159,85 @@ class Marcher:
         if cfg is None:
             cfg = self._configs[key] = ConfigData(self.system, stuck)
         return cfg
+
+    def _pattern(self, status: np.ndarray) -> _Pattern:
+        if status.dtype != np.int8:
+            status = status.astype(np.int8)
+        key = status.tobytes()
+        pat = self._patterns.get(key)
+        if pat is None:
+            pat = self._patterns[key] = self._build_pattern(status.copy())
+        return pat
+
+    def _build_pattern(self, status: np.ndarray) -> _Pattern:
+        sysm = self.system
+        n = sysm.n_dof
+        d = sysm.slider_direction
+        cfg = self.config(status)
+        pat = _Pattern()
+        pat.cfg = cfg
+        # event functions, as in the reference construction (one row per slipping slider, two per
+        # stuck slider); a0 = a0c + a0k * w[widx]
+        rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
+        zero = np.zeros(n)
+        rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
+        for i, s in enumerate(status):
+            fs = sysm.slip_force[i]
+            if s != 0:
+                rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero)
+                a0c.append(0.0); a0k.append(0.0); widx.append(i)
+                meta.append((i, "v"))
+            elif not sysm.rigid[i]:
+                k = sysm.slider_stiffness[i]
+                rows_x += [-k * d[i], k * d[i]]; rows_v += [zero, zero]; rows_f += [zero, zero]
+                a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
+                meta += [(i, "+"), (i, "-")]
+            else:
+                lr = cfg.L[rigid_row[i]]
+                hx = lr @ cfg.stiffness
+                hv = lr @ sysm.damping
+                # holding force T = -lr F + lr C v + lr Kc x
+                rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
+                a0c += [fs, fs]; a0k += [0.0, 0.0]; widx += [i, i]
+                meta += [(i, "+"), (i, "-")]
+        pat.meta = meta
+        pat.n_rows = len(meta)
+        if meta:
+            obs = Observables(rows_x, rows_v, rows_f, a0c)
+            pat.obs = obs
+            nb = cfg.N
+            pat.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
+            pat.red_cc = obs.af @ sysm.force_cos
+            pat.red_cs = obs.af @ sysm.force_sin
+            pat.has_af = bool(np.any(obs.af != 0))
+            pat.a0c = obs.a0
+            pat.a0k = np.array(a0k, dtype=float)
+            pat.widx = np.array(widx, dtype=np.intp)
+            pat.has_w = bool(np.any(pat.a0k != 0))
+            pat.row_slider = [i for i, _ in meta]
+            pat.row_v_list = [k == "v" for _, k in meta]
+            pat.row_fs = [float(sysm.slip_force[i]) for i, _ in meta]
+        else:
+            pat.obs = None
+            pat.row_slider, pat.row_v_list, pat.row_fs = [], [], []
+        pat.vrows = np.array(pat.row_v_list, dtype=bool)
+        pat.any_v = bool(pat.vrows.any())
+        # constant force of the status: slipping sliders' friction; stuck Jenkins springs' k w d
+        slip = status != 0
+        pat.f_slip = d[slip].T @ (status[slip] * sysm.slip_force[slip]) if np.any(slip) else None
+        jst = (status == 0) & ~sysm.rigid
+        pat.has_jst = bool(np.any(jst))
+        pat.jst = jst
+        pat.jst_dt = d[jst].T
+        pat.jst_k = sysm.slider_stiffness[jst]
+        # projection onto the status
+        pat.has_rigid_stuck = bool(cfg.rigid_stuck.size)
+        slip_j = slip & ~sysm.rigid
+        pat.has_slip_j = bool(np.any(slip_j))
+        pat.slip_j = slip_j
+        pat.slip_j_dir = d[slip_j]
+        pat.slip_j_off = status[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
+        return pat
 
     @property
     def n_configurations(self) -> int:
@@ -190,48 +296,24 @@ class Marcher:
             f = f + self.held_force
         return f
 
-    def _f_const(self, state: MarchState, f_ext: np.ndarray) -> np.ndarray:
-        sysm = self.system
+    def _f_const(self, state: MarchState, f_ext: np.ndarray, pat: _Pattern | None = None) -> np.ndarray:
+        if pat is None:
+            pat = self._pattern(state.status)
         f = f_ext.copy()
-        st = state.status
-        d = sysm.slider_direction
-        slip = st != 0
-        if np.any(slip):
-            f -= d[slip].T @ (st[slip] * sysm.slip_force[slip])
-        jst = (st == 0) & ~sysm.rigid
-        if np.any(jst):
-            f += d[jst].T @ (sysm.slider_stiffness[jst] * state.w[jst])
+        if pat.f_slip is not None:
+            f -= pat.f_slip
+        if pat.has_jst:
+            f += pat.jst_dt @ (pat.jst_k * state.w[pat.jst])
         return f
 
-    def _event_observables(self, cfg: ConfigData, state):
-        """Event functions (valid while > 0) and their meta ``(slider, kind)``, kind in v/+/-."""
-        sysm = self.system
-        n = sysm.n_dof
-        d = sysm.slider_direction
-        rows_x, rows_v, rows_f, a0, meta = [], [], [], [], []
-        zero = np.zeros(n)
-        rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
-        for i, s in enumerate(state.status):
-            fs = sysm.slip_force[i]
-            if s != 0:
-                rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero); a0.append(0.0)
-                meta.append((i, "v"))
-            elif not sysm.rigid[i]:
-                k = sysm.slider_stiffness[i]
-                rows_x += [-k * d[i], k * d[i]]; rows_v += [zero, zero]; rows_f += [zero, zero]
-                a0 += [fs + k * state.w[i], fs - k * state.w[i]]
-                meta += [(i, "+"), (i, "-")]
-            else:
-                lr = cfg.L[rigid_row[i]]
-                hx = lr @ cfg.stiffness
-                hv = lr @ sysm.damping
-                # holding force T = -lr F + lr C v + lr Kc x
-                rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
-                a0 += [fs, fs]
-                meta += [(i, "+"), (i, "-")]
-        if not meta:
-            return None, meta
-        return Observables(rows_x, rows_v, rows_f, a0), meta
+    def _reduced_events(self, pat: _Pattern, itv: Interval, w: np.ndarray):
+        """:meth:`Interval.reduce` of the event functions, from the cached per-status parts."""
+        obs = pat.obs
+        c0 = obs.ax @ itv.x0
+        if pat.has_af:
+            c0 = c0 + obs.af @ itv.f_const
+        c0 = c0 + (pat.a0c + pat.a0k * w[pat.widx] if pat.has_w else pat.a0c)
+        return pat.red_cy, c0, pat.red_cc, pat.red_cs
 
     def force_observables(self, itv: Interval) -> Observables:
         """Slider forces ``T`` (restoring convention) on an interval, one row per slider."""
@@ -256,50 +338,48 @@ class Marcher:
 
     def interval(self, state: MarchState, f_ext=None):
         """Closed-form :class:`Interval` from ``state`` and its event functions."""
-        cfg = self.config(state.status)
+        pat = self._pattern(state.status)
         if f_ext is None:
             f_ext = self._f_ext(state.t)
-        itv = Interval(self.system, cfg, state.t, state.x, state.v, self._f_const(state, f_ext))
+        itv = Interval(self.system, pat.cfg, state.t, state.x, state.v, self._f_const(state, f_ext, pat))
         itv.f_ext = f_ext
         itv.status = state.status.copy()
-        itv.w = state.w.copy()
-        obs, meta = self._event_observables(cfg, state)
-        itv.events = (itv.reduce(obs) if obs is not None else None, meta)
+        itv.w = w = state.w.copy()
+        itv.pattern = pat
+        itv.events = (self._reduced_events(pat, itv, w) if pat.obs is not None else None, pat.meta)
         return itv
 
-    def _tolerances(self, itv, meta) -> np.ndarray:
-        """Zero tolerances of the event functions: force and velocity scales times 1e-12/1e-11."""
-        sysm = self.system
-        fscale = max(float(np.max(np.abs(itv.f_const), initial=0.0)),
-                     float(np.max(np.abs(sysm.force_cos), initial=0.0)),
-                     float(np.max(np.abs(sysm.force_sin), initial=0.0)),
-                     float(np.max(sysm.slip_force, initial=0.0)),
-                     float(np.max(np.abs(itv.config.stiffness @ itv.x0), initial=0.0)))
-        rate = max(sysm.omega, itv.config.max_rate, 1e-300)
+    def _tolerances(self, itv) -> list:
+        """Zero tolerances of the event functions (list of floats): force and velocity scales
+        times 1e-12/1e-11. Cached on the interval for the velocity scale they were made with."""
+        cached = getattr(itv, "_tol", None)
+        if cached is not None and cached[0] == self.v_scale:
+            return cached[1]
+        pat = itv.pattern
+        kx0 = itv.kx0
+        fscale = max(_absmax(itv.f_const), self._fscale_fixed, _absmax(kx0))
+        rate = max(self.system.omega, itv.config.max_rate, 1e-300)
         # velocity scale: what has been seen, or what the loads can produce in 1/rate
-        v_ref = max(self.v_scale, fscale / (self._mass_scale * rate))
-        tol = np.empty(len(meta))
-        for j, (i, kind) in enumerate(meta):
-            if kind == "v":
-                tol[j] = 1e-11 * v_ref
-            else:
-                tol[j] = 1e-12 * max(sysm.slip_force[i], fscale)
+        v_scale = self.v_scale
+        v_ref = max(v_scale, fscale / (self._mass_scale * rate))
+        tv = 1e-11 * v_ref
+        tol = [tv if isv else 1e-12 * max(fs, fscale) for isv, fs in zip(pat.row_v_list, pat.row_fs)]
+        itv._tol = (v_scale, tol)
         return tol
+
 
     # -------------------------------------------------------------- settling
     def _project(self, state: MarchState) -> None:
         """Make the state exactly consistent with its status (stuck velocities, Jenkins w)."""
-        sysm = self.system
-        st = state.status
-        cfg = self.config(st)
-        if cfg.rigid_stuck.size:
+        pat = self._pattern(state.status)
+        if pat.has_rigid_stuck:
+            cfg = pat.cfg
             state.v = cfg.N @ (cfg.N.T @ state.v)
-        slip_j = (st != 0) & ~sysm.rigid
-        if np.any(slip_j):
-            s = sysm.slider_direction[slip_j] @ state.x
-            state.w[slip_j] = s - st[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
-        rig = sysm.rigid
-        state.w[rig] = sysm.slider_direction[rig] @ state.x
+        if pat.has_slip_j:
+            s = pat.slip_j_dir @ state.x
+            state.w[pat.slip_j] = s - pat.slip_j_off
+        if self._rigid_idx.size:
+            state.w[self._rigid_idx] = self._rigid_dir @ state.x
 
     def settle(self, state: MarchState, log: EventLog | None = None, trigger=None) -> Interval:
         """Settle the stick/slip status at ``state.t`` (Hong & Liu's rules); return the interval.
@@ -314,29 +394,44 @@ class Marcher:
         # has the slip direction (Hong & Liu), so their velocity event is judged by the sign of
         # its derivative alone (a tolerance band on it could send them back to stick, forever,
         # when the motion is far below the velocity scale seen earlier in the run)
-        forced = np.zeros(sysm.n_sliders, dtype=bool)
+        forced = [False] * sysm.n_sliders
+        omega = sysm.omega
         for _ in range(max_iter):
             itv = self.interval(state, f_ext)
             red, meta = itv.events
             if red is None:
                 break
-            g, dg, ddg = itv.start_values(red)
-            tol = self._tolerances(itv, meta)
-            rate = max(self.system.omega, itv.config.max_rate, 1e-300)
-            atzero = np.abs(g) <= tol
-            dtol = 10.0 * np.maximum(tol, 1e-300) * rate
-            sure = np.array([kind == "v" and forced[i] for i, kind in meta], dtype=bool)
-            # within the band |dg| <= dtol the curvature decides, except that a forced slider
-            # whose velocity already grows (dg > 0) stays slipping
-            bad = np.where(atzero, (dg < -dtol) | ((np.abs(dg) <= dtol) & (ddg < 0) & ~(sure & (dg > 0))),
-                           g < 0)
-            itv.atzero = atzero
-            if not np.any(bad):
+            g, dg, ddg = (a.tolist() for a in itv.start_values(red))
+            tol = self._tolerances(itv)
+            rate = max(omega, itv.config.max_rate, 1e-300)
+            atzero = []
+            best, j = math.inf, -1
+            for r, (i, kind) in enumerate(meta):
+                gr, dgr, tr = g[r], dg[r], tol[r]
+                tr_ = max(tr, 1e-300)
+                if abs(gr) <= tr:
+                    atzero.append(True)
+                    dtol = 10.0 * tr_ * rate
+                    # within the band |dg| <= dtol the curvature decides, except that a forced
+                    # slider whose velocity already grows (dg > 0) stays slipping
+                    if dgr < -dtol:
+                        score = dgr / dtol
+                    elif (abs(dgr) <= dtol and ddg[r] < 0
+                          and not (kind == "v" and forced[i] and dgr > 0)):
+                        score = -1.0
+                    else:
+                        continue
+                else:
+                    atzero.append(False)
+                    if not gr < 0:
+                        continue
+                    score = gr / tr_
+                # most violated first, normalised by its tolerance scale (first of equals)
+                if j < 0 or score < best:
+                    best, j = score, r
+            itv.atzero = np.array(atzero, dtype=bool)
+            if j < 0:
                 break
-            # most violated first, normalised by its tolerance scale
-            score = np.where(atzero, np.where(dg < -dtol, dg / dtol, -1.0), g / np.maximum(tol, 1e-300))
-            score = np.where(bad, score, np.inf)
-            j = int(np.argmin(score))
             i, kind = meta[j]
             if kind == "v":
                 state.status[i] = 0
@@ -374,27 +469,40 @@ class Marcher:
         if rate == 0.0:
             return None
         h = 2.0 * math.pi / rate / _SAMPLES_PER_PERIOD
-        tol = self._tolerances(itv, meta)
-        atzero = getattr(itv, "atzero", np.zeros(len(meta), bool))
-        g_a, dg_a = itv.evaluate(red, 0.0, order=1)
-        g_a = np.where(atzero, 0.0, g_a[:, 0])
-        dg_a = dg_a[:, 0]
+        pat = itv.pattern
+        tol = self._tolerances(itv)
+        atzero = getattr(itv, "atzero", None)
+        if atzero is None:
+            atzero = np.zeros(len(meta), bool)
+        steps = h * np.arange(1, _CHUNK + 1)
+        # the start values are evaluated together with the first chunk of samples
+        n = min(_CHUNK, max(1, math.ceil(horizon / h)))
+        taus = steps[:n].copy()
+        taus[-1] = min(taus[-1], horizon)
+        taus = taus[taus <= horizon]
+        sample = itv.sampler(red)
+        g, dg = sample(np.concatenate([[0.0], taus]))
+        g_a = np.where(atzero, 0.0, g[:, 0])
+        dg_a = dg[:, 0]
+        g, dg = g[:, 1:], dg[:, 1:]
         tau_a = 0.0
-        vrows = np.array([k == "v" for _, k in meta])
+        vrows = pat.vrows
+        any_v = pat.any_v
         # velocity scale with a fading memory (halved per interval, raised by what is seen), so
         # that tolerances follow a response that decays by many orders of magnitude instead of
         # staying tied to the largest velocity ever seen
         self.v_scale *= 0.5
-        if vrows.any():
-            self.v_scale = max(self.v_scale, float(np.max(np.abs(g_a[vrows]), initial=0.0)))
+        if any_v:
+            self.v_scale = max(self.v_scale, _absmax(g_a[vrows]))
         while tau_a < horizon:
-            n = min(_CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
-            taus = tau_a + h * np.arange(1, n + 1)
-            taus[-1] = min(taus[-1], horizon)
-            taus = taus[taus <= horizon]
-            g, dg = itv.evaluate(red, taus, order=1)
-            if vrows.any():
-                self.v_scale = max(self.v_scale, float(np.max(np.abs(g[vrows]))))
+            if g is None:
+                n = min(_CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
+                taus = tau_a + steps[:n]
+                taus[-1] = min(taus[-1], horizon)
+                taus = taus[taus <= horizon]
+                g, dg = sample(taus)
+            if any_v:
+                self.v_scale = max(self.v_scale, _absmax(g[vrows]))
             ga = np.hstack([g_a[:, None], g])
             dga = np.hstack([dg_a[:, None], dg])
             ta = np.concatenate([[tau_a], taus])
@@ -414,6 +522,7 @@ class Marcher:
                         return best
             tau_a = taus[-1]
             g_a, dg_a = g[:, -1], dg[:, -1]
+            g = None
         return None
 
     def _locate(self, itv, red, j, a, b, crossing, tol, h, start_zero):

@@ -118,6 +118,30 @@ class ConfigData:
         self.W = w
         rates = np.abs(self.lam)
         self.max_rate = float(rates.max()) if rates.size else 0.0
+        # forcing terms that depend on the configuration only (reused by every interval)
+        zm = np.zeros(m)
+        self.bc = np.concatenate([zm, self.mr_inv_nt @ system.force_cos])
+        self.bs = np.concatenate([zm, self.mr_inv_nt @ system.force_sin])
+        self.bc_zero = not self.bc.any()
+        self.bs_zero = not self.bs.any()
+        self._modal_omega = None
+
+    def modal_forcing(self, w: float):
+        """Per-configuration parts of :meth:`Interval._prepare` at forcing frequency ``w``:
+        half the modal harmonic loads and, for ``mu`` in ``0, iw, -iw``, ``(mu, mu - lam, near)``."""
+        if self._modal_omega != w:
+            wi = self.W
+            lam = self.lam
+            scale = max(self.max_rate, w, 1e-300)
+            terms = []
+            for mu in (0.0, 1j * w, -1j * w):
+                dmu = mu - lam
+                near = np.abs(dmu) < 1e-4 * scale
+                terms.append((mu, dmu, near, bool(near.any())))
+            self._modal_cache = (wi @ (self.bc - 1j * self.bs) * 0.5,
+                                 wi @ (self.bc + 1j * self.bs) * 0.5, terms)
+            self._modal_omega = w
+        return self._modal_cache
 
 
 class Observables:
@@ -159,17 +183,17 @@ class Interval:
         self.system = system
         self.config = config
         self.t0 = float(t0)
-        self.x0 = np.asarray(x0, dtype=float)
+        self.x0 = x0 = np.asarray(x0, dtype=float)
         self.f_const = np.asarray(f_const, dtype=float)
-        nb = config.N
         m = config.m
         self.omega = system.omega
-        minv = config.mr_inv_nt
-        b0 = np.concatenate([np.zeros(m), minv @ (self.f_const - config.stiffness @ self.x0)])
-        bc = np.concatenate([np.zeros(m), minv @ system.force_cos])
-        bs = np.concatenate([np.zeros(m), minv @ system.force_sin])
-        y0 = np.concatenate([np.zeros(m), nb.T @ np.asarray(v0, dtype=float)])
-        self._bvec = (b0, bc, bs)
+        # K_c x0, kept for the tolerance scales of the marcher
+        self.kx0 = kx0 = config.stiffness @ x0
+        b0 = np.zeros(2 * m)
+        b0[m:] = config.mr_inv_nt @ (self.f_const - kx0)
+        y0 = np.zeros(2 * m)
+        y0[m:] = config.N.T @ np.asarray(v0, dtype=float)
+        self._bvec = (b0, config.bc, config.bs)
         self._y0 = y0
         self._ready = False
 
@@ -183,26 +207,26 @@ class Interval:
         y0 = self._y0
         if config.modal and m:
             wi = config.W
+            hp, hm, terms = config.modal_forcing(w)
             self.eta0 = wi @ y0
             self.beta0 = wi @ b0
-            ph = np.exp(1j * w * self.t0)
-            self.gp = wi @ (bc - 1j * bs) * 0.5 * ph
-            self.gm = wi @ (bc + 1j * bs) * 0.5 * np.conj(ph)
+            ph = cmath.exp(1j * w * self.t0)
+            self.gp = hp * ph
+            self.gm = hm * ph.conjugate()
             # exp-polynomial form eta = e^{lam tau} a + b0 + b+ e^{iw tau} + b- e^{-iw tau}, with the
             # (near-)resonant mode/forcing pairs kept in the phi1 form (exact at resonance)
-            lam = config.lam
-            scale = max(config.max_rate, w, 1e-300)
             a = self.eta0.copy()
             self._near = []
             self._b = []
-            for mu, c in ((0.0, self.beta0), (1j * w, self.gp), (-1j * w, self.gm)):
-                dmu = mu - lam
-                near = np.abs(dmu) < 1e-4 * scale
-                bk = np.where(near, 0.0, c / np.where(near, 1.0, dmu))
+            for (mu, dmu, near, any_near), c in zip(terms, (self.beta0, self.gp, self.gm)):
+                if any_near:
+                    bk = np.where(near, 0.0, c / np.where(near, 1.0, dmu))
+                    if np.any(near & (c != 0)):
+                        self._near.append((mu, np.where(near, c, 0.0)))
+                else:
+                    bk = c / dmu
                 a -= bk
                 self._b.append(bk)
-                if np.any(near & (c != 0)):
-                    self._near.append((mu, np.where(near, c, 0.0)))
             self._a = a
         elif m:
             n2 = 2 * m
@@ -286,17 +310,27 @@ class Interval:
         """Observable values and first two time derivatives at ``tau = 0`` (no modal transform)."""
         cy, c0, cc, cs = red
         w = self.omega
+        co, si = math.cos(w * self.t0), math.sin(w * self.t0)
         if self.config.m:
             b0, bc, bs = self._bvec
-            co, si = math.cos(w * self.t0), math.sin(w * self.t0)
-            a = self.config.A
+            cfg = self.config
+            a = cfg.A
             y0 = self._y0
-            y1 = a @ y0 + b0 + bc * co + bs * si
-            y2 = a @ y1 + w * (bs * co - bc * si)
+            # terms of all-zero harmonic loads are skipped (adding exact zeros)
+            if cfg.bc_zero and cfg.bs_zero:
+                y1 = a @ y0 + b0
+                y2 = a @ y1
+            elif cfg.bs_zero:
+                y1 = a @ y0 + b0 + bc * co
+                y2 = a @ y1 + w * (-(bc * si))
+            else:
+                y1 = a @ y0 + b0 + bc * co + bs * si
+                y2 = a @ y1 + w * (bs * co - bc * si)
             vals = [cy @ y0, cy @ y1, cy @ y2]
         else:
-            co, si = math.cos(w * self.t0), math.sin(w * self.t0)
             vals = [np.zeros(c0.size)] * 3
+        if not (cc.any() or cs.any()):
+            return [vals[0] + c0, vals[1], vals[2]]
         return [vals[0] + c0 + cc * co + cs * si,
                 vals[1] + w * (cs * co - cc * si),
                 vals[2] - w * w * (cc * co + cs * si)]
@@ -340,6 +374,44 @@ class Interval:
             return (float((pla @ exp(lam * t)).real) + (1j * w * (kp * e - km / e)).real
                     + w * (csf * math.cos(ph) - ccf * math.sin(ph)))
         return g, dg
+
+    def sampler(self, red):
+        """``f(tau) -> (g, g')`` of all observable rows at local times ``tau`` (1-D array): the
+        modal exp-polynomial contracted with the observables once (fast sampling for event
+        search; equal to :meth:`evaluate` with ``order=1`` up to rounding)."""
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        if not (cfg.modal and cfg.m) or self._near:
+            return lambda tau: self.evaluate(red, tau, order=1)
+        cy, c0, cc, cs = red
+        p = cy @ cfg.V
+        lam = cfg.lam
+        pa = p * self._a
+        pla = pa * lam
+        b0, bp, bm = self._b
+        k0 = ((p @ b0).real + c0)[:, None]
+        kp = (p @ bp)[:, None]
+        km = (p @ bm)[:, None]
+        iwkp, iwkm = 1j * self.omega * kp, 1j * self.omega * km
+        lamc = lam[:, None]
+        w = self.omega
+        t0 = self.t0
+        harmonic = bool(np.any(cc != 0) or np.any(cs != 0))
+
+        def f(tau):
+            eip = np.exp(1j * w * tau)[None, :]
+            eim = eip.conj()
+            e = np.exp(lamc * tau[None, :])
+            g = (pa @ e).real + k0 + (kp * eip + km * eim).real
+            dg = (pla @ e).real + (iwkp * eip - iwkm * eim).real
+            if harmonic:
+                ph = w * (t0 + tau)
+                co, si = np.cos(ph), np.sin(ph)
+                g = g + np.outer(cc, co) + np.outer(cs, si)
+                dg = dg + w * (np.outer(cs, co) - np.outer(cc, si))
+            return g, dg
+        return f
 
     def evaluate(self, red, tau, order: int = 0) -> list[np.ndarray]:
         """Observable values (n_obs, k) and time derivatives up to ``order`` at local times ``tau``."""
