@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "new_figure"]
+__all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
+           "new_figure"]
 
 _DPI = 130
 
@@ -357,3 +358,64 @@ def plot_time_response(tr, ax=None, path=None, **kwargs):
     ax.grid(True, alpha=0.3)
     _save(fig, path)
     return ax
+
+
+# --------------------------------------------------------------------------- work precision
+
+
+_METHOD_STYLE = {
+    "exact marcher": dict(marker="*", color="C3", ms=13, zorder=5),
+    "steady_state": dict(marker="s", color="C0", ms=6, mfc="none"),
+    "FMU sweep": dict(marker="D", color="C4", ms=6, mfc="none"),
+    "describing function": dict(marker="X", color="k", ms=8),
+    "tanh RK45": dict(marker="o", color="C1", ms=4, alpha=0.75),
+    "tanh LSODA": dict(marker="^", color="C2", ms=4, alpha=0.75),
+    "tanh Radau": dict(marker="v", color="C8", ms=4, alpha=0.75),
+    "events DOP853": dict(marker="P", color="C9", ms=7),
+}
+
+
+def plot_work_precision(wp, path=None, floor: float = 1e-17):
+    """Work-precision diagram: relative error against wall time, log-log, one panel per case.
+
+    Parameters
+    ----------
+    wp : frictionjoint.benchmark.WorkPrecision
+        Result of :func:`frictionjoint.benchmark.run_benchmark`.
+    path : str or os.PathLike, optional
+        Write the figure there.
+    floor : float
+        Errors below this (exact zeros) are drawn at it [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    cases = list(wp.problems)
+    fig = new_figure((4.6 * len(cases), 4.8))
+    axes = np.atleast_1d(fig.subplots(1, len(cases), sharey=True))
+    handles = {}
+    for ax, case in zip(axes, cases):
+        rows = [r for r in wp.case_rows(case) if r.ok]
+        for method in dict.fromkeys(r.method for r in rows):
+            sel = [r for r in rows if r.method == method]
+            style = dict(_METHOD_STYLE.get(method, dict(marker="o")), ls="none", label=method)
+            (line,) = ax.plot([r.time for r in sel], [max(r.error, floor) for r in sel], **style)
+            handles.setdefault(method, line)
+        ax.axhline(1e-10, color="0.5", lw=0.8, ls="--")
+        ax.text(0.02, 1e-10, " 1e-10", transform=ax.get_yaxis_transform(), va="bottom", fontsize=7,
+                color="0.4")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        prob = wp.problems[case]
+        motion = "stop-free" if prob.regime == "stop-free" else "with stops"
+        ax.set_title(f"{case.label} ({motion})\nreference: {prob.reference_name.split(' (')[0]}", fontsize=9)
+        ax.set_xlabel("wall time [s] (best of repeats)")
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel(f"relative amplitude error (0 drawn at {floor:.0e})")
+    fig.legend(list(handles.values()), list(handles), loc="outside lower center", ncol=len(handles),
+               fontsize=8, frameon=False)
+    fig.suptitle("Coulomb oscillator, amplitude of the periodic steady state: error against run time",
+                 fontsize=10)
+    _save(fig, path)
+    return fig
