@@ -18,6 +18,7 @@ __all__ = [
     "check_nonnegative",
     "check_grid",
     "check_poisson_ratio",
+    "check_count",
 ]
 
 
@@ -61,6 +62,13 @@ def check_poisson_ratio(name: str, value) -> float:
     if not -1.0 < value < 0.5:
         raise ParameterError(f"{name} must be in (-1, 0.5), got {value!r}")
     return value
+
+
+def check_count(name: str, value, minimum: int = 1) -> int:
+    """Return ``value`` as an int >= ``minimum`` or raise :class:`ParameterError`."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
 
 
 def check_grid(name: str, values, positive: bool = True, unit: str = "") -> np.ndarray:

@@ -5,7 +5,7 @@ import math
 
 
 from .elements import CoulombSlider
-from .errors import check_nonnegative, check_positive, check_real
+from .errors import check_count, check_nonnegative, check_positive, check_real
 from .excitation import HarmonicBaseMotion, HarmonicForce
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import Marcher
@@ -157,6 +157,8 @@ class CoulombOscillator:
             ``stops_per_cycle``, ``converged`` and ``message`` (also on unbounded growth and
             non-unique orbits).
         """
+        max_periods = check_count("max_periods", max_periods, 0)
+        n_samples = check_count("n_samples", n_samples, 0)
         gx, gv = self.initial_guess()
         x0 = gx if x0 is None else check_real("x0", x0)
         v0 = gv if v0 is None else check_real("v0", v0)

@@ -11,7 +11,10 @@ __all__ = ["LinearStructure"]
 
 
 def _square_matrix(name: str, value, n: int | None) -> np.ndarray:
-    a = np.atleast_2d(np.asarray(value, dtype=float))
+    try:
+        a = np.atleast_2d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a square matrix of real numbers, got {value!r}") from None
     if a.ndim != 2 or a.shape[0] != a.shape[1]:
         raise ParameterError(f"{name} must be a square matrix, got shape {np.shape(value)}")
     if n is not None and a.shape[0] != n:
@@ -92,7 +95,10 @@ class LinearStructure:
             d = np.zeros(self.n_dof)
             d[self.dof_index(dof)] = 1.0
             return d
-        d = np.asarray(direction, dtype=float).reshape(-1)
+        try:
+            d = np.asarray(direction, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            d = np.zeros(0)
         if d.shape != (self.n_dof,) or not np.all(np.isfinite(d)) or not np.any(d):
             raise ParameterError(
                 f"direction must be a finite non-zero vector of length {self.n_dof}, got {direction!r}")

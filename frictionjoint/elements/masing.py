@@ -68,13 +68,14 @@ class ContinuousIwan:
     def __init__(self, backbone: Callable, stiffness: float, slip_force: float, slip_displacement: float,
                  inverse: Callable | None = None, primitive: Callable | None = None,
                  density: Callable | None = None, point_sliders=()):
+        for name, fun in (("backbone", backbone), ("inverse", inverse), ("primitive", primitive),
+                          ("density", density)):
+            if not callable(fun) and (name == "backbone" or fun is not None):
+                raise ParameterError(f"{name} must be a callable of the slip displacement u [m], got {fun!r}")
         self._backbone = backbone
         self.stiffness = check_positive("stiffness", stiffness)
         self.slip_force = check_positive("slip_force", slip_force)
-        phi = float(slip_displacement)
-        if not phi > 0:
-            raise ParameterError(f"slip_displacement must be > 0, got {slip_displacement!r}")
-        self.slip_displacement = phi
+        self.slip_displacement = check_positive("slip_displacement", slip_displacement)
         self._inverse = inverse
         self._primitive = primitive
         self._density = density
