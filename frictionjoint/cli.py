@@ -30,6 +30,7 @@ import numpy as np
 
 from . import __version__
 from .errors import ParameterError
+from .fmi.build import FMUS
 from .stepping import OSCILLATOR_OUTPUTS
 
 __all__ = ["main", "build_parser"]
@@ -211,7 +212,7 @@ def build_parser() -> argparse.ArgumentParser:
     bf = sub.add_parser(
         "build-fmus", allow_abbrev=False,
         help="build the FMUs (pythonfmu), post-process and validate them",
-        description="Build CoulombOscillator.fmu, JenkinsJoint.fmu and IwanJoint.fmu from the scripts in "
+        description="Build " + ", ".join(f"{name}.fmu" for name in FMUS) + " from the scripts in "
                     "fmus/, with the library bundled inside, and check each with fmpy's validate_fmu.")
     bf.add_argument("--out", default=None, metavar="DIR",
                     help="output folder (default: fmus/build next to the package)")
@@ -316,7 +317,7 @@ def _write(result, args) -> int:
 
 
 def _build_fmus(args, parser) -> int:
-    from .fmi.build import FMUS, build_fmus, default_source_dir
+    from .fmi.build import build_fmus, default_source_dir
 
     out = args.out or str(default_source_dir() / "build")
     if args.only:

@@ -67,7 +67,6 @@ class FrictionSystem:
                 fc[i] += e.stiffness * y * np.cos(e.phase) + e.damping * y * w * np.sin(e.phase)
                 fs[i] += e.stiffness * y * np.sin(e.phase) - e.damping * y * w * np.cos(e.phase)
         self.mass = np.array(structure.mass)
-        self.stiffness = k
         self.damping = c
         self.force_cos = fc
         self.force_sin = fs
@@ -81,7 +80,7 @@ class FrictionSystem:
                 # elements acting along several directions (DovetailRoot): sliders with their
                 # own directions and preloads, plus linear springs and a constant force
                 att = el.attach(structure)
-                k += att.stiffness
+                k = k + att.stiffness
                 self.constant_force += att.force
                 for d, s, p in zip(att.directions, att.sliders, att.preload):
                     d_rows.append(d)
@@ -99,6 +98,7 @@ class FrictionSystem:
                 ksl.append(s.stiffness)
                 pre.append(0.0)
                 owner.append(ie)
+        self.stiffness = k  # structure + base springs + the elements' linear springs
         self.slider_direction = np.array(d_rows, dtype=float).reshape(len(d_rows), n)
         self.slip_force = np.array(fsl, dtype=float)
         self.slider_stiffness = np.array(ksl, dtype=float)

@@ -21,15 +21,28 @@ from libcosimpy.CosimSlave import CosimLocalSlave
 OUTPUTS = ("x", "v", "dissipated_energy")
 
 
-def main(path, slip_force, omega, step_ns, n_steps):
+def _execution(path, step_ns, instance_name, parameters):
+    """One FMU in a libcosim execution with a last-value observer and an override manipulator
+    (for inputs), its parameters set: ``(execution, index, references, observer, manipulator)``."""
     log_output_level(CosimLogLevel.WARNING)
-    ex = CosimExecution.from_step_size(step_ns)
-    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="oscillator"))
+    ex = CosimExecution.from_step_size(int(step_ns))
+    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name=instance_name))
     vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
-    for name, value in dict(slip_force=slip_force, force_amplitude=1.0, omega=omega, x0=0.1, v0=-0.2).items():
-        assert ex.real_initial_value(idx, vr[name], value)
+    man = CosimManipulator.create_override()
+    ex.add_manipulator(man)
+    for name, value in parameters.items():
+        if isinstance(value, int):
+            assert ex.integer_initial_value(idx, vr[name], value)
+        else:
+            assert ex.real_initial_value(idx, vr[name], value)
+    return ex, idx, vr, obs, man
+
+
+def main(path, slip_force, omega, step_ns, n_steps):
+    ex, idx, vr, obs, _ = _execution(path, step_ns, "oscillator", dict(
+        slip_force=slip_force, force_amplitude=1.0, omega=omega, x0=0.1, v0=-0.2))
     rows, times = [], []
     for _ in range(n_steps):
         assert ex.step()
@@ -46,15 +59,8 @@ def dovetail(path, substeps):
 
     from fmu_checks import DOVETAIL_OUT, dovetail_corners
 
-    log_output_level(CosimLogLevel.WARNING)
-    ex = CosimExecution.from_step_size(int(1e6 / substeps))  # 1 ms per leg
-    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="root"))
-    vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
-    obs = CosimObserver.create_last_value()
-    ex.add_observer(obs)
-    man = CosimManipulator.create_override()
-    ex.add_manipulator(man)
-    assert ex.real_initial_value(idx, vr["centrifugal_force"], 2e3)
+    ex, idx, vr, obs, man = _execution(path, 1e6 / substeps, "root",  # 1 ms per leg
+                                       dict(centrifugal_force=2e3))
     corners = dovetail_corners()
     reals = [n for n in DOVETAIL_OUT if not n.startswith("slipping")]
     rows = []
@@ -74,19 +80,7 @@ def microslip(path, substeps):
 
     from fmu_checks import MICROSLIP_AMPLITUDES, MICROSLIP_PARAMETERS
 
-    log_output_level(CosimLogLevel.WARNING)
-    ex = CosimExecution.from_step_size(int(1e6 / substeps))
-    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="joint"))
-    vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
-    obs = CosimObserver.create_last_value()
-    ex.add_observer(obs)
-    man = CosimManipulator.create_override()
-    ex.add_manipulator(man)
-    for name, value in MICROSLIP_PARAMETERS.items():
-        if isinstance(value, int):
-            assert ex.integer_initial_value(idx, vr[name], value)
-        else:
-            assert ex.real_initial_value(idx, vr[name], value)
+    ex, idx, vr, obs, man = _execution(path, 1e6 / substeps, "joint", MICROSLIP_PARAMETERS)
     rows, u_prev = [], 0.0
     for a in MICROSLIP_AMPLITUDES:
         for target in (a, -a, a):

@@ -52,9 +52,6 @@ from .jenkins import Jenkins
 
 __all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail"]
 
-FLANKS = ("right", "left")
-
-
 @dataclass(frozen=True)
 class DovetailStatic:
     """Static state of the spun-up root (both flanks alike).
@@ -244,14 +241,16 @@ class DovetailRoot:
         """Sliders along each flank tangent, normal springs and the centrifugal force, projected
         onto the structure's root DOFs (coordinates measured from the static state)."""
         a = self._root_map(structure)
+        table = self.flank_sliders()
         directions, sliders, preload = [], [], []
         for i in range(2):
             d = self.tangents[i] @ a
-            for sl, p in self.flank_sliders():
-                if np.any(d):
-                    directions.append(d)
-                    sliders.append(sl)
-                    preload.append(p)
+            if not np.any(d):  # a flank tangent normal to the attached DOFs moves nothing
+                continue
+            for sl, p in table:
+                directions.append(d)
+                sliders.append(sl)
+                preload.append(p)
         kn = self.normal_stiffness * sum(np.outer(self.normals[i] @ a, self.normals[i] @ a) for i in range(2))
         # x = 0 is the static state: Fc and the normal preloads N0 n_i (the linear normal springs
         # carry only the change) balance the preloaded sliders' -T0 t_i

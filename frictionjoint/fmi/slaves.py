@@ -320,16 +320,22 @@ class DovetailRootSlave(_Slave):
             raise ParameterError(f"flank_profile must be 0 (flat), 1 (sphere) or 2 (rounded flat), got {profile}")
         self._root = root.driven(normal_load_variation=bool(self.normal_load_variation) and profile == 0)
         self._root.update([self.u_tangential, self.u_radial])
+        self._scratch = root.driven(normal_load_variation=self._root.vary)
+        self._probed = None
 
     def _probe(self):
+        """The flanks moved to the current input (direct feedthrough), computed once per input
+        value between steps and shared by all outputs; the committed state is not changed."""
         u = (self.u_tangential, self.u_radial)
         if not all(math.isfinite(x) for x in u):
             return None
         if tuple(self._root.u) == u:
             return self._root
-        p = copy.deepcopy(self._root)
-        p.update(u)
-        return p
+        if self._probed is None or self._probed[0] != u:
+            self._scratch.set_state(self._root.state())
+            self._scratch.update(u)
+            self._probed = (u, self._scratch)
+        return self._probed[1]
 
     def _out(self, name):
         kind = DOVETAIL_OUTPUTS[name][0]
@@ -356,6 +362,7 @@ class DovetailRootSlave(_Slave):
             self.log(f"inputs u_tangential, u_radial must be finite, got {u!r}", status=Fmi2Status.error)
             return False
         self._root.update(u)
+        self._probed = None
         return True
 
     def _snapshot(self):
@@ -366,4 +373,5 @@ class DovetailRootSlave(_Slave):
     def _restore(self, snap):
         if snap is not None:
             self._root.set_state(snap["root"])
+            self._probed = None
             self.u_tangential, self.u_radial = snap["u"]
