@@ -19,6 +19,8 @@ __all__ = [
     "check_grid",
     "check_poisson_ratio",
     "check_count",
+    "check_vector",
+    "check_system",
 ]
 
 
@@ -69,6 +71,35 @@ def check_count(name: str, value, minimum: int = 1) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
+
+
+def check_vector(name: str, value, n: int, what: str = "") -> np.ndarray:
+    """Return ``value`` as a finite float array of shape ``(n,)`` (a scalar is repeated).
+
+    ``what`` names the length in the message (e.g. ``"n_dof"``).
+    """
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a real number or a sequence of {n} real numbers, "
+                             f"got {value!r}") from None
+    if arr.ndim == 0:
+        arr = np.full(n, float(arr))
+    elif arr.shape != (n,):
+        size = f"{what} = {n}" if what else str(n)
+        raise ParameterError(f"{name} must be a scalar or have shape ({size},), got shape {arr.shape}")
+    else:
+        arr = arr.copy()
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} must be finite, got {value!r}")
+    return arr
+
+
+def check_system(name: str, value, cls: type):
+    """Return ``value`` if it is an instance of ``cls``, else raise :class:`ParameterError`."""
+    if not isinstance(value, cls):
+        raise ParameterError(f"{name} must be a {cls.__name__}, got {type(value).__name__}")
+    return value
 
 
 def check_grid(name: str, values, positive: bool = True, unit: str = "") -> np.ndarray:

@@ -22,8 +22,10 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import ParameterError, check_grid, check_nonnegative, check_oscillator, check_positive
+from .errors import (ParameterError, check_count, check_grid, check_nonnegative, check_oscillator,
+                     check_positive, check_system)
 from .regime import classify
+from .system import FrictionSystem
 
 __all__ = ["FrequencyResponse", "SystemSweep", "oscillator_sweep", "system_sweep", "peak_response",
            "den_hartog_curve", "DIRECTIONS"]
@@ -710,11 +712,15 @@ def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep
 
     from .solvers.steady import periodic_response
 
+    if not callable(build):
+        raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
     ws = check_grid("omegas", omegas, unit="rad/s")
     rows = []
     z = None
     for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
         system = build(float(w))
+        if not isinstance(system, FrictionSystem):
+            raise ParameterError(f"build(omega) must return a FrictionSystem, got {type(system).__name__}")
         n = system.n_dof
         if z is None or not np.all(np.isfinite(z)):
             r = periodic_response(system)
@@ -747,9 +753,17 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
     hi = check_positive("omega_max", omega_max)
     if not hi > lo:
         raise ParameterError(f"omega_max must be > omega_min = {lo:g}, got {hi!r}")
-    if isinstance(n_grid, bool) or not isinstance(n_grid, (int, np.integer)) or n_grid < 3:
-        raise ParameterError(f"n_grid must be an integer >= 3, got {n_grid!r}")
-    grid = np.linspace(lo, hi, int(n_grid))
+    n_grid = check_count("n_grid", n_grid, 3)
+    xtol = check_positive("xtol", xtol)
+    if not xtol < 1:
+        raise ParameterError(f"xtol must be in (0, 1) (relative in omega), got {xtol!r}")
+    dof = check_count("dof", dof, 0)
+    if not callable(build):
+        raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
+    n_dof = check_system("build(omega)", build(lo), FrictionSystem).n_dof
+    if dof >= n_dof:
+        raise ParameterError(f"dof must be in [0, {n_dof - 1}] (the system's DOFs), got {dof}")
+    grid = np.linspace(lo, hi, n_grid)
     sw = system_sweep(build, grid)
     amps = sw.harmonic_amplitude[:, dof]
     i = int(np.argmax(amps))

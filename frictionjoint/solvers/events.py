@@ -21,7 +21,8 @@ import math
 import numpy as np
 import scipy.optimize
 
-from ..errors import ConvergenceError, ParameterError
+from ..errors import ConvergenceError, ParameterError, check_system, check_vector
+from ..system import FrictionSystem
 from .propagator import ConfigData, Interval, Observables
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
@@ -125,7 +126,7 @@ class Marcher:
     """
 
     def __init__(self, system):
-        self.system = system
+        self.system = check_system("system", system, FrictionSystem)
         self._configs: dict[bytes, ConfigData] = {}
         self._patterns: dict[bytes, _Pattern] = {}
         self.v_scale = 0.0
@@ -253,19 +254,14 @@ class Marcher:
         """
         sysm = self.system
         n = sysm.n_dof
-        x0 = np.broadcast_to(np.asarray(x0, dtype=float), (n,)).copy()
-        v0 = np.broadcast_to(np.asarray(v0, dtype=float), (n,)).copy()
-        for name, val in (("x0", x0), ("v0", v0)):
-            if not np.all(np.isfinite(val)):
-                raise ParameterError(f"{name} must be finite")
+        x0 = check_vector("x0", x0, n, "n_dof")
+        v0 = check_vector("v0", v0, n, "n_dof")
         s = sysm.slider_direction @ x0
         if w0 is None:
             w0 = s.copy()
             pre = sysm.slider_preload != 0
             w0[pre] -= sysm.slider_preload[pre] / sysm.slider_stiffness[pre]
-        w0 = np.broadcast_to(np.asarray(w0, dtype=float), s.shape).copy()
-        if not np.all(np.isfinite(w0)):
-            raise ParameterError("w0 must be finite")
+        w0 = check_vector("w0", w0, s.size, "n_sliders")
         jen = ~sysm.rigid
         # rounding of s - w0 (both may be far larger than the slip reach F/k) is allowed for
         k_jen = sysm.slider_stiffness[jen]

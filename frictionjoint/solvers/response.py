@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 
-from ..errors import ParameterError, check_real
+from ..errors import ParameterError, check_real, check_system
+from ..system import FrictionSystem
 from ..results import TimeResponse
 from .events import EventLog, Marcher
 
@@ -69,6 +70,7 @@ def simulate(system, t_end: float, x0=0.0, v0=0.0, w0=None, t0: float = 0.0, t_e
     -------
     TimeResponse
     """
+    check_system("system", system, FrictionSystem)
     t0 = check_real("t0", t0)
     t_end = check_real("t_end", t_end)
     if t_end <= t0:

@@ -15,7 +15,8 @@ import math
 import numpy as np
 import scipy.optimize
 
-from ..errors import ParameterError
+from ..errors import ParameterError, check_count, check_system
+from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .response import gauss_pieces
@@ -204,10 +205,14 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     -------
     PeriodicResponse
     """
+    check_system("system", system, FrictionSystem)
     if system.omega <= 0:
         raise ParameterError("the system needs harmonic excitation with omega > 0 for a periodic response")
     if not (isinstance(tol, float) and 0 < tol < 1):
         raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
+    max_newton = check_count("max_newton", max_newton, 1)
+    max_periods = check_count("max_periods", max_periods, 0)
+    n_samples = check_count("n_samples", n_samples, 0)
     m = marcher if marcher is not None else Marcher(system)
     period = 2 * math.pi / system.omega
     st = m.initial_state(x0, v0, w0, t0=0.0)

@@ -4,11 +4,6 @@ ParameterError (a ValueError) whose message names the offending argument. The FM
 are checked the same way through fmpy, one subprocess per FMU
 (tests/stress/fmu_stress_checks.py: the FMU is re-initialised, i.e. reset, for each bad value).
 
-Known gaps inside frictionjoint/solvers/ (not edited here; see the issue) are not listed:
-``simulate`` with x0/v0/w0 of the wrong length (numpy broadcast ValueError, not ParameterError),
-``simulate``/``Marcher`` given a non-system (AttributeError), ``periodic_response`` accepting
-``max_newton=0`` and ``max_periods=-1`` silently, and ``n_samples=-2`` raising a ParameterError
-about ``t_eval`` instead of ``n_samples``.
 """
 import json
 import subprocess
@@ -33,6 +28,11 @@ def _s2():
 
 def _forced(elements=()):
     return fj.FrictionSystem(_s2(), list(elements), omega=1.0, excitation=[fj.HarmonicForce(0, 1.0)])
+
+
+def _no_build(omega):
+    """A build that must never be called: the arguments are checked first."""
+    raise AssertionError("build called before the arguments were checked")
 
 
 def _osc():
@@ -198,6 +198,19 @@ CASES = [
     ("simulate t_eval nan", lambda: fj.simulate(_forced(), 1.0, t_eval=[NAN]), "t_eval"),
     ("simulate record", lambda: fj.simulate(_forced(), 1.0, record=("bogus",)), "record"),
     ("periodic_response without omega", lambda: fj.periodic_response(fj.FrictionSystem(_s2(), [])), "omega"),
+    ("simulate not a system", lambda: fj.simulate("system", 1.0), "system"),
+    ("simulate x0 wrong length", lambda: fj.simulate(_forced(), 1.0, x0=[1.0, 2.0, 3.0]), "x0"),
+    ("simulate v0 wrong shape", lambda: fj.simulate(_forced(), 1.0, v0=np.zeros((2, 2))), "v0"),
+    ("simulate x0 string", lambda: fj.simulate(_forced(), 1.0, x0="a"), "x0"),
+    ("simulate w0 wrong length", lambda: fj.simulate(_forced([fj.Jenkins(1, 1, dof=0)]), 1.0, w0=[0.0, 0.0]), "w0"),
+    ("Marcher not a system", lambda: fj.Marcher(None), "system"),
+    ("Marcher.initial_state x0 wrong length", lambda: fj.Marcher(_forced()).initial_state([0.0] * 3, 0.0), "x0"),
+    ("periodic_response not a system", lambda: fj.periodic_response(_s2()), "system"),
+    ("periodic_response max_newton 0", lambda: fj.periodic_response(_forced(), max_newton=0), "max_newton"),
+    ("periodic_response max_periods -1", lambda: fj.periodic_response(_forced(), max_periods=-1), "max_periods"),
+    ("periodic_response n_samples -2", lambda: fj.periodic_response(_forced(), n_samples=-2), "n_samples"),
+    ("periodic_response n_samples float", lambda: fj.periodic_response(_forced(), n_samples=2.5), "n_samples"),
+    ("periodic_response v0 wrong length", lambda: fj.periodic_response(_forced(), v0=[0.0] * 3), "v0"),
     ("periodic_response tol 0", lambda: fj.periodic_response(_forced(), tol=0.0), "tol"),
     ("periodic_response tol nan", lambda: fj.periodic_response(_forced(), tol=NAN), "tol"),
     ("periodic_response x0 nan", lambda: fj.periodic_response(_forced(), x0=[NAN, 0]), "x0"),
@@ -214,6 +227,13 @@ CASES = [
     ("peak_response reversed range", lambda: fj.peak_response(lambda w: _forced(), 2.0, 1.0), "omega"),
     ("peak_response nan", lambda: fj.peak_response(lambda w: _forced(), NAN, 1.0), "omega_min"),
     ("peak_response n_grid 1", lambda: fj.peak_response(lambda w: _forced(), 1.0, 2.0, n_grid=1), "n_grid"),
+    ("system_sweep build not callable", lambda: fj.system_sweep(_forced(), [1.0]), "build"),
+    ("system_sweep build returns no system", lambda: fj.system_sweep(lambda w: _s2(), [1.0]), "build"),
+    ("peak_response xtol 0", lambda: fj.peak_response(_no_build, 1.0, 2.0, xtol=0.0), "xtol"),
+    ("peak_response xtol nan", lambda: fj.peak_response(_no_build, 1.0, 2.0, xtol=NAN), "xtol"),
+    ("peak_response dof -1", lambda: fj.peak_response(_no_build, 1.0, 2.0, dof=-1), "dof"),
+    ("peak_response dof beyond", lambda: fj.peak_response(lambda w: _forced(), 1.0, 2.0, dof=2), "dof"),
+    ("peak_response build not callable", lambda: fj.peak_response(_forced(), 1.0, 2.0), "build"),
     ("regime_map friction nan", lambda: fj.regime_map([NAN], [1.0]), "friction_ratios"),
     ("regime_map frequency < 0", lambda: fj.regime_map([0.5], [-1.0]), "frequency_ratios"),
     ("regime_map jobs 0", lambda: fj.regime_map([0.5], [1.0], jobs=0), "jobs"),
