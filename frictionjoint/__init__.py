@@ -13,6 +13,7 @@ from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import EventLog, Marcher
 from .solvers.response import simulate
+from .solvers.sdof import SdofCoulomb
 from .solvers.steady import periodic_response
 from .regime import RegimeMap, regime_map
 from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
@@ -38,6 +39,7 @@ __all__ = [
     "Jenkins",
     "LinearStructure",
     "Marcher",
+    "SdofCoulomb",
     "ParameterError",
     "PeriodicResponse",
     "RegimeMap",

@@ -365,6 +365,7 @@ def plot_time_response(tr, ax=None, path=None, **kwargs):
 
 _METHOD_STYLE = {
     "exact marcher": dict(marker="*", color="C3", ms=13, zorder=5),
+    "exact SDOF kernel": dict(marker="*", color="C6", ms=13, zorder=6),
     "steady_state": dict(marker="s", color="C0", ms=6, mfc="none"),
     "FMU sweep": dict(marker="D", color="C4", ms=6, mfc="none"),
     "describing function": dict(marker="X", color="k", ms=8),

@@ -50,7 +50,7 @@ def test_csv_has_the_columns_and_the_machine(bench):
     for word in ("CPU", "cores", "python", "numpy", "scipy", "date", "task:"):
         assert word in machine
     methods = {r["method"] for r in rows}
-    assert methods == {"exact marcher", "steady_state", "FMU sweep", "describing function", "tanh RK45",
+    assert methods == {"exact marcher", "exact SDOF kernel", "steady_state", "FMU sweep", "describing function", "tanh RK45",
                        "tanh LSODA", "tanh Radau", "events DOP853"}
     assert {r["case"] for r in rows} == {CASE.label}
     assert all(r["status"] == "ok" for r in rows)
@@ -60,9 +60,18 @@ def test_csv_has_the_columns_and_the_machine(bench):
 def test_marcher_reaches_rounding(bench):
     stdout, _, rows, _ = bench
     (marcher,) = _rows(rows, "exact marcher")
+    (kernel,) = _rows(rows, "exact SDOF kernel")
     assert float(marcher["relative_error"]) <= MARCHER_ERROR
+    assert float(kernel["relative_error"]) <= MARCHER_ERROR
     assert float(marcher["ratio_to_marcher"]) == 1.0
-    assert "exact marcher error" in stdout and "x the time" in stdout
+    assert "fastest exact: exact" in stdout and "x the time" in stdout
+
+
+def test_amplitudes_are_plain_floats(bench):
+    _, _, rows, _ = bench
+    for r in rows:
+        float(r["amplitude"]), float(r["reference"])   # 'np.float64(...)' would not parse
+        assert "np." not in r["amplitude"]
 
 
 def test_exact_methods_agree_with_den_hartog(bench):
@@ -104,6 +113,7 @@ def test_stop_case_reference_is_confirmed_independently():
     assert p.regime != "stop-free" and p.reference_name.startswith("exact orbit")
     assert p.error(bm.event_driven_amplitude(p, bm.RTOL_MIN)) <= STOP_AGREEMENT
     assert p.error(bm.marcher_amplitude(p)) <= MARCHER_ERROR
+    assert p.error(bm.sdof_amplitude(p)) <= MARCHER_ERROR
 
 
 def test_headline_matched_and_unmatched():
@@ -119,6 +129,16 @@ def test_headline_matched_and_unmatched():
     rows.append(bm.Row(CASE, "tanh Radau", "e", 1.0, 1e-16, 0.3, 1))
     h = bm.WorkPrecision(rows, {CASE: p}).headline(CASE)
     assert h["matched"] and h["baseline"].setting == "e" and h["ratio"] == pytest.approx(30.0)
+    # the fastest exact row is the headline's denominator, whichever it is
+    rows.append(bm.Row(CASE, "exact SDOF kernel", "", 1.0, 1e-16, 0.001, 1))
+    wp = bm.WorkPrecision(rows, {CASE: p})
+    h = wp.headline(CASE)
+    assert h["marcher"].method == "exact SDOF kernel"
+    assert h["matched"] and h["baseline"].setting == "e" and h["ratio"] == pytest.approx(300.0)
+    assert h["ratio_at_threshold"] == pytest.approx(20.0)   # 'a' (1e-13, 0.02 s)
+    assert "fastest exact: exact SDOF kernel" in wp.summary()
+    rows[-1] = bm.Row(CASE, "exact SDOF kernel", "", 1.0, 1e-16, 0.05, 1)
+    assert bm.WorkPrecision(rows, {CASE: p}).headline(CASE)["marcher"].method == "exact marcher"
 
 
 def test_bad_repeat_is_an_argument_error(capsys):

@@ -1,0 +1,229 @@
+"""Tests of frictionjoint.solvers.sdof: the closed-form single-DOF Coulomb kernel.
+
+References: Den Hartog's stop-free steady state (frictionjoint.analytic, DESIGN.md section 3); the
+independent general n-DOF marcher (frictionjoint.solvers.events.Marcher on CoulombOscillator's
+system, its own propagator and event search); the linear closed form written out here for
+F = 0; the energy balance (work of the excitation = stored + friction + viscous dissipation)
+integrated by scipy.integrate.quad on the kernel's pieces.
+"""
+import cmath
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from scipy.integrate import quad
+
+import frictionjoint.benchmark as bm
+from frictionjoint import CoulombOscillator, ParameterError
+from frictionjoint.analytic import den_hartog_response
+from frictionjoint.solvers.events import EventLog, Marcher
+from frictionjoint.solvers.sdof import EVENT_KINDS, SdofCoulomb
+
+# tolerances, stated once
+DEN_HARTOG = 1e-12      # relative amplitude against the closed form
+AGREEMENT = 1e-11       # end state against the general marcher, relative to the state scale
+LINEAR = 1e-12          # F = 0 against the closed form written out below
+ENERGY = 1e-10          # energy balance, relative to the energy scale
+
+
+def _general(m, k, f, p0, w, c, x0, v0, t_end):
+    """End state and event counts by the general marcher (the independent reference)."""
+    osc = CoulombOscillator(m, k, f, p0, w, damping=c)
+    marcher, log = Marcher(osc.system), EventLog()
+    st_ = marcher.initial_state(x0, v0, t0=0.0, log=log)
+    marcher.march(st_, t_end, log=log)
+    return float(st_.x[0]), float(st_.v[0]), {kind: log.count(kind) for kind in EVENT_KINDS}
+
+
+def _agree(m, k, f, p0, w, c, x0, v0, periods):
+    t_end = periods * 2 * math.pi / w
+    res = SdofCoulomb(m, k, f, p0, w, c).march(0.0, x0, v0, t_end)
+    x, v, counts = _general(m, k, f, p0, w, c, x0, v0, t_end)
+    scale = max(abs(x), abs(p0) / k, f / k, abs(x0))
+    vscale = math.sqrt(k / m) * scale
+    assert res.t == t_end
+    assert abs(res.x - x) <= AGREEMENT * scale, (res.x, x)
+    assert abs(res.v - v) <= AGREEMENT * vscale, (res.v, v)
+    assert res.events == counts
+    assert res.n_events == sum(counts.values())
+    return res
+
+
+@pytest.mark.parametrize("r, f", [(0.8, 0.3), (1.5, 0.3), (3.0, 0.5), (0.6, 0.1)])
+def test_den_hartog_steady_state(r, f):
+    dh = den_hartog_response(1.0, 1.0, f, 1.0, r)
+    assert dh.applicable and dh.regime == "stop-free"
+    p = bm.make_problem(bm.Case(r, f))
+    sd = SdofCoulomb(1.0, 1.0, f, 1.0, r)
+    period = 2 * math.pi / r
+    # the orbit is periodic: marching 5 periods returns to the start, the peak is Den Hartog's
+    end = sd.march(0.0, p.x0, p.v0, 5 * period)
+    assert abs(end.x - p.x0) <= DEN_HARTOG * dh.amplitude
+    assert abs(end.v - p.v0) <= DEN_HARTOG * dh.amplitude * r
+    assert end.events == dict.fromkeys(EVENT_KINDS, 0) | {"normal stop": 10}
+    peak = sd.peak(0.0, p.x0, p.v0, 4 * period, 5 * period)
+    assert abs(peak / dh.amplitude - 1) <= DEN_HARTOG
+
+
+def test_benchmark_stop_case_against_its_reference():
+    p = bm.make_problem(bm.Case(2.0, 0.6))   # exact orbit from steady_state (the general marcher)
+    sd = SdofCoulomb(p.mass, p.stiffness, p.slip_force, p.force_amplitude, p.omega)
+    assert p.error(sd.peak(0.0, p.x0, p.v0, p.period, 2 * p.period)) <= DEN_HARTOG
+    res = sd.march(0.0, p.x0, p.v0, 2 * p.period)
+    assert res.events["stick"] == res.events["slip"] == 4   # two stops per cycle
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(r=st.sampled_from([0.1, 0.25, 0.5, 0.8, 1.3, 2.0]) | st.floats(0.1, 3.0),
+       f=st.sampled_from([0.5, 0.7, 0.95]) | st.floats(0.0, 0.95),
+       c=st.sampled_from([0.0, 0.3]) | st.floats(0.0, 0.3),
+       x0=st.floats(-2.0, 2.0), v0=st.sampled_from([0.0]) | st.floats(-2.0, 2.0),
+       m=st.floats(0.5, 2.0), p0=st.sampled_from([1.0, -0.7]))
+def test_agrees_with_the_general_marcher(r, f, c, x0, v0, m, p0):
+    k = 1.3
+    w = r * math.sqrt(k / m)
+    # 3.1 periods: an end time where v = 0 by symmetry (from rest at rational r) would leave the
+    # last event to rounding
+    _agree(m, k, f * abs(p0), p0, w, c, x0 * abs(p0) / k, v0 * abs(p0) / math.sqrt(k * m), 3.1)
+
+
+def test_low_frequency_many_stops_and_finite_sticks():
+    # r = 0.1, F/P0 = 0.5: several stops per cycle, with sticks of finite duration
+    res = _agree(1.0, 1.0, 0.5, 1.0, 0.1, 0.0, 0.0, 0.0, 2)
+    assert res.events["stick"] >= 4 and res.events["slip"] >= 4
+    res = _agree(1.0, 1.0, 0.5, 1.0, 0.1, 0.05, 0.2, 0.0, 2)
+    assert res.events["stick"] >= 4
+
+
+def test_damping_regimes_agree():
+    for c in (0.3, 2.0, 2.0 * math.sqrt(1.7 * 0.8), 5.0):   # under-, critically, over-damped
+        _agree(1.7, 0.8, 0.2, 1.0, 0.9, c, 0.5, -0.3, 3)
+
+
+@pytest.mark.parametrize("f", [0.0, 0.3, 0.9])
+def test_exact_undamped_resonance(f):
+    # k = m w^2, c = 0: the secular particular solution (growth for F/P0 < pi/4, stops above)
+    _agree(1.0, 1.0, f, 1.0, 1.0, 0.0, 0.1, 0.0, 3.1)
+
+
+def test_permanent_stick():
+    sd = SdofCoulomb(1.0, 1.0, 1.2, 1.0, 0.8)   # F > P0, from rest: never slips
+    res = sd.march(0.0, 0.0, 0.0, 50.0)
+    assert (res.x, res.v, res.status, res.n_events) == (0.0, 0.0, 0, 0)
+    assert sd.peak(0.0, 0.0, 0.0, 10.0, 50.0) == 0.0
+    _agree(1.0, 1.0, 1.2, 1.0, 0.8, 0.0, 0.0, 0.0, 3)
+    # a moving start comes to rest once and stays there (|x| <= (F - P0)/k at the stop)
+    res = _agree(1.0, 1.0, 1.5, 1.0, 0.8, 0.0, 0.1, 0.3, 3)
+    assert res.status == 0 and res.n_events == res.events["stick"] == 1 and abs(res.x) <= 0.5
+
+
+@pytest.mark.parametrize("c", [0.0, 0.2, 2.0])
+def test_linear_closed_form(c):
+    # F = 0: x = Re(X e^{iwt}) + homogeneous part with roots of m l^2 + c l + k (written out here)
+    m, k, p0, w, x0, v0 = 1.3, 0.8, 0.7, 0.5, 0.2, -0.1
+    X = p0 / (k - m * w * w + 1j * c * w)
+    l1 = (-c + cmath.sqrt(c * c - 4 * m * k)) / (2 * m)
+    l2 = (-c - cmath.sqrt(c * c - 4 * m * k)) / (2 * m)
+    xh, vh = x0 - X.real, v0 - (1j * w * X).real
+    a2 = (vh - l1 * xh) / (l2 - l1)
+    a1 = xh - a2
+    sd = SdofCoulomb(m, k, 0.0, p0, w, c)
+    for t in (0.7, 5.0, 31.0):
+        res = sd.march(0.0, x0, v0, t)
+        x = (X * cmath.exp(1j * w * t) + a1 * cmath.exp(l1 * t) + a2 * cmath.exp(l2 * t)).real
+        v = (1j * w * X * cmath.exp(1j * w * t) + a1 * l1 * cmath.exp(l1 * t)
+             + a2 * l2 * cmath.exp(l2 * t)).real
+        assert abs(res.x - x) <= LINEAR * max(abs(x), 1.0) and abs(res.v - v) <= LINEAR
+        assert res.n_events == 0
+    # the peak of the linear motion is at v = 0 inside the window: compare with dense sampling
+    ts = np.linspace(10.0, 40.0, 20001)
+    sampled = max(abs(sd.evaluate(1, 0.0, x0, v0, t)[0]) for t in ts)
+    peak = sd.peak(0.0, x0, v0, 10.0, 40.0)
+    assert sampled <= peak <= sampled + 1e-6
+
+
+def test_abnormal_stop():
+    # built backwards: slipping forwards, v touches 0 at t* where P0 cos(w t*) - k x* = F and rises
+    m = k = p0 = 1.0
+    f, w = 0.3, 0.8
+    t_star = (2 * math.pi - math.pi / 3) / w
+    x_star = p0 * math.cos(w * t_star) - f
+    sd = SdofCoulomb(m, k, f, p0, w)
+    t0 = t_star - 1.0
+    x0, v0 = sd.evaluate(1, t_star, x_star, 0.0, t0)
+    assert v0 > 0
+    pieces = []
+    res = sd.march(t0, x0, v0, t0 + 3.0, on_piece=lambda *a: pieces.append(a))
+    assert res.events["abnormal stop"] == 1 and res.n_events == 1 and res.status == 1
+    assert abs(pieces[0][4] - t_star) <= 1e-12 * t_star
+    # the general marcher (started at t0) sees the same
+    osc = CoulombOscillator(m, k, f, p0, w)
+    marcher, log = Marcher(osc.system), EventLog()
+    st_ = marcher.initial_state(x0, v0, t0=t0, log=log)
+    marcher.march(st_, t0 + 3.0, log=log)
+    assert [kind for *_, kind in log] == ["abnormal stop"]
+    assert abs(res.x - st_.x[0]) <= AGREEMENT and abs(res.v - st_.v[0]) <= AGREEMENT
+
+
+def test_continuation_is_exact():
+    sd = SdofCoulomb(1.0, 1.0, 0.6, 1.0, 2.0, 0.05)
+    whole = sd.march(0.0, 0.1, 0.0, 20.0)
+    part = sd.march(0.0, 0.1, 0.0, 7.3)
+    rest = sd.march(part.t, part.x, part.v, 20.0, status=part.status)
+    assert rest.x == pytest.approx(whole.x, abs=1e-13) and rest.v == pytest.approx(whole.v, abs=1e-13)
+    assert part.n_events + rest.n_events == whole.n_events
+
+
+@pytest.mark.parametrize("r, f, c", [(0.8, 0.3, 0.0), (2.0, 0.6, 0.1), (0.3, 0.7, 0.05)])
+def test_energy_balance(r, f, c):
+    m, k, p0 = 1.0, 1.0, 1.0
+    w = r
+    sd = SdofCoulomb(m, k, f, p0, w, c)
+    x0, v0 = 0.4, 0.2
+    work, friction, viscous = [0.0], [0.0], [0.0]
+
+    def piece(ta, xa, va, s, tb, xb, vb):
+        if s == 0:
+            return
+
+        def v(t):
+            return sd.evaluate(s, ta, xa, va, t)[1]
+        opts = dict(epsabs=0.0, epsrel=1e-13, limit=200)
+        work[0] += quad(lambda t: p0 * math.cos(w * t) * v(t), ta, tb, **opts)[0]
+        viscous[0] += quad(lambda t: c * v(t) ** 2, ta, tb, **opts)[0] if c else 0.0
+        friction[0] += f * abs(xb - xa)   # v keeps its sign on a slip piece
+
+    res = sd.march(0.0, x0, v0, 3 * 2 * math.pi / w, on_piece=piece)
+    stored = 0.5 * m * (res.v ** 2 - v0 ** 2) + 0.5 * k * (res.x ** 2 - x0 ** 2)
+    scale = p0 ** 2 / k * max(1.0, 1 / abs(1 - r * r))
+    assert abs(work[0] - stored - friction[0] - viscous[0]) <= ENERGY * scale
+    assert friction[0] > 0
+
+
+def test_bad_input():
+    with pytest.raises(ParameterError, match="mass"):
+        SdofCoulomb(0.0, 1.0, 0.1, 1.0, 1.0)
+    with pytest.raises(ParameterError, match="stiffness"):
+        SdofCoulomb(1.0, -1.0, 0.1, 1.0, 1.0)
+    with pytest.raises(ParameterError, match="slip_force"):
+        SdofCoulomb(1.0, 1.0, -0.1, 1.0, 1.0)
+    with pytest.raises(ParameterError, match="force_amplitude"):
+        SdofCoulomb(1.0, 1.0, 0.1, math.nan, 1.0)
+    with pytest.raises(ParameterError, match="omega"):
+        SdofCoulomb(1.0, 1.0, 0.1, 1.0, 0.0)
+    with pytest.raises(ParameterError, match="damping"):
+        SdofCoulomb(1.0, 1.0, 0.1, 1.0, 1.0, damping=-1.0)
+    sd = SdofCoulomb(1.0, 1.0, 0.1, 1.0, 1.0)
+    with pytest.raises(ParameterError, match="t_end"):
+        sd.march(1.0, 0.0, 0.0, 0.5)
+    with pytest.raises(ParameterError, match="status"):
+        sd.march(0.0, 0.0, 0.0, 1.0, status=2)
+    with pytest.raises(ParameterError, match="v0"):
+        sd.march(0.0, 0.0, 0.5, 1.0, status=0)
+    with pytest.raises(ParameterError, match="v0"):
+        sd.march(0.0, 0.0, 0.5, 1.0, status=-1)
+    with pytest.raises(ParameterError, match="x0"):
+        sd.march(0.0, math.inf, 0.0, 1.0)
+    with pytest.raises(ParameterError, match="t_start"):
+        sd.peak(1.0, 0.0, 0.0, 0.5, 2.0)
