@@ -126,6 +126,16 @@ class CoulombOscillator:
         p0 = self.equivalent_force_amplitude
         k_dyn = self.stiffness - self.mass * self.omega ** 2
         fr = 4 * self.slip_force / (math.pi * abs(p0)) if p0 != 0 else math.inf
+        if fr < 1 and abs(k_dyn) < 1e-3 * self.stiffness and self.damping == 0:
+            # near resonance the one-harmonic amplitude is poor (and Newton from rest meets the
+            # stops of the start-up transient): Den Hartog's exact orbit where it applies
+            from .analytic import den_hartog
+
+            sol = den_hartog(self.frequency_ratio, self.slip_force / abs(p0))
+            if sol.applicable:
+                scale = p0 / self.stiffness  # x is odd in P0
+                return (scale * float(sol.waveform(0.0)),
+                        scale * self.natural_frequency * float(sol.waveform(0.0, derivative=1)))
         if fr >= 1 or abs(k_dyn) < 1e-3 * self.stiffness:
             return 0.0, 0.0
         amp = abs(p0) * math.sqrt(1 - fr ** 2) / abs(k_dyn)

@@ -392,7 +392,9 @@ class Marcher:
         # when the motion is far below the velocity scale seen earlier in the run)
         forced = [False] * sysm.n_sliders
         omega = sysm.omega
+        visited = set()
         for _ in range(max_iter):
+            visited.add(state.status.tobytes())
             itv = self.interval(state, f_ext)
             red, meta = itv.events
             if red is None:
@@ -433,7 +435,16 @@ class Marcher:
                 state.status[i] = 0
                 forced[i] = False
             else:
-                state.status[i] = 1 if kind == "+" else -1
+                # a cycle stick -> slip -> stick at one instant: every function is within its
+                # zero band and only the curvatures disagree (the holding force is within
+                # rounding of the slip limit, and the slip acceleration within rounding of 0).
+                # Stay stuck: the sticking force is within the limit now, and the event search
+                # finds when it leaves it, at a later time (never a zero-length chatter)
+                new_status = state.status.copy()
+                new_status[i] = 1 if kind == "+" else -1
+                if new_status.tobytes() in visited and g[j] >= -tol[j]:
+                    break
+                state.status[i] = new_status[i]
                 forced[i] = True
             self._project(state)
         else:
@@ -532,6 +543,9 @@ class Marcher:
                 ts = np.linspace(a, b, 33)[1:]
                 vals = itv.evaluate(one, ts)[0][0]
                 neg = np.flatnonzero(vals < 0)
+                if neg.size == 0:
+                    # the sampler saw g(b) < 0, the scalar evaluations do not (last-bit rounding)
+                    return b
                 first = neg[0]
                 if first == 0:
                     return a if not start_zero else self._locate_tiny(g, a, ts[0], xtol)
@@ -546,6 +560,12 @@ class Marcher:
             return None
         gm = g(tm)
         if gm < 0:
+            if start_zero and gm >= -tol:
+                # a function that starts in its zero band and dips only inside it (e.g. a slip
+                # velocity that reverses by a few ulps where the holding force is within
+                # rounding of the slip limit): no crossing to locate (its root would be the
+                # start itself, and time would not advance); the bottom of the dip is the event
+                return tm
             return self._brent(g, a, tm, xtol)
         if gm <= tol:
             return tm
@@ -567,6 +587,21 @@ class Marcher:
         for lo, hi in zip(ts[:-1], ts[1:]):
             if g(lo) > 0 > g(hi):
                 return self._brent(g, lo, hi, xtol)
+        # the positive stretch after a start at zero can be far shorter than the grid (e.g. a
+        # slip of a few microseconds where the force exceeds the slip limit by 1e-12 of it):
+        # halve towards the start until g is positive, then the root lies just beyond
+        hi = ts[0]
+        if not g(hi) < 0:
+            return b
+        d = hi - a
+        for _ in range(80):
+            d *= 0.5
+            lo = a + d
+            if lo <= a:
+                break
+            if g(lo) > 0:
+                return self._brent(g, lo, hi, xtol)
+            hi = lo
         return b
 
     # ----------------------------------------------------------------- march

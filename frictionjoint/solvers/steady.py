@@ -25,7 +25,7 @@ __all__ = ["periodic_response", "fixed_point_newton", "has_unit_eigenvalue"]
 
 
 class _PeriodMap:
-    def __init__(self, system, marcher: Marcher, t_s: float):
+    def __init__(self, system, marcher: Marcher, t_s: float, tol: float = 1e-12):
         self.system = system
         self.m = marcher
         self.t_s = t_s
@@ -42,6 +42,17 @@ class _PeriodMap:
         stiff = max(float(np.max(np.abs(system.stiffness))),
                     float(np.max(np.abs(system.mass))) * system.omega ** 2)
         self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
+        # the closed-form pieces carry static deflections load / K, which sets the rounding noise
+        # of the map (about eps load / K) even when the motion is far smaller (omega >> omega_n):
+        # finite-difference steps stay well above it
+        k_static = float(np.max(np.abs(system.stiffness)))
+        self.fd_floor = 1e-9 * load / k_static if load > 0 and k_static > 0 else 0.0
+        # ... and the residual cannot fall below that noise: a motion far smaller than the static
+        # deflection (omega >> omega_n) is judged against eps load / K / tol, not against its
+        # own size (below which ``tol`` would be unreachable)
+        if load > 0 and k_static > 0:
+            self.x_floor = max(self.x_floor, np.finfo(float).eps * load / k_static / tol)
+        self.w_char = max(system.omega, float(np.max(system.structure.natural_frequencies(), initial=0)))
 
     def state(self, z: np.ndarray) -> MarchState:
         sysm = self.system
@@ -88,7 +99,7 @@ def _jacobian(pmap: _PeriodMap, z, pz, scale):
     jac = np.empty((nz, nz))
     n = pmap.n
     for k in range(nz):
-        dz = 1e-7 * scale[k]
+        dz = max(1e-7 * scale[k], pmap.fd_floor * (pmap.w_char if n <= k < 2 * n else 1.0))
         if k >= 2 * n:  # Jenkins slider position: perturb towards the inside of the slip limit
             j = pmap.jen[k - 2 * n]
             s = pmap.system.slider_direction[j] @ z[:n]
@@ -162,6 +173,36 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
     return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
 
 
+def _near_event(itv, margin: float) -> bool:
+    """True when an event function of ``itv`` is within ``margin`` [s] of a zero at its start,
+    judged from its slope (``|g| < margin |g'|``): e.g. a velocity reversal just before ``t = 0``,
+    which a section at ``t = 0`` would put on a kink of the period map (low friction, where the
+    displacement peak lags the force peak by a tiny angle)."""
+    red, _ = itv.events
+    if red is None:
+        return False
+    g, dg, _ = itv.start_values(red)
+    return bool(np.any(np.abs(g) < margin * np.abs(dg)))
+
+
+def _too_slow(residuals, tol: float, remaining: int):
+    """``(rate, periods)`` if marching cannot reach ``tol`` within twice the ``remaining``
+    periods at its present pace, and is still more than 1e3 ``tol`` away, else None.
+
+    The pace is that of the best residual of the last 20 periods against the best of the 20
+    before (minima, so that a beating residual is not mistaken for progress or for a stall);
+    ``rate`` is the factor per period (>= 1: no progress, ``periods`` is inf).
+    """
+    if len(residuals) < 40:
+        return None
+    now, before = min(residuals[-20:]), min(residuals[-40:-20])
+    if not (now > 1e3 * tol and before > 0):
+        return None  # near the tolerance, rounding noise may still carry the residual below it
+    rate = (now / before) ** (1 / 20)
+    need = math.inf if rate >= 1 else math.log(tol / now) / math.log(rate)
+    return (rate, need) if need > 2 * max(remaining, 0) else None
+
+
 def steady_growth(amplitudes) -> float | None:
     """Growth per period if a sequence of per-period amplitudes grows without bound, else None.
 
@@ -218,17 +259,22 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     st = m.initial_state(x0, v0, w0, t0=0.0)
     z_start = np.concatenate([st.x, st.v, st.w[~system.rigid]])
     pieces = []
-    m.march(st, period, on_interval=lambda itv, tau: pieces.append(
-        (itv.t0, tau, int(np.count_nonzero(itv.status == 0)))))
+    first_itv = []
+
+    def keep_first(itv, tau):
+        if not first_itv:
+            first_itv.append(itv)
+        pieces.append((itv.t0, tau, int(np.count_nonzero(itv.status == 0))))
+    m.march(st, period, on_interval=keep_first)
     # section time: t = 0 if it lies well inside pieces with the fewest stuck sliders, else the
     # middle of the longest such piece (the period map is smooth there)
     fewest = min(p[2] for p in pieces)
     first, last = pieces[0], pieces[-1]
     margin = 0.02 * period
     if (first[2] == fewest and last[2] == fewest and first[1] > margin
-            and last[1] > margin and len(pieces) > 1):
+            and last[1] > margin and len(pieces) > 1 and not _near_event(first_itv[0], margin)):
         t_s = 0.0
-        pmap = _PeriodMap(system, m, t_s)
+        pmap = _PeriodMap(system, m, t_s, tol)
         z = z_start
         st.t = 0.0
         pz = pmap.vector(st)
@@ -238,7 +284,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         t_s = (t_a + 0.5 * tau) % period
         m.march(st, period + t_s)
         st.t = t_s
-        pmap = _PeriodMap(system, m, t_s)
+        pmap = _PeriodMap(system, m, t_s, tol)
         z = pmap.vector(st)
         pz = pmap(z)
         periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
@@ -252,15 +298,18 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
     message = ""
     growth = None
+    slow = None
     if not converged:
         # fallback: march period after period (retrying Newton now and then); watch for growth
         amps = []
+        hist = []
         if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
             z = z_start  # Newton wandered off: march from the start instead
         for k in range(max_periods):
             pz = pmap(z)
             r = pz - z
             rnorm = float(np.max(np.abs(r) / pmap.scales(z)))
+            hist.append(rnorm)
             z = pz
             amps.append(math.sqrt(float(np.sum(z[:pmap.n] ** 2))
                                   + float(np.sum(z[pmap.n:2 * pmap.n] ** 2)) / system.omega ** 2))
@@ -274,6 +323,9 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
                 scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
                 converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pmap(z), 8)
                 if converged:
+                    break
+                slow = _too_slow(hist, tol, max_periods - k - 1)
+                if slow is not None:
                     break
 
     orbit = pmap.last if pmap.last is not None and np.array_equal(pmap.last[0], z) else None
@@ -315,8 +367,15 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         for i in range(ndof):
             sgn = np.sign(vs[i])
             for k in np.flatnonzero(sgn[:-1] * sgn[1:] < 0):
-                tr = scipy.optimize.brentq(lambda t: itv.state(t)[1][i, 0], taus[k], taus[k + 1],
-                                           xtol=1e-16 * tau_end + 1e-300)
+                def vel(t, i=i):
+                    return itv.state(t)[1][i, 0]
+                va, vb = vel(taus[k]), vel(taus[k + 1])
+                if va * vb < 0:
+                    tr = scipy.optimize.brentq(vel, taus[k], taus[k + 1], xtol=1e-16 * tau_end + 1e-300)
+                else:
+                    # the vectorised and scalar evaluations disagree in the last bits: the
+                    # reversal is at the end point whose velocity is zero (or nearer zero)
+                    tr = taus[k] if abs(va) <= abs(vb) else taus[k + 1]
                 amp[i] = max(amp[i], abs(itv.state(tr)[0][i, 0]))
         nodes, wts = gauss_pieces(itv, 0.0, tau_end)
         xq, _ = itv.state(nodes)
@@ -349,6 +408,13 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     else:
         message = (f"no periodic steady state found (residual {rnorm:.3g} after {periods:.0f} periods): "
                    "the response may be non-periodic or converge too slowly")
+        if slow is not None:
+            rate, need = slow
+            message += (f"; stopped early: shooting failed and marching reduces the residual by a "
+                        f"factor {rate:.6g} per period, so about {need:.3g} more periods would be "
+                        f"needed (max_periods={max_periods}); e.g. a very lightly damped transient "
+                        "(tiny friction near a super-harmonic resonance r = 1/n) or a non-smooth "
+                        "period map")
     t_s_arr = x_s = None
     if n_samples:
         t_s_arr = t_s + period * np.arange(n_samples) / n_samples
