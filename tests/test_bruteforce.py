@@ -5,7 +5,6 @@ Everything here is checked against closed forms; nothing imports frictionjoint.
 import math
 
 import numpy as np
-import pytest
 from scipy.integrate import quad, simpson
 from scipy.linalg import expm
 

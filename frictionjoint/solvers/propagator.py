@@ -50,6 +50,48 @@ def _E(lam: np.ndarray, mu: complex, tau: np.ndarray) -> np.ndarray:
     return tau * np.exp(lam * tau) * _phi1((mu - lam) * tau)
 
 
+def _refine_modes(lam, v, mr, cr, kr, dr, kt, iterations: int = 3):
+    """Newton refinement of the eigenpairs of ``lam^2 M + lam C + K + sum kt d d^T`` with the
+    residual in spring form (``K phi + sum kt d (d . phi)``).
+
+    With stuck springs far stiffer than the structure (kt/k ~ 1e10) ``K_c = K + kt d d^T`` cannot
+    even be stored to better than eps kt absolutely, and ``eig`` of the first-order matrix
+    (norm ~ kt) gives the slow modes with relative errors ~ eps kt / k (1e-6); the spring-form
+    residual is exact to eps |K phi|, so the refinement restores them to rounding.
+    """
+    m = mr.shape[0]
+    kc = kr + (dr * kt) @ dr.T
+    lam = lam.copy()
+    v = v.copy()
+    for i in range(lam.size):
+        li = lam[i]
+        phi = v[:m, i].copy()
+        nrm = np.linalg.norm(phi)
+        if nrm == 0 or li == 0:
+            continue
+        phi /= nrm
+        for _ in range(iterations):
+            r = (li * li) * (mr @ phi) + li * (cr @ phi) + kr @ phi + dr @ (kt * (dr.T @ phi))
+            q = (li * li) * mr + li * cr + kc
+            dq = (2 * li) * (mr @ phi) + cr @ phi
+            big = np.zeros((m + 1, m + 1), complex)
+            big[:m, :m] = q
+            big[:m, m] = dq
+            big[m, :m] = phi.conj()
+            try:
+                sol = np.linalg.solve(big, np.concatenate([-r, [0.0]]))
+            except np.linalg.LinAlgError:
+                break
+            if not np.all(np.isfinite(sol)):
+                break
+            phi = phi + sol[:m]
+            li = li + sol[m]
+        lam[i] = li
+        v[:m, i] = phi * nrm
+        v[m:, i] = li * phi * nrm
+    return lam, v
+
+
 class ConfigData:
     """Decomposition of one stuck/slipping pattern, built once and cached.
 
@@ -108,6 +150,9 @@ class ConfigData:
                 v = w = None
             else:
                 v = v.astype(complex)
+                if np.any(jen_stuck):
+                    lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ system.stiffness @ nb,
+                                           nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
                 w = np.linalg.inv(v)
         else:
             lam = np.zeros(0, complex)
@@ -132,7 +177,12 @@ class ConfigData:
         if self._modal_omega != w:
             wi = self.W
             lam = self.lam
-            scale = max(self.max_rate, w, 1e-300)
+            # nearness per mode, relative to that mode's own rate (or w): the closed form
+            # c / (mu - lam) loses ~ eps * max(|lam|, w) / |mu - lam| of the mode's response; a
+            # scale from the fastest mode (max_rate) would flag every slow mode of a stiff
+            # configuration (e.g. a stuck kt/k ~ 1e10 joint: 1e-4 * 1.7e5 rad/s) as resonant
+            # and send all sampling through the slow phi1 path
+            scale = np.maximum(np.maximum(np.abs(lam), w), 1e-300)
             terms = []
             for mu, band in ((0.0, 1e-4), (1j * w, 1e-2), (-1j * w, 1e-2)):
                 dmu = mu - lam
@@ -183,7 +233,7 @@ class Interval:
         friction and the stuck Jenkins springs' ``k w d`` terms.
     """
 
-    def __init__(self, system, config: ConfigData, t0: float, x0, v0, f_const):
+    def __init__(self, system, config: ConfigData, t0: float, x0, v0, f_const, spring_force=None):
         self.system = system
         self.config = config
         self.t0 = float(t0)
@@ -194,7 +244,14 @@ class Interval:
         # K_c x0, kept for the tolerance scales of the marcher
         self.kx0 = kx0 = config.stiffness @ x0
         b0 = np.zeros(2 * m)
-        b0[m:] = config.mr_inv_nt @ (self.f_const - kx0)
+        if spring_force is None:
+            b0[m:] = config.mr_inv_nt @ (self.f_const - kx0)
+        else:
+            # f_const - K_c x0 with the stuck Jenkins springs in spring form, given by the caller
+            # (f_ext - friction - K x0 - sum k (d.x0 - w) d): K_c x0 and k w d are each ~ kt |x|
+            # and cancel, so their difference would carry an error eps kt |x| in every DOF
+            # (not along d) that drives the soft modes of a stiff stuck joint
+            b0[m:] = config.mr_inv_nt @ spring_force
         y0 = np.zeros(2 * m)
         y0[m:] = config.N.T @ np.asarray(v0, dtype=float)
         self._bvec = (b0, config.bc, config.bs)
@@ -378,6 +435,50 @@ class Interval:
             return (float((pla @ exp(lam * t)).real) + (1j * w * (kp * e - km / e)).real
                     + w * (csf * math.cos(ph) - ccf * math.sin(ph)))
         return g, dg
+
+    def active_rate(self, rel: float = 1e-12) -> float:
+        """Largest rate present in the displacements: ``max(omega, |lam_i|)`` over the modes whose
+        free response ``V_i a_i e^{lam_i tau}`` is not negligible (``> rel`` of the largest term);
+        a stiff mode that is not excited (stuck joint on its periodic orbit) adds nothing to the
+        motion and need not be resolved when sampling or integrating it."""
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        if not (cfg.modal and cfg.m) or self._near:
+            return max(self.omega, cfg.max_rate)
+        vn = np.linalg.norm(cfg.V[:cfg.m], axis=0)
+        free = vn * np.abs(self._a)
+        ref = max(float(np.max(free)), float(np.max(vn * (np.abs(self._b[0]) + np.abs(self._b[1])
+                                                            + np.abs(self._b[2])))), 1e-300)
+        live = free > rel * ref
+        return max(self.omega, float(np.max(np.abs(cfg.lam[live]), initial=0.0)))
+
+    def bounds(self, red, horizon: float):
+        """Lower and upper bounds ``(lo, hi)`` (n_obs,) of the observables over local times
+        ``[0, horizon]``, or ``None`` where the modal closed form is not available.
+
+        ``g = Re(pa . e^{lam tau}) + k0 + Re(Z e^{iw tau})``: the forced part is bounded by its
+        amplitude ``|Z|``, the free modes by ``sum |pa_i| max(1, e^{Re lam_i horizon})``. Lets the
+        event search skip a whole interval whose event functions cannot reach zero, instead of
+        sampling every fast (stiff) mode at a fraction of its period.
+        """
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        if not (cfg.modal and cfg.m) or self._near:
+            return None
+        cy, c0, cc, cs = red
+        p = cy @ cfg.V
+        pa = p * self._a
+        b0, bp, bm = self._b
+        k0 = (p @ b0).real + c0
+        z = p @ bp + np.conj(p @ bm) + (cc - 1j * cs) * cmath.exp(1j * self.omega * self.t0)
+        grow = np.exp(np.maximum(self.config.lam.real, 0.0) * horizon)
+        free = np.abs(pa) @ grow
+        spread = np.abs(z) + free
+        # rounding of the sum of terms of these sizes
+        slack = 1e-12 * (np.abs(k0) + spread + np.abs(p) @ np.abs(b0))
+        return k0 - spread - slack, k0 + spread + slack
 
     def sampler(self, red):
         """``f(tau) -> (g, g')`` of all observable rows at local times ``tau`` (1-D array): the

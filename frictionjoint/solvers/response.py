@@ -22,9 +22,11 @@ RECORDABLE = ("x", "v", "friction_force", "energy")
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
 
-def gauss_pieces(itv, a: float, b: float):
-    """Gauss-Legendre nodes and weights on ``[a, b]`` (local times of ``itv``), sub-divided."""
-    rate = max(itv.omega, itv.config.max_rate)
+def gauss_pieces(itv, a: float, b: float, rate: float | None = None):
+    """Gauss-Legendre nodes and weights on ``[a, b]`` (local times of ``itv``), sub-divided
+    (8 pieces per period of ``rate``, default: the fastest rate of the configuration)."""
+    if rate is None:
+        rate = max(itv.omega, itv.config.max_rate)
     n = 1 if rate == 0 else max(1, math.ceil((b - a) * rate / (2 * math.pi) * 8))
     edges = np.linspace(a, b, n + 1)
     half = 0.5 * np.diff(edges)

@@ -45,7 +45,10 @@ class _PeriodMap:
         # the closed-form pieces carry static deflections load / K, which sets the rounding noise
         # of the map (about eps load / K) even when the motion is far smaller (omega >> omega_n):
         # finite-difference steps stay well above it
+        # (the excitation only: a slip force far above it, e.g. a stuck joint, deflects nothing)
         k_static = float(np.max(np.abs(system.stiffness)))
+        load = max(float(np.max(np.abs(system.force_cos), initial=0)),
+                   float(np.max(np.abs(system.force_sin), initial=0)))
         self.fd_floor = 1e-9 * load / k_static if load > 0 and k_static > 0 else 0.0
         # ... and the residual cannot fall below that noise: a motion far smaller than the static
         # deflection (omega >> omega_n) is judged against eps load / K / tol, not against its
@@ -360,7 +363,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             return
         x_end, _ = itv.state(np.array([0.0, tau_end]))
         np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
-        rate = max(w, itv.config.max_rate)
+        rate = itv.active_rate()
         nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 32) + 1)
         taus = np.linspace(0.0, tau_end, nsamp)
         xs, vs = itv.state(taus)
@@ -377,7 +380,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
                     # reversal is at the end point whose velocity is zero (or nearer zero)
                     tr = taus[k] if abs(va) <= abs(vb) else taus[k + 1]
                 amp[i] = max(amp[i], abs(itv.state(tr)[0][i, 0]))
-        nodes, wts = gauss_pieces(itv, 0.0, tau_end)
+        nodes, wts = gauss_pieces(itv, 0.0, tau_end, rate)
         xq, _ = itv.state(nodes)
         ph = w * (itv.t0 + nodes)
         a1[:] += xq @ (wts * np.cos(ph))

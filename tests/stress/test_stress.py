@@ -25,8 +25,10 @@ Settings
 - MDOF (2-DOF chain, Jenkins between the masses, Iwan to ground): Jenkins stiffness / structural
   stiffness 1e-3 … 1e12, slip forces 1e-12 … 1e6 of the excitation, r 1e-2 … 1e2, damping
   ratio 0 … 0.2; periodic_response against the linear FRF for stuck (slip force 1e6 x) and
-  frictionless (1e-12 x, damped) joints, Jenkins stiffness ratio 1e-2 … 1e6 (above, the shooting
-  is slow or fails, see the issue).
+  frictionless (1e-12 x, damped) joints, Jenkins stiffness ratio 1e-2 … 1e6 here; stiffer joints
+  (kt/k 6e7 … 4e11, stuck or nearly frictionless) are explicit cases in
+  tests/stress/test_mdof_stiff_joint.py, whose reference is computed in joint coordinates (forming
+  K + kt d d^T in numpy rounds K by eps kt: a 1e-7 error of the reference itself at kt/k ~ 1e11).
 - DovetailRoot (flat flanks, 1-DOF blade): excitation 1e-6 … 10 of the flank slip limit,
   omega 0.2 … 3 of the stuck natural frequency; stuck limit against the linear FRF.
 - FMU: CoulombOscillator.fmu with extreme parameters in one subprocess (fmu_stress_checks.py),
