@@ -695,6 +695,11 @@ class SystemSweep:
     converged: np.ndarray
 
 
+def _check_build(build) -> None:
+    if not callable(build):
+        raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
+
+
 def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep:
     """Periodic steady state of ``build(omega)`` at each ``omega`` [rad/s], in the given order,
     each started from the previous orbit (its state at ``t = 0``).
@@ -712,15 +717,12 @@ def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep
 
     from .solvers.steady import periodic_response
 
-    if not callable(build):
-        raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
+    _check_build(build)
     ws = check_grid("omegas", omegas, unit="rad/s")
     rows = []
     z = None
     for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
-        system = build(float(w))
-        if not isinstance(system, FrictionSystem):
-            raise ParameterError(f"build(omega) must return a FrictionSystem, got {type(system).__name__}")
+        system = check_system("build(omega)", build(float(w)), FrictionSystem)
         n = system.n_dof
         if z is None or not np.all(np.isfinite(z)):
             r = periodic_response(system)
@@ -758,8 +760,7 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
     if not xtol < 1:
         raise ParameterError(f"xtol must be in (0, 1) (relative in omega), got {xtol!r}")
     dof = check_count("dof", dof, 0)
-    if not callable(build):
-        raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
+    _check_build(build)
     n_dof = check_system("build(omega)", build(lo), FrictionSystem).n_dof
     if dof >= n_dof:
         raise ParameterError(f"dof must be in [0, {n_dof - 1}] (the system's DOFs), got {dof}")

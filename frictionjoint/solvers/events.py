@@ -487,6 +487,14 @@ class Marcher:
                 log.append(state.t, owner[i], i, "abnormal stop")
 
     # ----------------------------------------------------------- event search
+    def _fade_v_scale(self, pat: _Pattern, values: np.ndarray) -> None:
+        """Velocity scale with a fading memory: halved per interval, raised by the velocity rows
+        of ``values`` (what is seen), so that tolerances follow a response that decays by many
+        orders of magnitude instead of staying tied to the largest velocity ever seen."""
+        self.v_scale *= 0.5
+        if pat.any_v:
+            self.v_scale = max(self.v_scale, _absmax(values[pat.vrows]))
+
     def find_event(self, itv: Interval, horizon: float):
         """First event in ``(0, horizon]`` of the interval: ``(tau, j)`` or ``None``."""
         red, meta = itv.events
@@ -509,9 +517,7 @@ class Marcher:
             if bnd is not None:
                 lo, hi = bnd
                 if not atzero.any() and all(l > t for l, t in zip(lo.tolist(), tol)):
-                    self.v_scale *= 0.5
-                    if pat.any_v:
-                        self.v_scale = max(self.v_scale, _absmax(hi[pat.vrows]))
+                    self._fade_v_scale(pat, hi)
                     return None
         steps = h * np.arange(1, _CHUNK + 1)
         # the start values are evaluated together with the first chunk of samples
@@ -527,12 +533,7 @@ class Marcher:
         tau_a = 0.0
         vrows = pat.vrows
         any_v = pat.any_v
-        # velocity scale with a fading memory (halved per interval, raised by what is seen), so
-        # that tolerances follow a response that decays by many orders of magnitude instead of
-        # staying tied to the largest velocity ever seen
-        self.v_scale *= 0.5
-        if any_v:
-            self.v_scale = max(self.v_scale, _absmax(g_a[vrows]))
+        self._fade_v_scale(pat, g_a)
         while tau_a < horizon:
             if g is None:
                 n = min(_CHUNK, max(1, math.ceil((horizon - tau_a) / h)))

@@ -36,25 +36,23 @@ class _PeriodMap:
         self.calls = 0
         self.last = None
         # a displacement scale from the loads, the floor of the residual scaling
-        load = max(float(np.max(np.abs(system.force_cos), initial=0)),
-                   float(np.max(np.abs(system.force_sin), initial=0)),
-                   float(np.max(system.slip_force, initial=0)))
-        stiff = max(float(np.max(np.abs(system.stiffness))),
-                    float(np.max(np.abs(system.mass))) * system.omega ** 2)
-        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
-        # the closed-form pieces carry static deflections load / K, which sets the rounding noise
-        # of the map (about eps load / K) even when the motion is far smaller (omega >> omega_n):
-        # finite-difference steps stay well above it
-        # (the excitation only: a slip force far above it, e.g. a stuck joint, deflects nothing)
+        excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
+                         float(np.max(np.abs(system.force_sin), initial=0)))
+        load = max(excitation, float(np.max(system.slip_force, initial=0)))
         k_static = float(np.max(np.abs(system.stiffness)))
-        load = max(float(np.max(np.abs(system.force_cos), initial=0)),
-                   float(np.max(np.abs(system.force_sin), initial=0)))
-        self.fd_floor = 1e-9 * load / k_static if load > 0 and k_static > 0 else 0.0
-        # ... and the residual cannot fall below that noise: a motion far smaller than the static
-        # deflection (omega >> omega_n) is judged against eps load / K / tol, not against its
-        # own size (below which ``tol`` would be unreachable)
-        if load > 0 and k_static > 0:
-            self.x_floor = max(self.x_floor, np.finfo(float).eps * load / k_static / tol)
+        stiff = max(k_static, float(np.max(np.abs(system.mass))) * system.omega ** 2)
+        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
+        # the closed-form pieces carry static deflections excitation / K, which sets the rounding
+        # noise of the map (about eps excitation / K) even when the motion is far smaller
+        # (omega >> omega_n): finite-difference steps stay well above it (the excitation only: a
+        # slip force far above it, e.g. a stuck joint, deflects nothing) ...
+        self.fd_floor = 0.0
+        if excitation > 0 and k_static > 0:
+            self.fd_floor = 1e-9 * excitation / k_static
+            # ... and the residual cannot fall below that noise: a motion far smaller than the
+            # static deflection is judged against eps excitation / K / tol, not against its own
+            # size (below which ``tol`` would be unreachable)
+            self.x_floor = max(self.x_floor, np.finfo(float).eps * excitation / k_static / tol)
         self.w_char = max(system.omega, float(np.max(system.structure.natural_frequencies(), initial=0)))
 
     def state(self, z: np.ndarray) -> MarchState:
@@ -90,7 +88,7 @@ class _PeriodMap:
 
     def scales(self, z) -> np.ndarray:
         n = self.n
-        w_char = max(self.system.omega, float(np.max(self.system.structure.natural_frequencies(), initial=0)))
+        w_char = self.w_char
         sx = max(float(np.max(np.abs(z[:n]))), float(np.max(np.abs(z[n:2 * n]))) / w_char, self.x_floor)
         sc = np.full(z.size, sx)
         sc[n:2 * n] = sx * w_char
