@@ -53,13 +53,13 @@ class LibraryDriver:
 
 
 class FMUDriver:
-    """``CoulombOscillator.fmu`` (or an FMU with the same variables) through fmpy: one instance, in a
-    worker process (:mod:`frictionjoint.fmi.worker`)."""
+    """``CoulombOscillator.fmu`` (or an FMU with the same variables) through fmpy: one instance in
+    this process (:class:`~frictionjoint.fmi.master.FMUInstance`)."""
 
     def __init__(self, path):
-        from .fmi.worker import FMUWorker
+        from .fmi.master import FMUInstance
 
-        self.inst = FMUWorker(path)  # in its own process: see frictionjoint.fmi.worker
+        self.inst = FMUInstance(path)
         missing = [n for n in (*OSCILLATOR_PARAMETERS, "x", "v", "stuck") if n not in self.inst.vr]
         if missing:
             self.inst.close()

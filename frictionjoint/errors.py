@@ -17,6 +17,7 @@ __all__ = [
     "check_positive",
     "check_nonnegative",
     "check_grid",
+    "FMUError",
     "check_poisson_ratio",
     "check_count",
     "check_vector",
@@ -30,6 +31,10 @@ class ParameterError(ValueError):
 
 class ConvergenceError(RuntimeError):
     """An iterative solver did not converge (the message says why)."""
+
+
+class FMUError(RuntimeError):
+    """An FMI call returned an error status (the message has the call and the FMU's log)."""
 
 
 def check_real(name: str, value) -> float:

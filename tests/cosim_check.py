@@ -94,16 +94,8 @@ def microslip(path, substeps):
 
 
 if __name__ == "__main__":
-    # pythonfmu's wrapper can leave the heap inconsistent for the host's cyclic garbage collector
-    # and for interpreter teardown ("corrupted double-linked list" at exit, seen once in ~10 runs):
-    # no cyclic GC, and leave with os._exit once the result is out (as frictionjoint.fmi.worker)
-    import gc
-    import os
-
-    gc.disable()
     if sys.argv[1] in ("dovetail", "microslip"):
         print(json.dumps(globals()[sys.argv[1]](sys.argv[2], int(sys.argv[3]))), flush=True)
     else:
         path, f, w, step, n = sys.argv[1:]
         print(json.dumps(main(path, float(f), float(w), int(step), int(n))), flush=True)
-    os._exit(0)

@@ -111,35 +111,6 @@ def trajectory(path, slip_force, omega, step_ns, n_steps):
         return {"rows": rows, "messages": inst.messages}
 
 
-def reuse(path):
-    """Two sweeps and a failed initialisation in one process (one shared instance), then a second
-    plain instantiation, which pythonfmu cannot do: a clear error instead of a crash."""
-    from frictionjoint.sweep import sweep
-
-    amps = []
-    for params in (dict(force_amplitude=1.0, slip_force=0.3), dict(force_amplitude=1.0, slip_force=-1.0),
-                   dict(force_amplitude=1.0, slip_force=0.3)):
-        try:
-            amps.append(sweep(path, [0.8, 1.5], params).amplitude.tolist())
-        except Exception as exc:
-            amps.append(f"{type(exc).__name__}: {exc}")
-    inst = FMUInstance.shared(path)
-    try:
-        inst.initialize(dict(mass=-1.0))
-        bad = None
-    except Exception as exc:
-        bad = str(exc)
-    inst.initialize(dict(force_amplitude=1.0, slip_force=0.3, omega=0.8))
-    inst.step_to(1.0)
-    after_bad = inst.get(["x"])[0]
-    try:
-        FMUInstance(path)
-        second = None
-    except RuntimeError as exc:
-        second = str(exc)
-    return {"amplitudes": amps, "bad": bad, "after_bad": after_bad, "second": second}
-
-
 def _mass_step(x, v, t, h, m, k_eff, g0, P, w):
     """The master's own subsystem: m x'' + k_eff x = g0 + P cos(w t) over [t, t + h], exactly."""
     X = P / (k_eff - m * w * w)
@@ -238,11 +209,4 @@ def microslip_loop(path, substeps):
 
 
 if __name__ == "__main__":
-    # as frictionjoint.fmi.worker: no cyclic GC next to a pythonfmu instance, and no interpreter
-    # teardown once the result is out (pythonfmu's wrapper can corrupt both; see that module)
-    import gc
-    import os
-
-    gc.disable()
     print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])), flush=True)
-    os._exit(0)

@@ -194,43 +194,51 @@ def test_second_importer_libcosim_gives_the_same_result(fmus, slip_force, omega)
     assert np.max(np.abs(tr.x - a[:, 0])) <= 1e-10 * amp
 
 
-def test_one_shared_instance_per_process(fmus):
-    """pythonfmu cannot instantiate a model twice in one process: sweeps reuse one shared instance
-    (also after an FMU error), and a second plain instantiation raises a clear RuntimeError."""
-    res = run("reuse", fmus["CoulombOscillator"])
-    first, bad, again = res["amplitudes"]
-    assert first == again and len(first) == 2
-    assert "slip_force must be >= 0" in bad
-    assert res["bad"] is not None
-    osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
-    x1 = osc.simulate(1.0, 0.0, 0.0, t_eval=[1.0], record=("x",)).x[-1]
-    assert abs(res["after_bad"] - x1) <= 1e-12
-    assert "already instantiated" in res["second"] and "PythonFMU #213" in res["second"]
+def test_fmu_in_this_process_errors_and_state(fmus):
+    """FMUInstance in this (pytest) process, cyclic GC on: two live instances of the same model,
+    an FMU error raised as FMUError with the FMU's logged message (the failed instance is reset
+    and used again), state save/restore bit for bit, the exact library answer."""
+    import gc
 
+    from frictionjoint.errors import FMUError
+    from frictionjoint.fmi.master import FMUInstance
 
-def test_fmu_worker_process_isolates_the_fmu(fmus):
-    """FMUWorker: the FMU in its own process, so this (pytest) process can drive it repeatedly;
-    an FMU error comes back as FMUWorkerError with the FMU's logged message."""
-    from frictionjoint.fmi.worker import FMUWorker, FMUWorkerError
-
+    assert gc.isenabled()
     osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
     x_ref = osc.simulate(5.0, 0.1, 0.0, t_eval=[5.0], record=("x",)).x[-1]
-    for _ in range(2):  # two instances of the same pythonfmu model, one after the other
-        with FMUWorker(fmus["CoulombOscillator"]) as w:
-            with pytest.raises(FMUWorkerError, match="mass must be > 0"):
-                w.initialize(dict(mass=-1.0))
+    with FMUInstance(fmus["CoulombOscillator"], "a") as a, FMUInstance(fmus["CoulombOscillator"], "b") as b:
+        with pytest.raises(FMUError, match="mass must be > 0"):
+            a.initialize(dict(mass=-1.0))
+        for w in (a, b):
             w.initialize(dict(slip_force=0.3, force_amplitude=1.0, omega=0.8, x0=0.1))
-            w.step_to(2.0)
-            saved = w.get_state()
-            w.step_to(5.0)
-            x1 = w.get(["x"])[0]
-            w.set_state(saved)
-            assert w.time == 2.0
-            w.step_to(5.0)
-            assert w.get(["x"])[0] == x1
-            assert abs(x1 - x_ref) <= 1e-12
-    with pytest.raises(FMUWorkerError, match="cannot instantiate"):
-        FMUWorker(HERE / "no-such.fmu")
+        a.step_to(2.0)
+        saved = a.get_state()
+        b.step_to(3.0)
+        a.step_to(5.0)
+        gc.collect()
+        x1 = a.get(["x"])[0]
+        a.set_state(saved)
+        assert a.time == 2.0
+        a.step_to(5.0)
+        b.step_to(5.0)
+        assert a.get(["x"])[0] == x1 == b.get(["x"])[0]
+        assert abs(x1 - x_ref) <= 1e-12
+        with pytest.raises(FMUError, match="cannot deserialise the FMU state"):
+            a.set_state((b"not a state", 0.0))
+    with pytest.raises(FMUError, match="cannot read the FMU"):
+        FMUInstance(HERE / "no-such.fmu")
+
+
+def test_sweeps_in_this_process_with_an_error_between(fmus):
+    """Two FMU sweeps in this process with a failing one between them: the same numbers, the
+    error names the parameter (formerly each sweep needed a worker process with the GC off)."""
+    from frictionjoint.sweep import sweep
+
+    first = sweep(fmus["CoulombOscillator"], [0.8, 1.5], dict(force_amplitude=1.0, slip_force=0.3))
+    with pytest.raises(Exception, match="slip_force must be >= 0"):
+        sweep(fmus["CoulombOscillator"], [0.8, 1.5], dict(force_amplitude=1.0, slip_force=-1.0))
+    again = sweep(fmus["CoulombOscillator"], [0.8, 1.5], dict(force_amplitude=1.0, slip_force=0.3))
+    assert first.amplitude.tolist() == again.amplitude.tolist()
 
 
 # ----------------------------------------------------------- DovetailRoot, MicroslipJoint

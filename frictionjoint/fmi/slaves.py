@@ -10,9 +10,11 @@ state get/set and pickled for serialisation.
 from __future__ import annotations
 
 import copy
+import ctypes
 import functools
 import math
 import pickle
+import sys
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
@@ -28,14 +30,103 @@ __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "Mic
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
 
+_py_incref = ctypes.pythonapi.Py_IncRef
+_py_incref.argtypes = [ctypes.py_object]
+_py_incref.restype = None
+
+
+def _balance_find_class(cls) -> None:
+    """Give the FMU script module's ``__dict__`` the reference that pythonfmu takes from it.
+
+    pythonfmu's native wrapper (0.7.0, ``src/pythonfmu/PySlaveInstance.cpp``, ``findClass``), once
+    per ``fmi2Instantiate``: imports the script module, re-executes the script's source with the
+    module's ``__dict__`` as globals (``PyEval_EvalCode``), picks the slave class, and at the end
+    ``Py_DECREF``s ``PyModule_GetDict(module)`` -- a *borrowed* reference. Each instantiation
+    thus releases one reference it never owned; a script whose module dict is held by nothing
+    but the module (ours: one class, no functions) is freed by the first instantiation, and the
+    second (or a cyclic GC pass) meets freed memory and crashes the host.
+
+    The re-execution defines the script's slave class again, which calls
+    ``_Slave.__init_subclass__`` -- inside ``findClass``, before its ``Py_DECREF`` -- and that
+    calls this: one ``Py_IncRef`` per instantiation balances it. (Compensating later, when the
+    slave is constructed, is too late: the dict may be gone by then.) The surplus references (the
+    script's first import, a pythonfmu that fixes the bug) only keep a module's dict alive that
+    its module keeps alive anyway; a missing reference is fatal.
+    """
+    module = sys.modules.get(cls.__module__)
+    if module is not None:
+        _py_incref(vars(module))
+
+
+def _drop_repeated_path(resources) -> None:
+    """pythonfmu's wrapper inserts the FMU's resources folder at the front of ``sys.path`` at
+    every instantiation (and leaks the string): keep the first copy only, so that a host with
+    thousands of instantiations does not search one folder thousands of times per import."""
+    if resources and sys.path.count(resources) > 1:
+        first = sys.path.index(resources)
+        sys.path[first + 1:] = [p for p in sys.path[first + 1:] if p != resources]
+
+
+#: the slave methods pythonfmu's wrapper calls on the instance (see _Slave._guard)
+_WRAPPER_CALLS = ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "do_step",
+                  "terminate", "get_integer", "get_real", "get_boolean", "get_string", "set_integer",
+                  "set_real", "set_boolean", "set_string", "_get_fmu_state", "_set_fmu_state")
+
+
+def _lending_references(method):
+    """``method`` as called by pythonfmu's wrapper, with the references its error path takes.
+
+    When a call into Python raises, pythonfmu 0.7.0's wrapper (``handle_py_exception``) logs the
+    error, calls ``cleanPyObject`` -- ``Py_XDECREF`` of the slave class, the slave instance and
+    its log queue, without clearing the pointers -- and returns ``fmi2Fatal``. The destructor
+    (``fmi2FreeInstance``) and ``fmi2Reset`` release the same three objects again: the instance,
+    held by nothing else, is freed twice and the host crashes. Before an exception leaves a
+    wrapper-called method, one reference to each of the three is lent, so that the error path
+    releases what it was given and the instance lives until the host frees it.
+    """
+
+    @functools.wraps(method)
+    def call(self, *args):
+        try:
+            return method(self, *args)
+        except BaseException:
+            for obj in (type(self), self, self.log_queue):
+                _py_incref(obj)
+            raise
+
+    call._lends_references = True
+    return call
+
+
 class _Slave(Fmi2Slave):
-    """Common declarations, validation at initialisation, pickled state."""
+    """Common declarations, validation at initialisation, pickled state.
+
+    Two defects of pythonfmu 0.7.0's native wrapper are balanced here, once for every FMU
+    (see :func:`_balance_find_class` and :func:`_lending_references`), so that a host may hold
+    any number of instances of any of these FMUs in one process with its garbage collector on.
+    """
 
     author = "frictionjoint developers"
     description = ""
 
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.__module__ != __name__:  # an FMU script's slave class (see _balance_find_class)
+            _balance_find_class(cls)
+        cls._guard()
+
+    @classmethod
+    def _guard(cls, inherited: bool = False) -> None:
+        """Wrap the wrapper-called methods this class defines, or (``inherited``) all of them
+        (see :func:`_lending_references`)."""
+        for name in _WRAPPER_CALLS:
+            method = getattr(cls, name) if inherited else cls.__dict__.get(name)
+            if method is not None and not getattr(method, "_lends_references", False):
+                setattr(cls, name, _lending_references(method))
+
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        _drop_repeated_path(kwargs.get("resources"))
         self.start_time = 0.0
         self._ready = False
 
@@ -73,15 +164,28 @@ class _Slave(Fmi2Slave):
         return {"__frictionjoint__": copy.deepcopy(self._snapshot())}
 
     def _set_fmu_state(self, state):
+        if "__frictionjoint__" not in state:
+            message = state.get("__invalid__", "not an FMU state of this model")
+            self.log(message, status=Fmi2Status.error)
+            raise ParameterError(message)
         self._restore(copy.deepcopy(state["__frictionjoint__"]))
 
+    # The wrapper calls these two on the class: an exception there would release the instance
+    # with nothing to lend it (see _lending_references), so bad bytes become a state that
+    # _set_fmu_state rejects.
     @staticmethod
     def _fmu_state_to_bytes(state) -> bytes:
         return pickle.dumps(state)
 
     @staticmethod
     def _fmu_state_from_bytes(state: bytes):
-        return pickle.loads(state)
+        try:
+            return pickle.loads(state)
+        except Exception as exc:  # noqa: BLE001 -- reported by _set_fmu_state
+            return {"__invalid__": f"cannot deserialise the FMU state: {exc!r}"}
+
+
+_Slave._guard(inherited=True)
 
 
 class CoulombOscillatorSlave(_Slave):
