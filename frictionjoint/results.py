@@ -6,7 +6,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["TimeResponse", "PeriodicResponse"]
+__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult"]
 
 
 @dataclass
@@ -119,3 +119,32 @@ class PeriodicResponse:
     t: Optional[np.ndarray] = field(repr=False, default=None)
     x: Optional[np.ndarray] = field(repr=False, default=None)
     harmonics: Optional[dict] = field(repr=False, default=None)
+
+
+@dataclass
+class CoSimulationResult:
+    """Recorded outputs of a co-simulation at its communication points.
+
+    Attributes
+    ----------
+    t : (n_t,) ndarray
+        Communication points [s].
+    values : dict
+        ``"component.variable"`` -> (n_t,) ndarray of its values (units as the FMU declares).
+    step : float
+        Communication step [s].
+    host : str
+        Which master ran it (this library's, or a native host such as Ecos).
+    success : bool
+    message : str
+    """
+
+    t: np.ndarray
+    values: dict
+    step: float
+    host: str = ""
+    success: bool = True
+    message: str = "ok"
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.values[name]

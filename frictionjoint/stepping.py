@@ -16,14 +16,16 @@ from .solvers.events import EventLog, MarchState
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
-#: parameter name -> (default, description with unit)
+#: parameter name -> (default, description with unit). The defaults are the README's case (m = k = 1,
+#: P0 = 1 N, F/P0 = 0.5) at r = 1.5, a stop-free steady state (Den Hartog), so that the FMU dropped
+#: into a host with its defaults does something meaningful.
 OSCILLATOR_PARAMETERS = {
     "mass": (1.0, "mass m [kg], > 0"),
     "stiffness": (1.0, "spring k to the base [N/m], > 0"),
     "damping": (0.0, "viscous damper to the ground [N s/m], >= 0"),
-    "slip_force": (0.0, "Coulomb friction force limit F [N], >= 0"),
-    "force_amplitude": (0.0, "amplitude of the force force_amplitude*cos(omega t) on the mass [N]"),
-    "omega": (1.0, "excitation angular frequency [rad/s], > 0"),
+    "slip_force": (0.5, "Coulomb friction force limit F [N], >= 0"),
+    "force_amplitude": (1.0, "amplitude of the force force_amplitude*cos(omega t) on the mass [N]"),
+    "omega": (1.5, "excitation angular frequency [rad/s], > 0"),
     "base_amplitude": (0.0, "amplitude of the base motion base_amplitude*cos(omega t) [m]"),
     "x0": (0.0, "displacement at the start time [m]"),
     "v0": (0.0, "velocity at the start time [m/s]"),

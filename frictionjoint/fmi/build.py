@@ -13,7 +13,8 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
-__all__ = ["FMUS", "BUNDLE_NAME", "build_fmus", "postprocess", "validate", "default_source_dir"]
+__all__ = ["FMUS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "build_fmus", "postprocess", "validate",
+           "default_source_dir"]
 
 BUNDLE_NAME = "_frictionjoint_bundle"
 #: FMU name -> script in the FMU source folder (unique module names: see DESIGN.md 5)
@@ -24,6 +25,8 @@ FMUS = {
     "MicroslipJoint": "fj_microslip_joint_fmu.py",
     "DovetailRoot": "fj_dovetail_root_fmu.py",
 }
+#: the script of LinearStructure.fmu (one per structure definition, built by ``structures=``)
+STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
 
 
 def default_source_dir() -> Path:
@@ -76,7 +79,7 @@ def validate(fmu: Path) -> list[str]:
     return list(validate_fmu(str(fmu)))
 
 
-def build_fmus(out_dir, names=None, source_dir=None, check: bool = True) -> list[Path]:
+def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=()) -> list[Path]:
     """Build, post-process and (optionally) validate the FMUs.
 
     Parameters
@@ -84,22 +87,27 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True) -> list
     out_dir : path
         Folder for the ``.fmu`` files (created).
     names : sequence of str, optional
-        Which of :data:`FMUS` to build; all by default.
+        Which of :data:`FMUS` to build; all by default, none when ``structures`` are given.
     source_dir : path, optional
         Folder of the FMU scripts; the repository's ``fmus/`` by default.
     check : bool
         Validate each FMU and raise ``RuntimeError`` listing the problems.
+    structures : sequence of path or StructureDefinition
+        Structure definitions (:mod:`frictionjoint.structure_file`): each becomes
+        ``<name>.fmu``, a ``LinearStructure`` FMU carrying the definition in its resources.
 
     Returns
     -------
     list of Path
     """
-    from pythonfmu.builder import FmuBuilder
+    from ..structure_file import StructureDefinition, load_structure_definition
+    from .slaves import STRUCTURE_RESOURCE
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     source = Path(source_dir) if source_dir is not None else default_source_dir()
-    names = list(FMUS) if names is None else list(names)
+    structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
+    names = ([] if structures else list(FMUS)) if names is None else list(names)
     for n in names:
         if n not in FMUS:
             raise ValueError(f"names must be among {sorted(FMUS)}, got {n!r}")
@@ -109,14 +117,17 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True) -> list
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            for n in names:
-                script = source / FMUS[n]
+            jobs = [(FMUS[n], out / f"{n}.fmu", [bundle]) for n in names]
+            for d in structures:
+                data = tmp / d.name / STRUCTURE_RESOURCE
+                data.parent.mkdir()
+                d.to_json(data)
+                jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
+            for script_name, dest, project_files in jobs:
+                script = source / script_name
                 if not script.is_file():
                     raise FileNotFoundError(f"FMU script {script} not found (source_dir)")
-                path = FmuBuilder.build_FMU(script, dest=out / f"{n}.fmu", project_files=[bundle],
-                                            needsExecutionTool="false", canGetAndSetFMUstate="true",
-                                            canSerializeFMUstate="true",
-                                            canHandleVariableCommunicationStepSize="true")
+                path = _pythonfmu_build(script, dest, project_files)
                 postprocess(path)
                 if check:
                     problems = validate(path)
@@ -128,3 +139,12 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True) -> list
             for mod in [m for m in sys.modules if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")]:
                 del sys.modules[mod]
     return built
+
+
+def _pythonfmu_build(script: Path, dest: Path, project_files) -> Path:
+    """pythonfmu's builder with this project's capability flags."""
+    from pythonfmu.builder import FmuBuilder
+
+    return Path(FmuBuilder.build_FMU(script, dest=dest, project_files=project_files, needsExecutionTool="false",
+                                     canGetAndSetFMUstate="true", canSerializeFMUstate="true",
+                                     canHandleVariableCommunicationStepSize="true"))

@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import ctypes
 import functools
+import json
 import math
 import pickle
 import sys
@@ -25,7 +26,10 @@ from ..errors import ParameterError, check_positive
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
-           "DovetailRootSlave"]
+           "DovetailRootSlave", "LinearStructureSlave", "STRUCTURE_RESOURCE"]
+
+#: file name of the structure definition in LinearStructure.fmu's resources
+STRUCTURE_RESOURCE = "structure.json"
 
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
@@ -160,6 +164,15 @@ class _Slave(Fmi2Slave):
             raise
         self._ready = True
 
+    def do_step(self, current_time, step_size):
+        # a host that ignores the error status of exitInitializationMode (Ecos does) steps on: an
+        # error status (fmi2Discard) with the reason, not an exception on an unbuilt model
+        if not self._ready:
+            self.log("do_step on an instance that was not initialised (see the error of "
+                     "exitInitializationMode)", status=Fmi2Status.error)
+            return False
+        return self._do_step(current_time, step_size)
+
     def _get_fmu_state(self):
         return {"__frictionjoint__": copy.deepcopy(self._snapshot())}
 
@@ -212,7 +225,7 @@ class CoulombOscillatorSlave(_Slave):
             return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())
         return self._run.output(name)
 
-    def do_step(self, current_time, step_size):
+    def _do_step(self, current_time, step_size):
         try:
             self._run.hold(self.force)
         except ParameterError as exc:
@@ -241,6 +254,8 @@ class _DrivenSlave(_Slave):
         self._output("slipping", "true while the joint slips", kind=bool, getter=lambda: self._get("slipping"))
         self._output("dissipated_energy", "energy dissipated since the start [J]",
                      getter=lambda: self._get("dissipated_energy"))
+        self._output("displacement", "the input u at which force and tangent_stiffness are evaluated [m] "
+                     "(for a master that couples through the tangent stiffness)", getter=lambda: float(self.u))
 
     def _get(self, name):
         if not self._ready:
@@ -263,7 +278,7 @@ class _DrivenSlave(_Slave):
         k, f = self._slider_table()
         self._sliders = DrivenSliders(k, f, u0=self.u)
 
-    def do_step(self, current_time, step_size):
+    def _do_step(self, current_time, step_size):
         if not math.isfinite(self.u):
             self.log(f"input u must be finite, got {self.u!r}", status=Fmi2Status.error)
             return False
@@ -291,8 +306,9 @@ class JenkinsJointSlave(_DrivenSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._parameter("stiffness", 1.0, "tangential stiffness of the spring [N/m], > 0")
-        self._parameter("slip_force", 1.0, "slip force of the slider [N], > 0")
+        # defaults: the joints of the co-simulation case (models/two_dof_chain.toml, README)
+        self._parameter("stiffness", 100.0, "tangential stiffness of the spring [N/m], > 0")
+        self._parameter("slip_force", 0.8, "slip force of the slider [N], > 0")
         self._declare_io()
 
     def _slider_table(self):
@@ -306,8 +322,9 @@ class IwanJointSlave(_DrivenSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._parameter("stiffness", 1.0, "initial tangential stiffness K_T [N/m], > 0")
-        self._parameter("slip_force", 1.0, "macroslip force F_S [N], > 0")
+        # defaults: a drop-in for the JenkinsJoint of the co-simulation case (same K_T and F_S)
+        self._parameter("stiffness", 100.0, "initial tangential stiffness K_T [N/m], > 0")
+        self._parameter("slip_force", 0.8, "macroslip force F_S [N], > 0")
         self._parameter("chi", -0.5, "power-law exponent chi, -1 < chi <= 0")
         self._parameter("beta", 0.1, "strength of the macroslip delta relative to the power law, >= 0")
         self._parameter("n_sliders", 20, "number of sliders of the power-law part, >= 1", kind=int)
@@ -460,7 +477,7 @@ class DovetailRootSlave(_Slave):
             return float(k["tr".index(name[-2]), "tr".index(name[-1])])
         return float(p.dissipated_energy)
 
-    def do_step(self, current_time, step_size):
+    def _do_step(self, current_time, step_size):
         u = (self.u_tangential, self.u_radial)
         if not all(math.isfinite(x) for x in u):
             self.log(f"inputs u_tangential, u_radial must be finite, got {u!r}", status=Fmi2Status.error)
@@ -479,3 +496,81 @@ class DovetailRootSlave(_Slave):
             self._root.set_state(snap["root"])
             self._probed = None
             self.u_tangential, self.u_radial = snap["u"]
+
+
+class LinearStructureSlave(_Slave):
+    """A linear structure (M, C, K, named DOFs) from the definition in the FMU's resources,
+    advanced exactly under harmonic force and joint loads held over a step
+    (:class:`~frictionjoint.solvers.held.HeldPortStructure`)."""
+
+    description = ("Linear structure M x'' + C x' + K x = f, advanced exactly (matrix exponential) under a "
+                   "harmonic force and joint loads held over a communication step in linearly implicit form "
+                   "-(joint_force + joint_stiffness (x - joint_displacement)) at each port DOF")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        import os
+
+        from ..structure_file import StructureDefinition
+
+        with open(os.path.join(kwargs["resources"], STRUCTURE_RESOURCE)) as f:
+            self._definition = d = StructureDefinition.from_dict(json.load(f))
+        self._parameter("omega", d.omega, "excitation angular frequency [rad/s], > 0")
+        for dof, value in d.force_amplitude.items():
+            self._parameter(f"force_amplitude_{dof}", value, f"amplitude of the force on {dof}, times "
+                            "cos(omega t) [N]")
+        for dof in d.ports:
+            self._input(f"joint_force_{dof}", 0.0, f"restoring force of the joint at {dof}, evaluated at "
+                        f"joint_displacement_{dof} (the structure feels its negative), held over a step [N]")
+            self._input(f"joint_stiffness_{dof}", 0.0, f"tangent stiffness of the joint at {dof} [N/m], >= 0; "
+                        "0: the force is held (explicit coupling)")
+            self._input(f"joint_displacement_{dof}", 0.0, f"displacement at which joint_force_{dof} was "
+                        "evaluated [m]")
+        for dof in d.outputs:
+            self._output(f"x_{dof}", f"displacement of {dof} [m]", getter=functools.partial(self._state, 0, dof))
+            self._output(f"v_{dof}", f"velocity of {dof} [m/s]", getter=functools.partial(self._state, 1, dof))
+        self._body = None
+
+    def _state(self, which, dof):
+        if self._body is None:
+            return 0.0
+        i = self._definition.structure.dof_index(dof)
+        return float((self._body.x, self._body.v)[which][i])
+
+    def _initialise(self):
+        from ..solvers.held import HeldPortStructure
+
+        d = self._definition
+        f = d.force_vector()
+        for dof in d.force_amplitude:
+            f[d.structure.dof_index(dof)] = getattr(self, f"force_amplitude_{dof}")
+        self._body = HeldPortStructure(d.structure, d.ports, f, omega=self.omega, t0=self.start_time)
+
+    def _port_inputs(self, kind):
+        return [getattr(self, f"joint_{kind}_{dof}") for dof in self._definition.ports]
+
+    def _do_step(self, current_time, step_size):
+        try:
+            self._body.t = float(current_time)  # the host's time: the excitation phase is absolute
+            self._body.advance(step_size, self._port_inputs("force"),
+                               self._port_inputs("stiffness"), self._port_inputs("displacement"))
+        except ParameterError as exc:
+            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
+            return False
+        return True
+
+    def _snapshot(self):
+        if self._body is None:
+            return None
+        b = self._body
+        return {"x": b.x.copy(), "v": b.v.copy(), "t": b.t,
+                "inputs": {k: self._port_inputs(k) for k in ("force", "stiffness", "displacement")}}
+
+    def _restore(self, snap):
+        if snap is None:
+            return
+        b = self._body
+        b.x, b.v, b.t = snap["x"].copy(), snap["v"].copy(), snap["t"]
+        for kind, values in snap["inputs"].items():
+            for dof, value in zip(self._definition.ports, values):
+                setattr(self, f"joint_{kind}_{dof}", value)

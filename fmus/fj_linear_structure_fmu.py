@@ -1,0 +1,6 @@
+"""FMU script: LinearStructure.fmu (thin adapter; the structure is data in the FMU's resources)."""
+from _frictionjoint_bundle.fmi.slaves import LinearStructureSlave
+
+
+class LinearStructure(LinearStructureSlave):
+    """Linear structure with joint ports, advanced exactly under held inputs."""

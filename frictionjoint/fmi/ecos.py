@@ -1,0 +1,199 @@
+"""Run an SSP system in Ecos, a native C++ co-simulation host (``pip install ecospy``).
+
+Ecos loads the FMUs' shared libraries itself; the Python inside these FMUs then runs in the
+host's process. Two ways are offered:
+
+- :func:`run_ecos`: Ecos's library (``libecosc``, through ecospy) in a separate process of this
+  Python, recording outputs in full double precision at every communication point (the ``ecos``
+  command line writes CSV files with six decimals only).
+- :func:`ecos_cli`: the ``ecos`` executable itself, with the environment a non-Python host
+  needs (:func:`host_environment`: libpython preloaded, this environment's packages on
+  ``PYTHONPATH``). FMU log messages reach its log only with ``--debugLogging`` and ``-l debug``
+  (pythonfmu forwards no message, errors included, unless debug logging is on).
+
+Ecos's master (``fixed_step_algorithm``) is Jacobi: every component steps over
+``[t_n, t_n + h]`` with the inputs of ``t_n``, then all connections are transferred; its time is
+accumulated (``t += h``), and it does not stop on an FMU's error status.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import site
+import stat
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import FMUError, ParameterError, check_positive, check_real
+from ..results import CoSimulationResult
+
+__all__ = ["host_environment", "ecos_executable", "run_ecos", "ecos_cli"]
+
+
+def host_environment() -> dict:
+    """The environment variables a non-Python host needs to run these FMUs with this Python.
+
+    Returns
+    -------
+    dict
+        ``LD_PRELOAD``: this interpreter's shared libpython (pythonfmu's binary leaves the Python
+        symbols to the process); ``PYTHONPATH``: this environment's site-packages (numpy, scipy).
+    """
+    libdir, library = sysconfig.get_config_var("LIBDIR"), sysconfig.get_config_var("LDLIBRARY")
+    lib = Path(libdir or "", library or "")
+    if not library or not lib.is_file() or not lib.suffix.startswith(".so"):
+        raise FMUError(f"this Python ({sys.executable}) has no shared libpython ({lib}): a non-Python host "
+                       "cannot load the FMUs' Python; use a Python built with --enable-shared")
+    paths = [p for p in site.getsitepackages() if os.path.isdir(p)]
+    return {"LD_PRELOAD": str(lib), "PYTHONPATH": os.pathsep.join(paths)}
+
+
+def ecos_executable() -> Path:
+    """The ``ecos`` command-line executable shipped in the ecospy wheel.
+
+    The wheel installs it without the execute permission; in that case a copy with the permission
+    is made once in ``~/.cache/frictionjoint/ecos-<version>/`` (next to ``proxyfmu``, which ecos
+    starts for ``proxyfmu://`` components).
+    """
+    try:
+        import ecospy
+    except ImportError as exc:
+        raise FMUError("Ecos is not installed: pip install ecospy (and the Debian package libtbb12)") from exc
+    binaries = Path(ecospy.__file__).parent / "binaries"
+    exe = binaries / "ecos"
+    if not exe.is_file():
+        raise FMUError(f"the ecospy wheel has no ecos executable for this platform ({binaries})")
+    if os.access(exe, os.X_OK):
+        return exe
+    from importlib.metadata import version
+
+    cache = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "frictionjoint" / f"ecos-{version('ecospy')}"
+    cache.mkdir(parents=True, exist_ok=True)
+    for name in ("ecos", "proxyfmu"):
+        src, dst = binaries / name, cache / name
+        if src.is_file() and (not dst.is_file() or dst.stat().st_size != src.stat().st_size):
+            shutil.copyfile(src, dst)
+            dst.chmod(dst.stat().st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
+    return cache / "ecos"
+
+
+def _ssp_path(system_or_ssp, workdir: Path) -> Path:
+    from .cosim import FMUSystem
+
+    if isinstance(system_or_ssp, FMUSystem):
+        return system_or_ssp.to_ssp(workdir / "system.ssp")
+    path = Path(system_or_ssp)
+    if not path.exists():
+        raise ParameterError(f"ssp: {str(path)!r} not found")
+    return path
+
+
+def run_ecos(system_or_ssp, stop_time: float, step: float, outputs: Sequence[str], start_time: float = 0.0,
+             timeout: float = 600.0) -> CoSimulationResult:
+    """Run a system in Ecos (its library, in a separate process) and record Real outputs.
+
+    Parameters
+    ----------
+    system_or_ssp : FMUSystem or path
+        The system (written to a temporary SSP) or an ``.ssp`` archive / folder; its parameter set
+        ``initialValues`` is applied.
+    stop_time, step, start_time : float
+        As :meth:`FMUSystem.simulate` [s]: ``round((stop_time - start_time) / step)`` steps.
+    outputs : sequence of str
+        ``"component.variable"`` names of Real outputs.
+    timeout : float
+        Seconds before the run is abandoned.
+
+    Returns
+    -------
+    CoSimulationResult
+        ``t`` is Ecos's own (accumulated) time. ``success`` is False, with the reason in
+        ``message``, when the Ecos process failed.
+    """
+    import tempfile
+
+    h = check_positive("step", step)
+    t0 = check_real("start_time", start_time)
+    n = int(round((check_real("stop_time", stop_time) - t0) / h))
+    if n < 1:
+        raise ParameterError(f"stop_time must be at least one step ({h!r} s) after start_time, got {stop_time!r}")
+    with tempfile.TemporaryDirectory(prefix="frictionjoint_ecos_") as tmpd:
+        ssp = _ssp_path(system_or_ssp, Path(tmpd))
+        cmd = [sys.executable, "-m", "frictionjoint.fmi.ecos", str(ssp), repr(h), str(n), repr(t0), *outputs]
+        env = dict(os.environ)
+        root = str(Path(__file__).resolve().parents[2])  # this package, also from a source checkout
+        env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=tmpd)
+    lines = proc.stdout.strip().splitlines()
+    if proc.returncode != 0 or not lines:
+        return CoSimulationResult(t=np.zeros(0), values={}, step=h, host="Ecos", success=False,
+                                  message=f"Ecos process ended with status {proc.returncode}: {proc.stderr[-2000:]}")
+    data = json.loads(lines[-1])
+    if not data["ok"]:
+        return CoSimulationResult(t=np.zeros(0), values={}, step=h, host="Ecos", success=False,
+                                  message=data["message"])
+    rows = np.array(data["rows"], dtype=float).reshape(n + 1, len(outputs) + 1)
+    return CoSimulationResult(t=rows[:, 0], values={k: rows[:, i + 1] for i, k in enumerate(outputs)}, step=h,
+                              host=f"Ecos {data['version']} (libecosc)")
+
+
+def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool = True,
+             timeout: float = 600.0) -> subprocess.CompletedProcess:
+    """Run a system with the ``ecos simulate`` command in ``workdir`` (it writes its CSV there).
+
+    Parameters
+    ----------
+    system_or_ssp : FMUSystem or path
+    stop_time, step : float
+        [s]; ecos steps while ``t + h <= stop_time`` with accumulated ``t``, so half a step is
+        added to ``stop_time``.
+    workdir : path
+        Working folder (created).
+    debug : bool
+        ``--debugLogging -l debug``: the FMUs' log messages (errors included) in the output.
+
+    Returns
+    -------
+    subprocess.CompletedProcess
+        With ``stdout`` and ``stderr`` as text.
+    """
+    h = check_positive("step", step)
+    workdir = Path(workdir)
+    workdir.mkdir(parents=True, exist_ok=True)
+    ssp = _ssp_path(system_or_ssp, workdir)
+    cmd = [str(ecos_executable()), "simulate", "--path", str(ssp), "--stepSize", repr(h),
+           "--stopTime", repr(check_real("stop_time", stop_time) + h / 2), "--parameterSet", "initialValues"]
+    cmd += ["--debugLogging", "-l", "debug"] if debug else ["-l", "warn"]
+    env = dict(os.environ, **host_environment())
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=workdir)
+
+
+def _main(argv) -> None:
+    """``python -m frictionjoint.fmi.ecos SSP STEP N_STEPS T0 OUTPUT...``: one JSON line."""
+    ssp, h, n, t0, outputs = argv[0], float(argv[1]), int(argv[2]), float(argv[3]), argv[4:]
+    from ecospy import EcosLib, EcosSimulation
+
+    EcosLib.set_log_level("warn")
+    names = [o.replace(".", "::", 1) for o in outputs]
+    sim = EcosSimulation(ssp_path=ssp, step_size=h)
+    if not sim.init(t0, "initialValues"):
+        print(json.dumps({"ok": False, "message": f"Ecos could not initialise: {EcosLib.get_last_error()}"}))
+        return
+    rows = []
+    for k in range(n + 1):
+        if k:
+            sim.step()
+        rows.append([sim.get_time(), *(sim.get_real(v) for v in names)])
+    sim.terminate()
+    sim.free()
+    print(json.dumps({"ok": True, "rows": rows, "version": str(EcosLib.version())}), flush=True)
+
+
+if __name__ == "__main__":
+    _main(sys.argv[1:])

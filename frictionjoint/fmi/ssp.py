@@ -1,0 +1,97 @@
+"""SSP (System Structure and Parameterization 1.0, Modelica Association) archives of an FMUSystem.
+
+:func:`write_ssp` writes ``SystemStructure.ssd`` with one component per FMU component, the
+connectors used by the connections, the connections, and the parameter values as one inline
+parameter set (``ssv:ParameterSet``, named :data:`PARAMETER_SET`), and packs it with the FMUs
+(``resources/``) into a ``.ssp`` zip archive. Ecos applies a parameter set only when it is
+named on its command line (``--parameterSet initialValues``) or to ``EcosSimulation.init``.
+"""
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+__all__ = ["PARAMETER_SET", "write_ssp"]
+
+PARAMETER_SET = "initialValues"
+_NS = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+       "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
+       "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues"}
+_TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
+
+
+def _el(parent, tag, **attrib):
+    prefix, name = tag.split(":")
+    return ET.SubElement(parent, f"{{{_NS[prefix]}}}{name}", {k: str(v) for k, v in attrib.items()})
+
+
+def _value(kind: str, value) -> str:
+    if kind == "Real":
+        return repr(float(value))  # shortest round-trip form: the exact double
+    if kind == "Integer":
+        return str(int(value))
+    if kind == "Boolean":
+        return "true" if value else "false"
+    return str(value)
+
+
+def write_ssp(system, path, name: str = "system") -> Path:
+    """Write ``system`` (:class:`~frictionjoint.fmi.cosim.FMUSystem`) as an SSP archive.
+
+    Parameters
+    ----------
+    system : FMUSystem
+    path : path
+        The ``.ssp`` file to write.
+    name : str
+        Name of the system in the SSD.
+
+    Returns
+    -------
+    Path
+    """
+    from .cosim import _port
+
+    for prefix, uri in _NS.items():
+        ET.register_namespace(prefix, uri)
+    root = ET.Element(f"{{{_NS['ssd']}}}SystemStructureDescription", {"name": name, "version": "1.0"})
+    sys_el = _el(root, "ssd:System", name=name)
+    elements = _el(sys_el, "ssd:Elements")
+    used = {}
+    for source, target in system.connections:
+        for port, kind in ((source, "output"), (target, "input")):
+            comp, var = _port(port)
+            used.setdefault(comp, {})[var] = kind
+    sources = {}  # FMU file -> its name in the archive (one copy however many components use it)
+    for fmu in dict.fromkeys(p.resolve() for p in system.components.values()):
+        arcname = f"resources/{fmu.name}"
+        sources[fmu] = arcname if arcname not in sources.values() else f"resources/{len(sources)}_{fmu.name}"
+    for comp, fmu in system.components.items():
+        c = _el(elements, "ssd:Component", name=comp, source=sources[fmu.resolve()],
+                type="application/x-fmu-sharedlibrary")
+        if comp in used:
+            connectors = _el(c, "ssd:Connectors")
+            for var, kind in used[comp].items():
+                con = _el(connectors, "ssd:Connector", name=var, kind=kind)
+                _el(con, f"ssc:{_TYPES[system.variable(f'{comp}.{var}').type]}")
+        values = system.parameters.get(comp)
+        if values:
+            binding = _el(_el(c, "ssd:ParameterBindings"), "ssd:ParameterBinding")
+            pset = _el(_el(binding, "ssd:ParameterValues"), "ssv:ParameterSet", version="1.0", name=PARAMETER_SET)
+            params = _el(pset, "ssv:Parameters")
+            for var, value in values.items():
+                kind = _TYPES[system.variable(f"{comp}.{var}").type]
+                _el(_el(params, "ssv:Parameter", name=var), f"ssv:{kind}", value=_value(kind, value))
+    if system.connections:
+        conns = _el(sys_el, "ssd:Connections")
+        for source, target in system.connections:
+            (sc, sv), (tc, tv) = _port(source), _port(target)
+            _el(conns, "ssd:Connection", startElement=sc, startConnector=sv, endElement=tc, endConnector=tv)
+    ET.indent(root)
+    path = Path(path)
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("SystemStructure.ssd", ET.tostring(root, encoding="UTF-8", xml_declaration=True))
+        for fmu, arcname in sources.items():
+            z.write(fmu, arcname)
+    return path
