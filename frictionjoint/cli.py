@@ -7,13 +7,16 @@ Subcommands::
     frictionjoint sweep FMU_OR_MODEL --omega START:STOP:N [--set NAME=VALUE ...]
                         [--direction up|down|both] [--output NAME ...] [--compare analytic]
                         [--csv FILE] [--plot PNG]
-    frictionjoint build-fmus [--out DIR] [--only NAME ...]
+    frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...]
+    frictionjoint host-env
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
 ``demo`` sweeps the single-DOF Coulomb oscillator across resonance (stepped sine, up and down,
 exact periodic steady state at every frequency), prints the table beside Den Hartog's closed
 form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
-same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs;
+same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
+(and ``LinearStructure`` FMUs from structure definitions); ``host-env`` prints the environment a
+non-Python host (Ecos, a C/C++ master) needs to run them;
 ``bench`` runs the work-precision benchmark (:mod:`frictionjoint.benchmark`) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
 message.
@@ -127,7 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "and stop-regime maps of the Coulomb oscillator.",
         allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,build-fmus,bench}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,build-fmus,host-env,bench}")
     sub.required = True
 
     demo = sub.add_parser(
@@ -217,7 +220,21 @@ def build_parser() -> argparse.ArgumentParser:
     bf.add_argument("--out", default=None, metavar="DIR",
                     help="output folder (default: fmus/build next to the package)")
     bf.add_argument("--only", nargs="+", default=None, metavar="NAME", help="build only these FMUs")
+    bf.add_argument("--structure", nargs="+", default=[], metavar="FILE",
+                    help="also build a LinearStructure FMU from each structure definition (.toml or .json, "
+                         "see frictionjoint.structure_file; e.g. models/two_dof_chain.toml), named after its "
+                         "'name'; with --structure and no --only, only the structure FMUs are built")
     bf.set_defaults(func=_build_fmus, subparser=bf, csv=None)
+
+    he = sub.add_parser(
+        "host-env", allow_abbrev=False,
+        help="print the environment a non-Python FMU host needs (eval \"$(frictionjoint host-env)\")",
+        description="Print shell exports for a host that is not Python (Ecos, a C/C++ master) to run "
+                    "these FMUs with this Python: LD_PRELOAD of this interpreter's libpython (the FMUs' "
+                    "binary leaves the Python symbols to the process) and PYTHONPATH to this "
+                    "environment's site-packages (numpy, scipy); and, where ecospy is installed, ECOS, "
+                    "the path of an executable ecos.")
+    he.set_defaults(func=_host_env, subparser=he, csv=None, out=None)
 
     be = sub.add_parser(
         "bench", allow_abbrev=False,
@@ -324,8 +341,27 @@ def _build_fmus(args, parser) -> int:
         unknown = [n for n in args.only if n not in FMUS]
         if unknown:
             parser.error(f"--only: unknown FMU(s) {unknown}; choose from {sorted(FMUS)}")
-    for path in build_fmus(out, names=args.only):
+    for path in build_fmus(out, names=args.only, structures=args.structure):
         print(f"built and validated {path}")
+    return 0
+
+
+def _host_env(args, parser) -> int:
+    import shlex
+
+    from .errors import FMUError
+    from .fmi.ecos import ecos_executable, host_environment
+
+    try:
+        env = host_environment()
+    except FMUError as exc:
+        parser.exit(1, f"{PROG} host-env: {exc}\n")
+    for name, value in env.items():
+        print(f"export {name}={shlex.quote(value)}")
+    try:
+        print(f"export ECOS={shlex.quote(str(ecos_executable()))}")
+    except FMUError as exc:
+        print(f"# {exc}")
     return 0
 
 
@@ -364,7 +400,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = args.subparser
-    if args.command != "build-fmus":
+    if args.command not in ("build-fmus", "host-env"):
         _check_writable(sub, "--plot" if args.command == "sweep" else "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:

@@ -1,0 +1,135 @@
+"""A system of FMUs: LinearStructure.fmu (two-DOF chain) with two JenkinsJoint.fmu instances,
+through this library's master and, as SSP, through Ecos; errors against the library's exact
+MDOF solution (FrictionSystem + simulate: event-driven, no time step).
+
+The case (models/two_dof_chain.toml, JenkinsJoint.fmu defaults): unit masses and springs,
+C = 0.02 K, Jenkins kt = 100 N/m, Fs = 0.8 N from each mass to the ground, 1 N cos(1.2 t) on
+DOF 2, from rest, four periods. Joint 1 never slips in the exact solution (its force stays
+below 0.2 N); joint 2 slips near every displacement peak.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.errors import ParameterError
+from frictionjoint.fmi.cosim import FMUSystem, joint_connections
+from frictionjoint.structure_file import load_structure_definition
+
+MODEL = "models/two_dof_chain.toml"
+OMEGA = 1.2
+T = 2 * math.pi / OMEGA
+PERIODS = 4
+DIVISIONS = (50, 100, 200, 400)  # communication steps T/50 ... T/400
+OUTPUTS = ["chain.x_x1", "chain.x_x2", "j1.dissipated_energy"]
+
+
+@pytest.fixture(scope="module")
+def chain_fmus(tmp_path_factory, fmus):
+    from pathlib import Path
+
+    from frictionjoint.fmi.build import build_fmus
+
+    root = Path(__file__).resolve().parents[1]
+    (structure,) = build_fmus(tmp_path_factory.mktemp("structure"), structures=[root / MODEL])
+    return {"chain": structure, "joint": fmus["JenkinsJoint"], "definition": load_structure_definition(root / MODEL)}
+
+
+def system(chain_fmus, coupling):
+    return FMUSystem({"chain": chain_fmus["chain"], "j1": chain_fmus["joint"], "j2": chain_fmus["joint"]},
+                     joint_connections("chain", "j1", "x1", coupling) + joint_connections("chain", "j2", "x2", coupling))
+
+
+def exact(definition, division):
+    """The library's exact solution at the communication points t = n T/division."""
+    kt, fs = 100.0, 0.8  # JenkinsJoint.fmu defaults
+    sysl = fj.FrictionSystem(definition.structure, [fj.Jenkins(kt, fs, dof="x1"), fj.Jenkins(kt, fs, dof="x2")],
+                             omega=OMEGA, excitation=[fj.HarmonicForce("x2", 1.0)])
+    t = T / division * np.arange(division * PERIODS + 1)
+    return fj.simulate(sysl, t[-1], t_eval=t, record=("x", "friction_force", "energy"))
+
+
+def errors(result, ref):
+    """Max error over the communication points, per DOF, relative to that DOF's amplitude."""
+    x = np.vstack([result["chain.x_x1"], result["chain.x_x2"]])
+    return np.max(np.abs(x - ref.x), axis=1) / np.max(np.abs(ref.x), axis=1)
+
+
+@pytest.fixture(scope="module")
+def references(chain_fmus):
+    return {d: exact(chain_fmus["definition"], d) for d in DIVISIONS}
+
+
+def observed_order(errs):
+    """Least-squares slope of log(error) against log(step)."""
+    return float(np.polyfit(np.log(1.0 / np.array(DIVISIONS, dtype=float)), np.log(errs), 1)[0])
+
+
+def test_definition_and_fmu_defaults_are_the_case(chain_fmus, references):
+    d = chain_fmus["definition"]
+    assert d.ports == ("x1", "x2") and d.omega == OMEGA and d.force_amplitude == {"x2": 1.0}
+    # joint 1 never slips in the exact solution: its force stays below the slip force
+    ref = references[400]
+    assert np.max(np.abs(ref.friction_force[0])) < 0.3 * 0.8
+    assert np.max(np.abs(ref.friction_force[1])) == pytest.approx(0.8, rel=1e-12)
+
+
+def test_semi_implicit_master_converges_to_the_exact_solution(chain_fmus, references):
+    sys_ = system(chain_fmus, "semi-implicit")
+    errs = []
+    for d in DIVISIONS:
+        r = sys_.simulate(PERIODS * T, T / d, OUTPUTS)
+        assert np.allclose(r.t, T / d * np.arange(d * PERIODS + 1), rtol=0, atol=1e-13)
+        errs.append(errors(r, references[d]).max())
+        assert r["j1.dissipated_energy"][-1] == 0.0  # joint 1 sticks, as in the exact solution
+    # measured: 2.7e-1, 3.5e-2, 1.7e-2, 2.8e-3 (orders 2.9, 1.1, 2.6; fit 2.1)
+    assert errs[-1] < 5e-3
+    assert errs[0] / errs[-1] > 30
+    assert observed_order(errs) > 1.5
+
+
+def test_explicit_coupling_diverges_where_semi_implicit_is_stable(chain_fmus, references):
+    """Force held over the step (no tangent stiffness): the stuck joint's spring (omega_t = 10
+    rad/s) is integrated by zero-order hold, which amplifies every step (|lambda|^2 = 1 + (omega_t
+    h)^2 / 2): joint 1's oscillation grows until it slips, which it never does in the exact
+    solution, at every step size."""
+    sys_ = system(chain_fmus, "explicit")
+    for d in DIVISIONS:
+        r = sys_.simulate(PERIODS * T, T / d, OUTPUTS)
+        e1 = errors(r, references[d])[0]
+        assert e1 > 3.0  # measured 35, 17, 11, 7.2 times joint 1's true amplitude
+        assert r["j1.dissipated_energy"][-1] > 0.0  # spurious slip
+
+
+def test_jacobi_transfer_lags_and_stays_stable(chain_fmus, references):
+    """Jacobi transfer (Ecos's algorithm): the joint force lags a step; the semi-implicit form
+    stays exact while joints stick, so the coupling is stable and converges, with a larger error."""
+    sys_ = system(chain_fmus, "semi-implicit")
+    errs = [errors(sys_.simulate(PERIODS * T, T / d, OUTPUTS, transfer="jacobi"), references[d]).max()
+            for d in DIVISIONS]
+    # measured: 1.35, 0.28, 0.093, 0.021
+    assert errs[-1] < 0.05 and observed_order(errs) > 1.5
+
+
+def test_bad_systems_are_rejected(chain_fmus):
+    comps = {"chain": chain_fmus["chain"], "j1": chain_fmus["joint"]}
+    with pytest.raises(ParameterError, match="has no output 'nope'"):
+        FMUSystem(comps, [("j1.nope", "chain.joint_force_x1")])
+    with pytest.raises(ParameterError, match="has no input 'x_x1'"):
+        FMUSystem(comps, [("j1.force", "chain.x_x1")])
+    with pytest.raises(ParameterError, match="one connection only"):
+        FMUSystem(comps, [("j1.force", "chain.joint_force_x1"), ("j1.tangent_stiffness", "chain.joint_force_x1")])
+    with pytest.raises(ParameterError, match="no parameter 'mass'"):
+        FMUSystem(comps, [], {"j1": {"mass": 1.0}})
+    with pytest.raises(ParameterError, match="not found"):
+        FMUSystem({"a": "no-such.fmu"})
+    with pytest.raises(ParameterError, match="coupling must be"):
+        joint_connections("chain", "j1", "x1", "implicit")
+    s = FMUSystem(comps, joint_connections("chain", "j1", "x1"))
+    with pytest.raises(ParameterError, match="step"):
+        s.simulate(1.0, -0.1, ["chain.x_x1"])
+    with pytest.raises(ParameterError, match="transfer must be"):
+        s.simulate(1.0, 0.1, ["chain.x_x1"], transfer="gauss")
+    with pytest.raises(ParameterError, match="no variable"):
+        s.simulate(1.0, 0.1, ["chain.y"])
