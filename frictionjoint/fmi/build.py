@@ -112,6 +112,10 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         if n not in FMUS:
             raise ValueError(f"names must be among {sorted(FMUS)}, got {n!r}")
     built = []
+    # the builder imports each script, and so the bundle: set aside a bundle this process has
+    # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
+    # it back afterwards, for those FMUs
+    loaded = {m: sys.modules.pop(m) for m in list(sys.modules) if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")}
     with tempfile.TemporaryDirectory(prefix="frictionjoint_fmu_") as tmpd:
         tmp = Path(tmpd)
         bundle = _bundle(tmp)
@@ -138,6 +142,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
             sys.path.remove(str(tmp))
             for mod in [m for m in sys.modules if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")]:
                 del sys.modules[mod]
+            sys.modules.update(loaded)
     return built
 
 

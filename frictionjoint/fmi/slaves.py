@@ -14,16 +14,24 @@ import ctypes
 import functools
 import json
 import math
+import os
 import pickle
 import sys
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
 
+# Everything the slaves use is imported here, not inside methods: every FMU in a process shares
+# the bundle of the first one loaded, and a host may delete that FMU's unpacked folder while the
+# others run (fmpy users, FMUInstance.close): a late import would then fail.
+from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
+from ..elements.dovetail import DovetailRoot
 from ..elements.driven import DrivenSliders
 from ..elements.iwan import Iwan
 from ..errors import ParameterError, check_positive
+from ..solvers.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
+from ..structure_file import StructureDefinition
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
            "DovetailRootSlave", "LinearStructureSlave", "STRUCTURE_RESOURCE"]
@@ -355,8 +363,6 @@ class MicroslipJointSlave(_DrivenSlave):
         self._declare_io()
 
     def _slider_table(self):
-        from ..contact.mindlin import MindlinContact
-
         c = MindlinContact(self.normal_load, self.friction_coefficient, self.radius, self.youngs_modulus,
                            self.poisson_ratio)
         k, f = zip(*c.to_iwan(int(self.n_sliders)).sliders_table)
@@ -419,9 +425,6 @@ class DovetailRootSlave(_Slave):
         self._root = None
 
     def _initialise(self):
-        from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
-        from ..elements.dovetail import DovetailRoot
-
         args = dict(flank_angle=self.flank_angle, friction_coefficient=self.friction_coefficient,
                     normal_stiffness=self.normal_stiffness, tangential_dof=0, radial_dof=1)
         profile = int(self.flank_profile)
@@ -509,10 +512,6 @@ class LinearStructureSlave(_Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        import os
-
-        from ..structure_file import StructureDefinition
-
         with open(os.path.join(kwargs["resources"], STRUCTURE_RESOURCE)) as f:
             self._definition = d = StructureDefinition.from_dict(json.load(f))
         self._parameter("omega", d.omega, "excitation angular frequency [rad/s], > 0")
@@ -538,8 +537,6 @@ class LinearStructureSlave(_Slave):
         return float((self._body.x, self._body.v)[which][i])
 
     def _initialise(self):
-        from ..solvers.held import HeldPortStructure
-
         d = self._definition
         f = d.force_vector()
         for dof in d.force_amplitude:

@@ -1,0 +1,109 @@
+"""The FMUs in Ecos, a native C++ co-simulation host (ecospy), through SSP files.
+
+Ecos's library runs in its own process (frictionjoint.fmi.ecos.run_ecos, full precision); the
+``ecos`` executable runs with the environment of ``frictionjoint host-env``. Skipped, with the
+reason, only where Ecos cannot run on this machine (not installed, or its libtbb12 missing).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from frictionjoint.fmi.cosim import FMUSystem, joint_connections
+
+ecospy = pytest.importorskip("ecospy", reason="Ecos not installed (pip install ecospy)")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def ecos_runs():
+    try:
+        ecospy.EcosLib.version()
+    except Exception as exc:  # noqa: BLE001 -- e.g. OSError: libtbb.so.12: cannot open shared object file
+        pytest.skip(f"the Ecos library cannot load here ({exc}); on Debian: apt-get install libtbb12")
+
+
+def relative(a, b):
+    return np.max(np.abs(np.asarray(a) - np.asarray(b))) / max(np.max(np.abs(b)), 1e-300)
+
+
+def test_coulomb_oscillator_in_ecos_equals_fmpy(fmus):
+    """SSP sets the parameters; Ecos's values equal fmpy's at the common communication points
+    (Ecos accumulates its time: the points differ by rounding, 1e-14 s)."""
+    from frictionjoint.fmi.ecos import run_ecos
+
+    params = {"osc": dict(mass=1.0, stiffness=1.0, force_amplitude=1.0, slip_force=0.3, omega=1.5, x0=0.1)}
+    s = FMUSystem({"osc": fmus["CoulombOscillator"]}, [], params)
+    period = 2 * math.pi / 1.5
+    outs = ["osc.x", "osc.v", "osc.dissipated_energy", "osc.friction_force"]
+    e = run_ecos(s, 8 * period, period / 20, outs)
+    assert e.success, e.message
+    f = s.simulate(8 * period, period / 20, outs)
+    assert np.max(np.abs(e.t - f.t)) < 1e-13
+    for k in outs:
+        assert relative(e[k], f[k]) <= 1e-12, k  # measured 1e-15 (x, v)
+    assert e["osc.dissipated_energy"][-1] > 0.1  # friction did work: events inside the steps
+
+
+def test_every_fmu_and_two_instances_in_ecos_equal_this_master(fmus):
+    """One SSP with every FMU: two CoulombOscillator instances, one driving the displacement of
+    each joint FMU (JenkinsJoint, IwanJoint, MicroslipJoint, DovetailRoot); Ecos's values equal
+    this library's master with Ecos's (Jacobi) transfer."""
+    from frictionjoint.fmi.ecos import run_ecos
+
+    comps = {"osc": fmus["CoulombOscillator"], "osc2": fmus["CoulombOscillator"], "jenkins": fmus["JenkinsJoint"],
+             "iwan": fmus["IwanJoint"], "micro": fmus["MicroslipJoint"], "dove": fmus["DovetailRoot"]}
+    params = {"osc": dict(force_amplitude=1e-4, slip_force=0.0, omega=1.5),
+              "osc2": dict(force_amplitude=2.0, slip_force=0.5, omega=0.8),
+              "jenkins": dict(stiffness=1e4, slip_force=0.3)}
+    conns = [("osc.x", "jenkins.u"), ("osc.x", "iwan.u"), ("osc.x", "micro.u"), ("osc.x", "dove.u_tangential"),
+             ("osc2.x", "osc.force")]
+    s = FMUSystem(comps, conns, params)
+    outs = ["osc.x", "osc2.x", "jenkins.force", "iwan.force", "micro.force", "dove.root_force_tangential",
+            "dove.friction_force_left", "micro.dissipated_energy", "dove.dissipated_energy"]
+    period = 2 * math.pi / 1.5
+    e = run_ecos(s, 3 * period, period / 25, outs)
+    assert e.success, e.message
+    f = s.simulate(3 * period, period / 25, outs, transfer="jacobi")
+    for k in outs:
+        assert relative(e[k], f[k]) <= 1e-9, k  # measured <= 4e-14
+    assert e["micro.dissipated_energy"][-1] > 0 and e["dove.dissipated_energy"][-1] > 0  # they slipped
+
+
+def test_two_jenkins_chain_in_ecos_converges_to_the_exact_solution(fmus, tmp_path):
+    """The co-simulation case through SSP in Ecos, semi-implicit coupling, against the library's
+    exact MDOF solution (see test_cosim.py)."""
+    from pathlib import Path
+
+    from frictionjoint.fmi.build import build_fmus
+    from frictionjoint.fmi.ecos import run_ecos
+    from test_cosim import DIVISIONS, PERIODS, T, errors, exact, observed_order
+
+    from frictionjoint.structure_file import load_structure_definition
+
+    model = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain.toml"
+    (chain,) = build_fmus(tmp_path, structures=[model])
+    definition = load_structure_definition(model)
+    comps = {"chain": chain, "j1": fmus["JenkinsJoint"], "j2": fmus["JenkinsJoint"]}
+    s = FMUSystem(comps, joint_connections("chain", "j1", "x1") + joint_connections("chain", "j2", "x2"))
+    errs = []
+    for d in DIVISIONS:
+        r = run_ecos(s, PERIODS * T, T / d, ["chain.x_x1", "chain.x_x2"])
+        assert r.success, r.message
+        errs.append(errors(r, exact(definition, d)).max())
+    # measured: 1.35, 0.28, 0.093, 0.021 (Jacobi: the joint force lags a step)
+    assert errs[-1] < 0.05 and observed_order(errs) > 1.5
+
+
+def test_ecos_executable_logs_a_bad_parameter_and_does_not_crash(fmus, tmp_path):
+    """``ecos simulate`` with the host environment: the FMU's error names the parameter in
+    Ecos's log (debug logging on), Ecos steps on (it ignores error statuses), the FMU answers
+    each step with an error instead of crashing, and the process ends normally."""
+    from frictionjoint.fmi.ecos import ecos_cli
+
+    s = FMUSystem({"osc": fmus["CoulombOscillator"], "osc2": fmus["CoulombOscillator"]}, [],
+                  {"osc": dict(mass=-1.0)})
+    p = ecos_cli(s, 1.0, 0.1, tmp_path)
+    log = p.stdout + p.stderr
+    assert "mass must be > 0" in log
+    assert "not initialised" in log
+    assert p.returncode == 0, log[-3000:]
