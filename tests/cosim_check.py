@@ -1,8 +1,9 @@
 """Run CoulombOscillator.fmu in libcosimpy (Open Simulation Platform's libcosim), the second,
-independent FMI importer; one run per process (pythonfmu FMUs cannot be instantiated twice in one
-process). Usage:
+independent FMI importer. Usage:
 
     python tests/cosim_check.py FMU_PATH SLIP_FORCE OMEGA STEP_NS N_STEPS  -> prints one JSON object
+    python tests/cosim_check.py two FMU_PATH STEP_NS N_STEPS SLIP_FORCE,OMEGA SLIP_FORCE,OMEGA
+                         -> two instances of the FMU in one execution, rows of each
     python tests/cosim_check.py dovetail|microslip FMU_PATH SUBSTEPS       -> DovetailRoot.fmu or
                          MicroslipJoint.fmu driven along tests/fmu_checks.py's paths
 
@@ -52,6 +53,29 @@ def main(path, slip_force, omega, step_ns, n_steps):
     return {"time_ns": times, "rows": rows}
 
 
+def two(path, step_ns, n_steps, case_a, case_b):
+    """Two instances of one FMU in one libcosim execution, with different parameters."""
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(int(step_ns))
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    slaves = []
+    for name, case in (("a", case_a), ("b", case_b)):
+        idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name=name))
+        vr = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
+        f, w = map(float, case.split(","))
+        for pname, value in dict(slip_force=f, force_amplitude=1.0, omega=w, x0=0.1, v0=-0.2).items():
+            assert ex.real_initial_value(idx, vr[pname], value)
+        slaves.append((idx, vr))
+    rows = {"a": [], "b": []}
+    for _ in range(int(n_steps)):
+        assert ex.step()
+        for name, (idx, vr) in zip(rows, slaves):
+            rows[name].append(obs.last_real_values(idx, [vr[n] for n in OUTPUTS])
+                              + obs.last_integer_values(idx, [vr["event_count"]]))
+    return rows
+
+
 def dovetail(path, substeps):
     """DovetailRoot.fmu with its inputs set by libcosim's override manipulator before each step,
     along the same corners as ``fmu_checks.dovetail_path`` (rows at the corners)."""
@@ -94,7 +118,9 @@ def microslip(path, substeps):
 
 
 if __name__ == "__main__":
-    if sys.argv[1] in ("dovetail", "microslip"):
+    if sys.argv[1] == "two":
+        print(json.dumps(two(*sys.argv[2:])), flush=True)
+    elif sys.argv[1] in ("dovetail", "microslip"):
         print(json.dumps(globals()[sys.argv[1]](sys.argv[2], int(sys.argv[3]))), flush=True)
     else:
         path, f, w, step, n = sys.argv[1:]

@@ -160,6 +160,26 @@ def test_jenkins_fmu_semi_implicit_coupling_is_stable_where_explicit_is_not(fmus
     assert not [msg for msg in res["messages"] if "rror" in msg or "atal" in msg]
 
 
+def test_two_instances_in_libcosim_equal_lone_ones(fmus):
+    """Two CoulombOscillator.fmu instances with different parameters in one libcosim execution:
+    each bit-identical to the same FMU alone in a libcosim execution."""
+    import platform
+
+    if not (sys.version_info[:2] == (3, 11) and sys.platform == "linux" and platform.machine() == "x86_64"):
+        pytest.skip("no libcosimpy wheel for this interpreter/platform")
+    path = fmus["CoulombOscillator"]
+    step_ns, n = 598_399_000, 60
+    def cosim(*args):
+        p = subprocess.run([sys.executable, str(HERE / "cosim_check.py"), *map(str, args)], capture_output=True,
+                           text=True, timeout=300)
+        assert p.returncode == 0, p.stderr[-2000:]
+        return json.loads(p.stdout.strip().splitlines()[-1])
+
+    both = cosim("two", path, step_ns, n, "0.3,1.5", "0.5,0.45")
+    for name, (f, w) in zip("ab", (("0.3", "1.5"), ("0.5", "0.45"))):
+        assert cosim(path, f, w, step_ns, n)["rows"] == both[name]
+
+
 @pytest.mark.parametrize("slip_force, omega", [(0.3, 1.5), (0.5, 0.45)])  # stop-free; 2 stops per cycle
 def test_second_importer_libcosim_gives_the_same_result(fmus, slip_force, omega):
     """CoulombOscillator.fmu in libcosimpy (libcosim, OSP) and in fmpy: same outputs at the same
