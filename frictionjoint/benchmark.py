@@ -36,7 +36,7 @@ Methods (``method`` column):
 - ``steady_state``: :meth:`CoulombOscillator.steady_state` **from rest** (shooting on the period
   map, its own transient included), at several ``tol``;
 - ``FMU sweep``: :func:`frictionjoint.sweep.sweep` of one frequency through
-  ``CoulombOscillator.fmu`` (fmpy, in a worker process whose start is included; shooting from the
+  ``CoulombOscillator.fmu`` (fmpy, in this process, instantiation included; shooting from the
   one-harmonic guess), at several ``n_samples`` (samples per period for the harmonics; the peak is
   exact whatever the number);
 - ``describing function``: the one-harmonic balance ``|k - m w^2 + i 4F/(pi X)| X = P0``, closed

@@ -143,7 +143,7 @@ def run_ecos(system_or_ssp, stop_time: float, step: float, outputs: Sequence[str
                               host=f"Ecos {data['version']} (libecosc)")
 
 
-def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool = True,
+def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool = True, parallel: bool = True,
              timeout: float = 600.0) -> subprocess.CompletedProcess:
     """Run a system with the ``ecos simulate`` command in ``workdir`` (it writes its CSV there).
 
@@ -157,6 +157,8 @@ def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool 
         Working folder (created).
     debug : bool
         ``--debugLogging -l debug``: the FMUs' log messages (errors included) in the output.
+    parallel : bool
+        False: ``--noParallel`` (components stepped one after the other in one thread).
 
     Returns
     -------
@@ -170,6 +172,8 @@ def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool 
     cmd = [str(ecos_executable()), "simulate", "--path", str(ssp), "--stepSize", repr(h),
            "--stopTime", repr(check_real("stop_time", stop_time) + h / 2), "--parameterSet", "initialValues"]
     cmd += ["--debugLogging", "-l", "debug"] if debug else ["-l", "warn"]
+    if not parallel:
+        cmd.append("--noParallel")
     env = dict(os.environ, **host_environment())
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=workdir)
 

@@ -70,6 +70,51 @@ def _balance_find_class(cls) -> None:
         _py_incref(vars(module))
 
 
+#: FMU binary path -> its library handle, held to the end of the process (see _finalize_before_exit)
+_HELD_BINARIES: dict = {}
+
+
+def _finalize_before_exit(resources, model_identifier: str) -> None:
+    """Have this FMU binary's Python holder released first thing at process exit.
+
+    pythonfmu 0.7.0's binary keeps its interpreter holder in a static
+    ``std::shared_ptr<PyState> pyState`` (``PySlaveInstance.cpp``) and releases it twice when the
+    library is unloaded or the process exits: the static destructor frees it, then the ELF
+    destructor ``onLibraryUnload`` assigns ``nullptr`` to the destroyed pointer and releases its
+    freed control block again (heap corruption). In a non-Python host that destructor is also
+    where the embedded interpreter is finalised -- after the C++ static destructors of the
+    extension modules loaded meanwhile (SciPy's ``_uarray`` releases a type object from its own,
+    which ``Py_Finalize`` releases again): the host's heap is corrupted at exit (Ecos: exit status
+    139/134 after a complete run).
+
+    Calling the binary's own ``finalizePythonInterpreter`` (exported, ``pyState = nullptr``) from a
+    C ``atexit`` entry registered here -- after the library and the extension modules were loaded,
+    so it runs before their static destructors -- releases the holder once, finalises the
+    interpreter where the binary started it (as a Python host finalises before ``exit``), and
+    leaves the static destructor and ``onLibraryUnload`` an empty pointer. The library is held
+    open until then, so that the entry stays valid after a host unloads it (fmpy unloads the
+    library when the last instance is freed, which would run the double release mid-process).
+    Once per binary and process; Linux only (pythonfmu's Windows binary finalises from
+    ``DllMain``).
+    """
+    if not sys.platform.startswith("linux") or not resources:
+        return
+    binary = os.path.join(os.path.dirname(os.path.abspath(resources)), "binaries", "linux64",
+                          f"{model_identifier}.so")
+    if binary in _HELD_BINARIES or not os.path.isfile(binary):  # e.g. the builder's dummy instance
+        return
+    lib = ctypes.CDLL(binary)
+    finalize = getattr(lib, "finalizePythonInterpreter", None)
+    if finalize is None:  # a pythonfmu binary without this entry point: nothing to order
+        _HELD_BINARIES[binary] = lib
+        return
+    cxa_atexit = ctypes.CDLL(None).__cxa_atexit
+    cxa_atexit.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
+    cxa_atexit.restype = ctypes.c_int
+    if cxa_atexit(ctypes.cast(finalize, ctypes.c_void_p), None, None) == 0:
+        _HELD_BINARIES[binary] = lib
+
+
 def _drop_repeated_path(resources) -> None:
     """pythonfmu's wrapper inserts the FMU's resources folder at the front of ``sys.path`` at
     every instantiation (and leaks the string): keep the first copy only, so that a host with
@@ -139,6 +184,7 @@ class _Slave(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         _drop_repeated_path(kwargs.get("resources"))
+        _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
         self.start_time = 0.0
         self._ready = False
 
