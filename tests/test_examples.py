@@ -61,10 +61,28 @@ def test_readme_opens_with_the_two_commands():
 
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
-    assert len(python) == 1
+    assert len(python) == 2  # the library example, the system of FMUs
     monkeypatch.chdir(tmp_path)
     exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
     assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_readme_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
+    """The README's FMUSystem example, with the FMUs its shell commands build in build/."""
+    from frictionjoint.fmi.build import build_fmus
+
+    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][1]
+    build = tmp_path / "build"
+    build.mkdir()
+    for path in fmus.values():
+        shutil.copy(path, build / path.name)
+    build_fmus(build, structures=[ROOT / "models" / "two_dof_chain.toml"])
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "readme"}
+    exec(compile(block, str(README) + ":system-example", "exec"), namespace)
+    result = namespace["result"]
+    assert result.t[-1] == pytest.approx(20.9, abs=0.0524) and abs(result["j2.force"]).max() <= 0.8 + 1e-12
+    assert (tmp_path / "chain.ssp").is_file()
 
 
 def test_ci_runs_the_readme_test_command():
