@@ -182,3 +182,30 @@ def test_sweep_rejects_an_fmu_without_oscillator_variables(fmus):
     proc = run("sweep", str(fmus["JenkinsJoint"]), "--omega", "1:2:2", "--set", "force_amplitude=1")
     assert proc.returncode == 2
     assert "not an oscillator FMU" in proc.stderr and "lacks the variables" in proc.stderr
+
+
+def test_host_env_prints_what_a_native_host_needs(capsys):
+    import os
+    import shlex
+
+    assert main(["host-env"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    exports = dict(shlex.split(line[len("export "):])[0].split("=", 1) for line in lines if line.startswith("export "))
+    assert os.path.isfile(exports["LD_PRELOAD"]) and "libpython" in exports["LD_PRELOAD"]
+    for path in exports["PYTHONPATH"].split(os.pathsep):
+        assert os.path.isdir(path)
+    import numpy
+
+    assert any(numpy.__file__.startswith(p) for p in exports["PYTHONPATH"].split(os.pathsep))
+    if "ECOS" in exports:
+        assert os.access(exports["ECOS"], os.X_OK)
+
+
+def test_build_fmus_structure(tmp_path, capsys):
+    model = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain.toml"
+    assert main(["build-fmus", "--out", str(tmp_path), "--structure", str(model)]) == 0
+    assert capsys.readouterr().out.strip() == f"built and validated {tmp_path / 'TwoDofChain.fmu'}"
+    with pytest.raises(SystemExit) as exc:
+        main(["build-fmus", "--out", str(tmp_path), "--structure", str(tmp_path / "none.toml")])
+    assert exc.value.code == 2
+    assert "none.toml' not found" in capsys.readouterr().err
