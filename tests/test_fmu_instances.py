@@ -34,8 +34,6 @@ def test_many_instances_bit_identical_to_a_lone_one(fmus, name, n_instances, n_r
     assert res["differ"] == [[]] * n_rounds  # every instance of every round, bit for bit
     assert res["records"] > 20
     # a bad parameter is an FMI error naming the parameter, in every round, and never a crash
-    from fmu_instances_check import BAD
-
     assert res["rejected"] == [BAD[name][0]] * n_rounds
     # nothing over-released (and nothing leaked per instance) by the end
     before, after = res["references"]

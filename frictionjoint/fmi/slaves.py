@@ -10,15 +10,13 @@ state get/set and pickled for serialisation.
 from __future__ import annotations
 
 import copy
-import ctypes
 import functools
 import json
 import math
 import os
 import pickle
-import sys
 
-from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
 
 # Everything the slaves use is imported here, not inside methods: every FMU in a process shares
@@ -32,6 +30,7 @@ from ..errors import ParameterError, check_positive
 from ..solvers.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 from ..structure_file import StructureDefinition
+from .wrapper import BalancedSlave
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
            "DovetailRootSlave", "LinearStructureSlave", "STRUCTURE_RESOURCE"]
@@ -42,149 +41,15 @@ STRUCTURE_RESOURCE = "structure.json"
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
 
-_py_incref = ctypes.pythonapi.Py_IncRef
-_py_incref.argtypes = [ctypes.py_object]
-_py_incref.restype = None
-
-
-def _balance_find_class(cls) -> None:
-    """Give the FMU script module's ``__dict__`` the reference that pythonfmu takes from it.
-
-    pythonfmu's native wrapper (0.7.0, ``src/pythonfmu/PySlaveInstance.cpp``, ``findClass``), once
-    per ``fmi2Instantiate``: imports the script module, re-executes the script's source with the
-    module's ``__dict__`` as globals (``PyEval_EvalCode``), picks the slave class, and at the end
-    ``Py_DECREF``s ``PyModule_GetDict(module)`` -- a *borrowed* reference. Each instantiation
-    thus releases one reference it never owned; a script whose module dict is held by nothing
-    but the module (ours: one class, no functions) is freed by the first instantiation, and the
-    second (or a cyclic GC pass) meets freed memory and crashes the host.
-
-    The re-execution defines the script's slave class again, which calls
-    ``_Slave.__init_subclass__`` -- inside ``findClass``, before its ``Py_DECREF`` -- and that
-    calls this: one ``Py_IncRef`` per instantiation balances it. (Compensating later, when the
-    slave is constructed, is too late: the dict may be gone by then.) The surplus references (the
-    script's first import, a pythonfmu that fixes the bug) only keep a module's dict alive that
-    its module keeps alive anyway; a missing reference is fatal.
-    """
-    module = sys.modules.get(cls.__module__)
-    if module is not None:
-        _py_incref(vars(module))
-
-
-#: FMU binary path -> its library handle, held to the end of the process (see _finalize_before_exit)
-_HELD_BINARIES: dict = {}
-
-
-def _finalize_before_exit(resources, model_identifier: str) -> None:
-    """Have this FMU binary's Python holder released first thing at process exit.
-
-    pythonfmu 0.7.0's binary keeps its interpreter holder in a static
-    ``std::shared_ptr<PyState> pyState`` (``PySlaveInstance.cpp``) and releases it twice when the
-    library is unloaded or the process exits: the static destructor frees it, then the ELF
-    destructor ``onLibraryUnload`` assigns ``nullptr`` to the destroyed pointer and releases its
-    freed control block again (heap corruption). In a non-Python host that destructor is also
-    where the embedded interpreter is finalised -- after the C++ static destructors of the
-    extension modules loaded meanwhile (SciPy's ``_uarray`` releases a type object from its own,
-    which ``Py_Finalize`` releases again): the host's heap is corrupted at exit (Ecos: exit status
-    139/134 after a complete run).
-
-    Calling the binary's own ``finalizePythonInterpreter`` (exported, ``pyState = nullptr``) from a
-    C ``atexit`` entry registered here -- after the library and the extension modules were loaded,
-    so it runs before their static destructors -- releases the holder once, finalises the
-    interpreter where the binary started it (as a Python host finalises before ``exit``), and
-    leaves the static destructor and ``onLibraryUnload`` an empty pointer. The library is held
-    open until then, so that the entry stays valid after a host unloads it (fmpy unloads the
-    library when the last instance is freed, which would run the double release mid-process).
-    Once per binary and process; Linux only (pythonfmu's Windows binary finalises from
-    ``DllMain``).
-    """
-    if not sys.platform.startswith("linux") or not resources:
-        return
-    binary = os.path.join(os.path.dirname(os.path.abspath(resources)), "binaries", "linux64",
-                          f"{model_identifier}.so")
-    if binary in _HELD_BINARIES or not os.path.isfile(binary):  # e.g. the builder's dummy instance
-        return
-    lib = ctypes.CDLL(binary)
-    finalize = getattr(lib, "finalizePythonInterpreter", None)
-    if finalize is None:  # a pythonfmu binary without this entry point: nothing to order
-        _HELD_BINARIES[binary] = lib
-        return
-    cxa_atexit = ctypes.CDLL(None).__cxa_atexit
-    cxa_atexit.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
-    cxa_atexit.restype = ctypes.c_int
-    if cxa_atexit(ctypes.cast(finalize, ctypes.c_void_p), None, None) == 0:
-        _HELD_BINARIES[binary] = lib
-
-
-def _drop_repeated_path(resources) -> None:
-    """pythonfmu's wrapper inserts the FMU's resources folder at the front of ``sys.path`` at
-    every instantiation (and leaks the string): keep the first copy only, so that a host with
-    thousands of instantiations does not search one folder thousands of times per import."""
-    if resources and sys.path.count(resources) > 1:
-        first = sys.path.index(resources)
-        sys.path[first + 1:] = [p for p in sys.path[first + 1:] if p != resources]
-
-
-#: the slave methods pythonfmu's wrapper calls on the instance (see _Slave._guard)
-_WRAPPER_CALLS = ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "do_step",
-                  "terminate", "get_integer", "get_real", "get_boolean", "get_string", "set_integer",
-                  "set_real", "set_boolean", "set_string", "_get_fmu_state", "_set_fmu_state")
-
-
-def _lending_references(method):
-    """``method`` as called by pythonfmu's wrapper, with the references its error path takes.
-
-    When a call into Python raises, pythonfmu 0.7.0's wrapper (``handle_py_exception``) logs the
-    error, calls ``cleanPyObject`` -- ``Py_XDECREF`` of the slave class, the slave instance and
-    its log queue, without clearing the pointers -- and returns ``fmi2Fatal``. The destructor
-    (``fmi2FreeInstance``) and ``fmi2Reset`` release the same three objects again: the instance,
-    held by nothing else, is freed twice and the host crashes. Before an exception leaves a
-    wrapper-called method, one reference to each of the three is lent, so that the error path
-    releases what it was given and the instance lives until the host frees it.
-    """
-
-    @functools.wraps(method)
-    def call(self, *args):
-        try:
-            return method(self, *args)
-        except BaseException:
-            for obj in (type(self), self, self.log_queue):
-                _py_incref(obj)
-            raise
-
-    call._lends_references = True
-    return call
-
-
-class _Slave(Fmi2Slave):
-    """Common declarations, validation at initialisation, pickled state.
-
-    Two defects of pythonfmu 0.7.0's native wrapper are balanced here, once for every FMU
-    (see :func:`_balance_find_class` and :func:`_lending_references`), so that a host may hold
-    any number of instances of any of these FMUs in one process with its garbage collector on.
-    """
+class _Slave(BalancedSlave):
+    """Common declarations, validation at initialisation, pickled state (the defects of
+    pythonfmu's native wrapper are balanced by :class:`~frictionjoint.fmi.wrapper.BalancedSlave`)."""
 
     author = "frictionjoint developers"
     description = ""
 
-    def __init_subclass__(cls, **kwargs):
-        super().__init_subclass__(**kwargs)
-        if cls.__module__ != __name__:  # an FMU script's slave class (see _balance_find_class)
-            _balance_find_class(cls)
-        cls._guard()
-
-    @classmethod
-    def _guard(cls, inherited: bool = False) -> None:
-        """Wrap the wrapper-called methods this class defines, or (``inherited``) all of them
-        (see :func:`_lending_references`)."""
-        for name in _WRAPPER_CALLS:
-            method = getattr(cls, name) if inherited else cls.__dict__.get(name)
-            if method is not None and not getattr(method, "_lends_references", False):
-                setattr(cls, name, _lending_references(method))
-
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        _drop_repeated_path(kwargs.get("resources"))
-        _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
         self.start_time = 0.0
         self._ready = False
 
@@ -238,7 +103,7 @@ class _Slave(Fmi2Slave):
         self._restore(copy.deepcopy(state["__frictionjoint__"]))
 
     # The wrapper calls these two on the class: an exception there would release the instance
-    # with nothing to lend it (see _lending_references), so bad bytes become a state that
+    # with nothing to lend it (see frictionjoint.fmi.wrapper), so bad bytes become a state that
     # _set_fmu_state rejects.
     @staticmethod
     def _fmu_state_to_bytes(state) -> bytes:
@@ -250,9 +115,6 @@ class _Slave(Fmi2Slave):
             return pickle.loads(state)
         except Exception as exc:  # noqa: BLE001 -- reported by _set_fmu_state
             return {"__invalid__": f"cannot deserialise the FMU state: {exc!r}"}
-
-
-_Slave._guard(inherited=True)
 
 
 class CoulombOscillatorSlave(_Slave):
