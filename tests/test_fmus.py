@@ -363,3 +363,19 @@ def test_new_fmus_reject_bad_parameters_with_a_message(fmus, name, value, text, 
     res = run("bad_parameter", fmus[fmu], name, json.dumps(value))
     assert res["raised"] is not None
     assert any(text in m for m in res["messages"]), res["messages"]
+
+
+def test_coulomb_fmu_defaults_are_the_readme_case(fmus):
+    """Dropped into a host with its defaults, CoulombOscillator.fmu runs the README's case
+    (m = k = 1, P0 = 1 N, F = 0.5 N) at omega = 1.5 rad/s: it moves and dissipates, exactly as the
+    library's oscillator with those parameters."""
+    from frictionjoint.fmi.master import FMUInstance
+
+    osc = fj.CoulombOscillator(slip_force=0.5, force_amplitude=1.0, omega=1.5)
+    ref = osc.simulate(3 * osc.period, t_eval=[3 * osc.period], record=("x", "energy"))
+    with FMUInstance(fmus["CoulombOscillator"]) as inst:
+        inst.initialize()
+        inst.step_to(3 * osc.period)
+        x, diss = inst.get(["x", "dissipated_energy"])
+    assert x == pytest.approx(ref.x[-1], rel=1e-12) and x != 0.0
+    assert diss == pytest.approx(ref.dissipated_friction[-1], rel=1e-12) and diss > 0.1
