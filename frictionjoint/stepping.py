@@ -118,6 +118,9 @@ class OscillatorRun:
         st, log = self.state, self.log
         return {"t": st.t, "x": st.x.copy(), "v": st.v.copy(), "w": st.w.copy(), "status": st.status.copy(),
                 "diss": self.dissipated_energy, "force": self.force,
+                # the marcher's velocity scale sets its event tolerances: part of the state, so
+                # that a restored run continues bit for bit as the original did
+                "v_scale": self._marcher.v_scale,
                 "log": (list(log.time), list(log.element), list(log.slider), list(log.kind))}
 
     def restore(self, snap: dict) -> None:
@@ -127,4 +130,5 @@ class OscillatorRun:
         log.time, log.element, log.slider, log.kind = (list(a) for a in snap["log"])
         self.log = log
         self.dissipated_energy = snap["diss"]
+        self._marcher.v_scale = snap["v_scale"]
         self.hold(snap["force"])
