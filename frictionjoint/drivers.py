@@ -19,7 +19,7 @@ import scipy.optimize
 
 from .errors import ParameterError
 from .results import PeriodicResponse
-from .solvers.steady import fixed_point_newton, has_unit_eigenvalue, steady_growth
+from .solvers.shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["LibraryDriver", "FMUDriver", "shoot"]
@@ -93,6 +93,53 @@ def _one_harmonic_guess(p: dict):
     return CoulombOscillator(**{k: p[k] for k in keys if k in p}).initial_guess()
 
 
+class _DriverPeriodMap:
+    """The period map of a driver (:mod:`frictionjoint.solvers.shooting`'s protocol): one restart
+    at ``t = 0`` from ``z = (x0, v0)`` and one communication step of a period."""
+
+    def __init__(self, driver, parameters: dict):
+        self.driver, self.p = driver, parameters
+        self.omega = float(parameters["omega"])
+        self.period = 2 * math.pi / self.omega
+        self.calls = 0
+        self.last = None
+        load = max(abs(parameters.get("force_amplitude", 0.0)
+                       + parameters["stiffness"] * parameters.get("base_amplitude", 0.0)),
+                   parameters.get("slip_force", 0.0))
+        self.x_floor = 1e-6 * load / parameters["stiffness"] if load > 0 else 1e-6
+
+    def __call__(self, z):
+        self.driver.start(dict(self.p, x0=float(z[0]), v0=float(z[1])))
+        self.driver.advance(self.period)
+        self.calls += 1
+        out = np.array(self.driver.get(["x", "v"]), dtype=float)
+        self.last = (z.copy(), out)
+        return out
+
+    def image(self, z):
+        """``P(z)``, from the last call when it was at ``z``."""
+        if self.last is not None and np.array_equal(self.last[0], z):
+            return self.last[1]
+        return self(z)
+
+    def scales(self, z):
+        sx = max(self.x_floor, abs(z[0]), abs(z[1]) / self.omega)
+        return np.array([sx, sx * self.omega])
+
+    def amplitude(self, z) -> float:
+        return math.hypot(z[0], z[1] / self.omega)
+
+    def jacobian(self, z, pz, scale):
+        """Forward differences with steps 1e-7 of the scales at ``z`` (``scale`` is not used)."""
+        sc = self.scales(z)
+        jac = np.empty((2, 2))
+        for k in range(2):
+            zp = z.copy()
+            zp[k] += 1e-7 * sc[k]
+            jac[:, k] = (self(zp) - pz) / (1e-7 * sc[k])
+        return jac
+
+
 def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int = 256, tol: float = 1e-11,
           max_periods: int = 500) -> PeriodicResponse:
     """Periodic steady state through a driver.
@@ -125,56 +172,14 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     w = float(p["omega"])
     period = 2 * math.pi / w
     outputs = tuple(dict.fromkeys(("x",) + tuple(outputs)))
-    calls = [0]
-
-    def pmap(z):
-        driver.start(dict(p, x0=float(z[0]), v0=float(z[1])))
-        driver.advance(period)
-        calls[0] += 1
-        return np.array(driver.get(["x", "v"]), dtype=float)
-
+    pmap = _DriverPeriodMap(driver, p)
     z = np.array(state if state is not None else _one_harmonic_guess(p), dtype=float)
-    load = max(abs(p.get("force_amplitude", 0.0) + p["stiffness"] * p.get("base_amplitude", 0.0)),
-               p.get("slip_force", 0.0))
-    x_floor = 1e-6 * load / p["stiffness"] if load > 0 else 1e-6
-
-    def scales(*zs):
-        sx = max([x_floor] + [max(abs(v[0]), abs(v[1]) / w) for v in zs])
-        return np.array([sx, sx * w])
-
-    def jacobian(z, pz):
-        sc = scales(z)
-        jac = np.empty((2, 2))
-        for k in range(2):
-            zp = z.copy()
-            zp[k] += 1e-7 * sc[k]
-            jac[:, k] = (pmap(zp) - pz) / (1e-7 * sc[k])
-        return jac
-
-    z_start = z.copy()
-    pz = pmap(z)
-    scale = scales(z, pz)
-    converged, z, pz, rnorm, jac, _ = fixed_point_newton(pmap, jacobian, z, pz, scale, tol, 20)
-    growth = None
-    if not converged:
-        amps = []
-        if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
-            z = z_start  # Newton wandered off: march from the start instead
-            pz = pmap(z)
-        for k in range(max_periods):
-            z, pz = pz, pmap(pz)
-            rnorm = float(np.max(np.abs(pz - z) / scales(z, pz)))
-            if rnorm <= tol:
-                converged = True
-                break
-            amps.append(math.hypot(pz[0], pz[1] / w))
-            if k >= 40 and k % 20 == 0:
-                growth = steady_growth(amps)
-                if growth is not None:
-                    break
+    outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=20, max_periods=max_periods)
+    z, converged = outcome.z, outcome.converged
     unique = True
-    if converged:  # pz = P(z) already: the Jacobian at the orbit costs two periods, not three
-        unique = not has_unit_eigenvalue(jacobian(z, pz), scales(z))
+    if converged:  # the Jacobian at the orbit: P(z) is usually the map's last call already
+        unique = not has_unit_eigenvalue(pmap.jacobian(z, pmap.image(z), None), pmap.scales(z))
+    calls = [pmap.calls]
 
     # one period, sampled
     names = tuple(dict.fromkeys(outputs + ("v", "stuck")))
@@ -217,15 +222,8 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     harmonics["x"]["peak"] = peak
     stuck = col["stuck"] > 0.5
     stops = int(np.count_nonzero(stuck & ~np.roll(stuck, 1)))
-    status = "periodic" if converged else ("unbounded" if growth is not None else "not converged")
-    if converged:
-        message = "periodic steady state found"
-    elif growth is not None:
-        message = f"the response grows without bound (about {growth:.6g} m per period)"
-    else:
-        message = f"no periodic steady state found (residual {rnorm:.3g} after {calls[0]} periods)"
-    if converged and not unique:
-        message += "; NOT UNIQUE: the period map has an eigenvalue 1 (a family of periodic orbits)"
+    status = outcome.status
+    message = orbit_message(outcome, unique, calls[0], max_periods)
     return PeriodicResponse(
         omega=w, amplitude=peak, phase=harmonics["x"]["phase"], harmonic_amplitude=harmonics["x"]["amplitude"],
         stops_per_cycle=stops, stuck=bool(stuck.all()) and p.get("slip_force", 0.0) > 0,

@@ -1,12 +1,12 @@
-"""Periodic steady state by shooting on the period map (Newton with a finite-difference Jacobian).
+"""Periodic steady state of a FrictionSystem by shooting on its exact period map.
 
 The period map ``P`` takes the state ``z = [x, v, w]`` at a section time ``t_s`` to the state one
-excitation period later; a periodic orbit is a fixed point ``P(z) = z``. Newton's method on
-``P(z) - z`` converges in a few periods where plain marching needs hundreds when friction is low.
-The section time is put in the middle of the longest slipping piece of the first period, where
-the map is smooth. When Newton fails the orbit is sought by marching (fixed-point iteration),
-which also recognises unbounded growth. An eigenvalue 1 of the period map's Jacobian at the orbit
-(a singular ``J - I``) means a family of periodic orbits: reported as ``unique = False``.
+excitation period later, marched exactly (:class:`~frictionjoint.solvers.events.Marcher`); its
+Jacobian is taken by finite differences. The section time is put in the middle of the longest
+slipping piece of the first period, where the map is smooth. The fixed point is found by the one
+shooting algorithm of :mod:`frictionjoint.solvers.shooting` (Newton, marching fallback, growth,
+uniqueness); the final period is then evaluated on its closed-form pieces (exact peaks, first
+harmonics by Gauss quadrature per piece, stops, dissipation).
 """
 from __future__ import annotations
 
@@ -20,8 +20,9 @@ from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .response import gauss_pieces
+from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
 
-__all__ = ["periodic_response", "fixed_point_newton", "has_unit_eigenvalue"]
+__all__ = ["periodic_response"]
 
 
 class _PeriodMap:
@@ -86,6 +87,15 @@ class _PeriodMap:
         self.last = (z.copy(), out, pieces, log)
         return out
 
+    def jacobian(self, z, pz, scale) -> np.ndarray:
+        """Finite-difference Jacobian of the map at ``z`` (``pz = P(z)``)."""
+        return _jacobian(self, z, pz, scale)
+
+    def amplitude(self, z) -> float:
+        """Size of the motion ``sqrt(|x|^2 + |v / omega|^2)`` [m] (watched for unbounded growth)."""
+        n = self.n
+        return math.sqrt(float(np.sum(z[:n] ** 2)) + float(np.sum(z[n:2 * n] ** 2)) / self.system.omega ** 2)
+
     def scales(self, z) -> np.ndarray:
         n = self.n
         w_char = self.w_char
@@ -111,69 +121,6 @@ def _jacobian(pmap: _PeriodMap, z, pz, scale):
     return jac
 
 
-def has_unit_eigenvalue(jac, scale) -> bool:
-    """True when ``J - I`` (scaled by ``scale``) is singular to 1e-6: the fixed point belongs to a
-    family of periodic orbits."""
-    a = (jac - np.eye(jac.shape[0])) / scale[:, None] * scale[None, :]
-    sv = np.linalg.svd(a, compute_uv=False)
-    return bool(sv[-1] <= 1e-6 * max(sv[0], 1.0))
-
-
-def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
-    """Chord/Newton iterations on ``P(z) - z = 0`` with backtracking.
-
-    Parameters
-    ----------
-    pmap : callable
-        The map ``P``.
-    jacobian : callable
-        ``jacobian(z, pz)``: Jacobian of ``P`` at ``z`` (``pz = P(z)`` given).
-    z, pz : ndarray
-        Start and its image.
-    scale : ndarray
-        Component scales of the residual (the norm is ``max |r_i| / scale_i``).
-    tol : float
-        Residual tolerance.
-    iterations : int
-        Newton iterations at most.
-
-    Returns
-    -------
-    tuple
-        ``(converged, z, pz, rnorm, jac, jac_rnorm)``: the last iterate, its image and residual,
-        the last Jacobian and the residual where it was computed.
-    """
-    jac, jac_rnorm = None, math.inf
-    rnorm = float(np.max(np.abs(pz - z) / scale))
-    for _ in range(iterations):
-        if rnorm <= tol:
-            return True, z, pz, rnorm, jac, jac_rnorm
-        fresh = jac is None
-        if fresh:
-            jac = jacobian(z, pz)
-            jac_rnorm = rnorm
-        a = (jac - np.eye(z.size)) / scale[:, None] * scale[None, :]
-        step = np.linalg.lstsq(a, -(pz - z) / scale, rcond=1e-13)[0] * scale
-        lam = 1.0
-        while lam >= 1 / 32:
-            zn = z + lam * step
-            pzn = pmap(zn)
-            rn = float(np.max(np.abs(pzn - zn) / scale))
-            if rn < rnorm:
-                break
-            lam *= 0.5
-        else:
-            if fresh:
-                break  # no descent even with a fresh Jacobian
-            jac = None  # the chord Jacobian was stale: refresh it and retry
-            continue
-        # chord method: keep the Jacobian while the residual falls fast
-        if rn > 0.05 * rnorm:
-            jac = None
-        z, pz, rnorm = zn, pzn, rn
-    return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
-
-
 def _near_event(itv, margin: float) -> bool:
     """True when an event function of ``itv`` is within ``margin`` [s] of a zero at its start,
     judged from its slope (``|g| < margin |g'|``): e.g. a velocity reversal just before ``t = 0``,
@@ -184,41 +131,6 @@ def _near_event(itv, margin: float) -> bool:
         return False
     g, dg, _ = itv.start_values(red)
     return bool(np.any(np.abs(g) < margin * np.abs(dg)))
-
-
-def _too_slow(residuals, tol: float, remaining: int):
-    """``(rate, periods)`` if marching cannot reach ``tol`` within twice the ``remaining``
-    periods at its present pace, and is still more than 1e3 ``tol`` away, else None.
-
-    The pace is that of the best residual of the last 20 periods against the best of the 20
-    before (minima, so that a beating residual is not mistaken for progress or for a stall);
-    ``rate`` is the factor per period (>= 1: no progress, ``periods`` is inf).
-    """
-    if len(residuals) < 40:
-        return None
-    now, before = min(residuals[-20:]), min(residuals[-40:-20])
-    if not (now > 1e3 * tol and before > 0):
-        return None  # near the tolerance, rounding noise may still carry the residual below it
-    rate = (now / before) ** (1 / 20)
-    need = math.inf if rate >= 1 else math.log(tol / now) / math.log(rate)
-    return (rate, need) if need > 2 * max(remaining, 0) else None
-
-
-def steady_growth(amplitudes) -> float | None:
-    """Growth per period if a sequence of per-period amplitudes grows without bound, else None.
-
-    Unbounded (resonant) growth of a friction oscillator is linear in time: the last 30
-    increments are all positive, nearly equal (spread <= 5 % of the mean), do not decay, and
-    the amplitude has at least doubled over them.
-    """
-    amps = np.asarray(amplitudes[-30:], dtype=float)
-    if amps.size < 30:
-        return None
-    inc = np.diff(amps)
-    if (np.all(inc > 0) and np.std(inc) <= 0.05 * np.mean(inc)
-            and np.mean(inc[-10:]) >= 0.98 * np.mean(inc[:10]) and amps[-1] >= 2 * amps[0]):
-        return float(np.mean(inc[-10:]))
-    return None
 
 
 def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
@@ -290,44 +202,9 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         pz = pmap(z)
         periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
 
-    scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
-
-    def newton(z, pz, iterations):
-        return fixed_point_newton(pmap, lambda z, pz: _jacobian(pmap, z, pz, scale0), z, pz, scale0,
-                                  tol, iterations)
-
-    converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
-    message = ""
-    growth = None
-    slow = None
-    if not converged:
-        # fallback: march period after period (retrying Newton now and then); watch for growth
-        amps = []
-        hist = []
-        if not (np.all(np.isfinite(z)) and rnorm < 1e-3):
-            z = z_start  # Newton wandered off: march from the start instead
-        for k in range(max_periods):
-            pz = pmap(z)
-            r = pz - z
-            rnorm = float(np.max(np.abs(r) / pmap.scales(z)))
-            hist.append(rnorm)
-            z = pz
-            amps.append(math.sqrt(float(np.sum(z[:pmap.n] ** 2))
-                                  + float(np.sum(z[pmap.n:2 * pmap.n] ** 2)) / system.omega ** 2))
-            if rnorm <= tol:
-                converged = True
-                break
-            if k >= 40 and k % 20 == 0:
-                growth = steady_growth(amps)
-                if growth is not None:
-                    break
-                scale0 = np.maximum(pmap.scales(z), pmap.scales(pz))
-                converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pmap(z), 8)
-                if converged:
-                    break
-                slow = _too_slow(hist, tol, max_periods - k - 1)
-                if slow is not None:
-                    break
+    outcome = find_periodic_orbit(pmap, z, pz, tol=tol, max_newton=max_newton, max_periods=max_periods,
+                                  z_start=z_start)
+    converged, z, jac, jac_rnorm = outcome.converged, outcome.z, outcome.jac, outcome.jac_rnorm
 
     orbit = pmap.last if pmap.last is not None and np.array_equal(pmap.last[0], z) else None
     unique = True
@@ -399,23 +276,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     a1 *= 2 / period
     b1 *= 2 / period
     stops = log.count("stick")
-    if converged:
-        message = "periodic steady state found"
-        if not unique:
-            message += ("; NOT UNIQUE: the period map has an eigenvalue 1 (a family of periodic "
-                        "orbits, e.g. different mean offsets or rest positions); this is one member")
-    elif growth is not None:
-        message = f"the response grows without bound (about {growth:.6g} m per period)"
-    else:
-        message = (f"no periodic steady state found (residual {rnorm:.3g} after {periods:.0f} periods): "
-                   "the response may be non-periodic or converge too slowly")
-        if slow is not None:
-            rate, need = slow
-            message += (f"; stopped early: shooting failed and marching reduces the residual by a "
-                        f"factor {rate:.6g} per period, so about {need:.3g} more periods would be "
-                        f"needed (max_periods={max_periods}); e.g. a very lightly damped transient "
-                        "(tiny friction near a super-harmonic resonance r = 1/n) or a non-smooth "
-                        "period map")
+    message = orbit_message(outcome, unique, periods, max_periods)
     t_s_arr = x_s = None
     if n_samples:
         t_s_arr = t_s + period * np.arange(n_samples) / n_samples
@@ -426,6 +287,6 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     return PeriodicResponse(
         omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
         stops_per_cycle=stops, stuck=stuck_all[0] and system.n_sliders > 0,
-        status="periodic" if converged else ("unbounded" if growth is not None else "not converged"), converged=converged, unique=unique, message=message,
+        status=outcome.status, converged=converged, unique=unique, message=message,
         periods=periods, state=z, section_time=t_s, initial_state=z0[0], events=log, dissipated_per_cycle=diss[0],
         t=t_s_arr, x=x_s)
