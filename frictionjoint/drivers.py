@@ -176,9 +176,10 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     z = np.array(state if state is not None else _one_harmonic_guess(p), dtype=float)
     outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=20, max_periods=max_periods)
     z, converged = outcome.z, outcome.converged
-    unique = True
+    unique, monodromy = True, None
     if converged:  # the Jacobian at the orbit: P(z) is usually the map's last call already
-        unique = not has_unit_eigenvalue(pmap.jacobian(z, pmap.image(z), None), pmap.scales(z))
+        monodromy = pmap.jacobian(z, pmap.image(z), None)
+        unique = not has_unit_eigenvalue(monodromy, pmap.scales(z))
     calls = [pmap.calls]
 
     # one period, sampled
@@ -224,8 +225,11 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     stops = int(np.count_nonzero(stuck & ~np.roll(stuck, 1)))
     status = outcome.status
     message = orbit_message(outcome, unique, calls[0], max_periods)
-    return PeriodicResponse(
+    res = PeriodicResponse(
         omega=w, amplitude=peak, phase=harmonics["x"]["phase"], harmonic_amplitude=harmonics["x"]["amplitude"],
         stops_per_cycle=stops, stuck=bool(stuck.all()) and p.get("slip_force", 0.0) > 0,
         converged=converged, unique=unique, message=message, periods=float(calls[0]),
         state=z, section_time=0.0, initial_state=z, status=status, harmonics=harmonics)
+    if monodromy is not None:
+        res.set_multipliers(np.linalg.eigvals(monodromy))
+    return res

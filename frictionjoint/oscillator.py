@@ -3,9 +3,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 
 from .elements import CoulombSlider
-from .errors import check_count, check_nonnegative, check_positive, check_real
+from .errors import ConvergenceError, check_count, check_nonnegative, check_positive, check_real
 from .excitation import HarmonicBaseMotion, HarmonicForce
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import Marcher
@@ -179,4 +180,36 @@ class CoulombOscillator:
         res.harmonic_amplitude = float(res.harmonic_amplitude[0])
         if res.x is not None:
             res.x = res.x[0]
+        if res.converged:
+            try:
+                jac = self.monodromy(res.section_time, float(res.state[0]), float(res.state[1]))
+            except ConvergenceError:
+                # the SDOF kernel's stick/slip rules can fail where the general marcher's hold
+                # (quasi-static r ~ 1e-3 with tiny friction): keep the finite-difference multipliers
+                jac = None
+            if jac is not None:
+                res.set_multipliers(np.linalg.eigvals(jac))
         return res
+
+    def monodromy(self, t0: float, x0: float, v0: float):
+        """Exact Jacobian ``d(x, v)(t0 + T) / d(x0, v0)`` of the period map from a slipping state
+        (:meth:`frictionjoint.solvers.sdof.SdofCoulomb.monodromy`), or None where it has no
+        derivative (a start at rest, or a grazing event on the way).
+
+        Parameters
+        ----------
+        t0 : float
+            Section time [s].
+        x0, v0 : float
+            State at ``t0`` [m, m/s].
+
+        Returns
+        -------
+        (2, 2) ndarray or None
+        """
+        from .solvers.sdof import SdofCoulomb
+
+        kernel = SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
+                             self.omega, self.damping)
+        _, jac = kernel.monodromy(t0, x0, v0, t0 + self.period)
+        return None if jac is None else np.array(jac)

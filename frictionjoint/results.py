@@ -6,7 +6,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult"]
+__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult", "STABILITY_MARGIN"]
 
 
 @dataclass
@@ -98,6 +98,13 @@ class PeriodicResponse:
         Events of the final period.
     dissipated_per_cycle : float
         Energy dissipated by friction over one period [J].
+    floquet_multipliers : ndarray or None
+        Eigenvalues of the period map's Jacobian (the monodromy matrix) at the orbit; None when no
+        orbit was found. Exact (closed-form monodromy) for the single-DOF oscillator, else from
+        the finite-difference Jacobian (about 1e-7).
+    stable : bool or None
+        True when every multiplier lies inside the unit circle by more than
+        :data:`STABILITY_MARGIN` (asymptotically stable orbit); None when no orbit was found.
     """
 
     omega: float
@@ -119,6 +126,19 @@ class PeriodicResponse:
     t: Optional[np.ndarray] = field(repr=False, default=None)
     x: Optional[np.ndarray] = field(repr=False, default=None)
     harmonics: Optional[dict] = field(repr=False, default=None)
+    floquet_multipliers: Optional[np.ndarray] = field(repr=False, default=None)
+    stable: Optional[bool] = None
+
+    def set_multipliers(self, multipliers) -> None:
+        """Store the Floquet multipliers and the stability verdict they give."""
+        self.floquet_multipliers = np.asarray(multipliers)
+        self.stable = bool(np.max(np.abs(self.floquet_multipliers), initial=0.0) < 1.0 - STABILITY_MARGIN)
+
+
+#: an orbit is stable when every Floquet multiplier has modulus below 1 - STABILITY_MARGIN (the
+#: finite-difference monodromy is good to about 1e-7; a neutral multiplier, e.g. of a family of
+#: orbits, is not stability)
+STABILITY_MARGIN = 1e-6
 
 
 @dataclass

@@ -154,3 +154,30 @@ def test_zero_duration_stops_do_not_chatter(r, f, per_period):
     for kind, n in per_period.items():
         assert tr.events.count(kind) == 200 * n
     assert len(tr.events) == 200 * sum(per_period.values())
+
+
+@pytest.mark.parametrize("f,r,c", [(0.3, 0.8, 0.0), (0.3, 1.5, 0.0), (0.6, 2.0, 0.0), (0.5, 0.45, 0.0),
+                                   (0.3, 0.8, 0.1), (0.1, 1.2, 0.05)])
+def test_floquet_multipliers_exact_and_stable(f, r, c):
+    """steady_state's multipliers come from the SDOF kernel's exact monodromy; they equal the
+    eigenvalues of the general path's finite-difference Jacobian (periodic_response) to its
+    accuracy, and every one of these damped (viscously or by friction) orbits is stable."""
+    osc = fj.CoulombOscillator(slip_force=f, force_amplitude=1.0, omega=r, damping=c)
+    res = osc.steady_state()
+    assert res.converged and res.stable
+    assert np.all(np.abs(res.floquet_multipliers) < 1.0)
+    exact = osc.monodromy(res.section_time, float(res.state[0]), float(res.state[1]))
+    assert exact is not None
+    general = fj.periodic_response(osc.system, res.initial_state[0], res.initial_state[1])
+    a = np.sort(np.abs(np.linalg.eigvals(exact)))
+    b = np.sort(np.abs(general.floquet_multipliers))
+    assert np.max(np.abs(a - b)) <= 1e-6
+
+
+def test_unique_linear_orbit_is_not_stable_without_damping():
+    """No friction and no damping: the free vibration neither grows nor decays, every multiplier
+    is on the unit circle (neutral), so the orbit is not (asymptotically) stable."""
+    osc = fj.CoulombOscillator(slip_force=0.0, force_amplitude=1.0, omega=0.8)
+    res = osc.steady_state()
+    assert res.converged and res.stable is False
+    assert np.allclose(np.abs(res.floquet_multipliers), 1.0, rtol=0, atol=1e-12)

@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+import scipy.linalg
 from scipy.integrate import quad
 
 import frictionjoint.benchmark as bm
@@ -227,3 +228,50 @@ def test_bad_input():
         sd.march(0.0, math.inf, 0.0, 1.0)
     with pytest.raises(ParameterError, match="t_start"):
         sd.peak(1.0, 0.0, 0.0, 0.5, 2.0)
+
+
+# ---------------------------------------------------------------- monodromy (exact Jacobian)
+@pytest.mark.parametrize("f", [0.1, 0.3, 0.5, 0.7])
+@pytest.mark.parametrize("r", [0.45, 0.8, 1.3, 2.0, 3.0])
+@pytest.mark.parametrize("c", [0.0, 0.05])
+def test_monodromy_equals_central_differences(f, r, c):
+    """Transition matrices of the slip pieces times the saltation matrices of the events against
+    central differences of the exact march over three periods (with stops and reversals)."""
+    k = SdofCoulomb(1.0, 1.0, f, 1.0, r, c)
+    t0, t1 = 0.13, 0.13 + 3 * 2 * math.pi / r
+    x0, v0 = 0.3, 0.7
+    end, jac = k.monodromy(t0, x0, v0, t1)
+    assert jac is not None
+    ref = k.march(t0, x0, v0, t1)
+    assert (end.x, end.v) == (ref.x, ref.v)
+    fd = np.empty((2, 2))
+    h = 1e-6
+    for col in range(2):
+        d = np.zeros(2)
+        d[col] = h
+        ep, em = k.march(t0, x0 + d[0], v0 + d[1], t1), k.march(t0, x0 - d[0], v0 - d[1], t1)
+        fd[:, col] = [(ep.x - em.x) / (2 * h), (ep.v - em.v) / (2 * h)]
+    assert np.max(np.abs(np.array(jac) - fd)) <= 1e-7 * max(1.0, np.max(np.abs(fd)))  # measured <= 3.9e-9
+
+
+@pytest.mark.parametrize("c", [0.0, 0.02, 2.0, 3.0])  # under-, critically and over-damped
+def test_linear_floquet_multipliers_are_the_modes(c):
+    """Without friction the period map is linear: the monodromy is expm(A T) (scipy) and its
+    multipliers are exp(lambda_i T), lambda_i the roots of m l^2 + c l + k."""
+    m, kk, w = 1.0, 1.0, 0.8
+    k = SdofCoulomb(m, kk, 0.0, 1.0, w, c)
+    period = 2 * math.pi / w
+    _, jac = k.monodromy(0.0, 0.1, 0.2, period)
+    jac = np.array(jac)
+    expm = scipy.linalg.expm(np.array([[0.0, 1.0], [-kk / m, -c / m]]) * period)
+    assert np.max(np.abs(jac - expm)) <= 1e-12 * np.max(np.abs(expm))
+    if c != 2.0:  # (a double root at critical damping: its eigenvalues are ill-conditioned, sqrt(eps))
+        mult = np.sort_complex(np.linalg.eigvals(jac))
+        ref = np.sort_complex(np.exp(np.roots([m, c, kk]).astype(complex) * period))
+        assert np.max(np.abs(mult - ref)) <= 1e-12
+
+
+def test_monodromy_needs_a_slipping_start():
+    k = SdofCoulomb(1.0, 1.0, 0.3, 1.0, 0.8)
+    end, jac = k.monodromy(0.0, 0.1, 0.0, 1.0)
+    assert jac is None and end == k.march(0.0, 0.1, 0.0, 1.0)

@@ -70,6 +70,12 @@ _MAX_STEPS = 20_000
 _NEAR = 0.25
 
 
+def _matmul(a, b):
+    """2x2 matrix product on nested tuples."""
+    return ((a[0][0] * b[0][0] + a[0][1] * b[1][0], a[0][0] * b[0][1] + a[0][1] * b[1][1]),
+            (a[1][0] * b[0][0] + a[1][1] * b[1][0], a[1][0] * b[0][1] + a[1][1] * b[1][1]))
+
+
 def _phi1(z: complex) -> complex:
     """``(e^z - 1)/z`` for a complex ``z`` (1 at 0), accurate to a few ulp near 0: ``e^z - 1``
     from ``expm1`` and half-angle sines, without cancellation."""
@@ -651,6 +657,75 @@ class SdofCoulomb:
             t, x, v = t_stop, xe, ve
             if ev is None:
                 return SdofResult(t, x, v, (v > 0) - (v < 0), 0, counts)
+
+    def transition(self, tau: float):
+        """Transition matrix of the slipping dynamics over ``tau`` [s]: ``d(x, v)(t0 + tau) /
+        d(x, v)(t0)`` of a slip piece (the homogeneous part of :meth:`_at`), rows ``(x, v)``."""
+        es, esd = self._hom(tau)
+        a = self._a
+        return ((esd + a * es, es), (-self._wn2 * es, esd - a * es))
+
+    def monodromy(self, t0: float, x0: float, v0: float, t_end: float):
+        """The state at ``t_end`` and its exact Jacobian with respect to ``(x0, v0)``.
+
+        The Jacobian is the product, in time order, of each slip piece's transition matrix
+        (:meth:`transition`) and the saltation matrix of each event (the linearised jump of the
+        state's variation where the vector field ``f = (v, a)`` changes at ``g = v = 0``,
+        ``S = I + (f+ - f-) (dg/dz)^T / (dg/dz . f-)``):
+
+        - slip -> stick at ``v = 0``: ``f+ = 0``, ``S = [[1, 0], [0, 0]]`` (a stop forgets the
+          velocity);
+        - reversal ``s -> -s`` at ``v = 0``: the friction force changes sign,
+          ``S = [[1, 0], [0, a+/a-]]``, ``a-+ = (P0 cos wt - k x -+ s F)/m``;
+        - stick -> slip: the acceleration starts from zero (``f+ = f-``), ``S = I``; a stuck piece
+          holds ``x`` and keeps ``v = 0``: identity.
+
+        The start must be slipping (``v0 != 0``; a section inside a slip piece) and every event
+        transversal: an abnormal stop (``v`` touches zero and goes on) or a reversal with a
+        vanishing ``a-`` has no derivative, and the Jacobian is then ``None``.
+
+        Parameters
+        ----------
+        t0 : float
+            Start time [s].
+        x0, v0 : float
+            Initial state [m, m/s], ``v0 != 0``.
+        t_end : float
+            End time [s], ``>= t0``.
+
+        Returns
+        -------
+        (SdofResult, tuple or None)
+            The end state, and the 2x2 Jacobian as nested tuples (or None, see above).
+        """
+        if check_real("v0", v0) == 0.0 or self.slip_force == 0.0:
+            end = self.march(t0, x0, v0, t_end)
+            if self.slip_force == 0.0:  # linear: one transition matrix
+                return end, self.transition(end.t - t0)
+            return end, None
+        pieces = []
+        end = self.march(t0, x0, v0, t_end, on_piece=lambda *piece: pieces.append(piece))
+        j = ((1.0, 0.0), (0.0, 1.0))
+        m, k, f, p0, w = self.mass, self.stiffness, self.slip_force, self.force_amplitude, self.omega
+        for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
+            if s == 0:
+                continue  # stuck: x held, v = 0 (its variation was cleared at the stop)
+            j = _matmul(self.transition(tb - ta), j)
+            if i + 1 == len(pieces):
+                break  # the last piece ends at t_end, not at an event
+            after = pieces[i + 1][3]
+            h = p0 * math.cos(w * tb) - k * xb
+            a_minus = (h - s * f) / m
+            if after == 0:
+                j = ((j[0][0], j[0][1]), (0.0, 0.0))
+            elif after == -s and a_minus != 0.0 and s * a_minus < 0:
+                ratio = ((h + s * f) / m) / a_minus
+                j = (j[0], (ratio * j[1][0], ratio * j[1][1]))
+            else:  # an abnormal stop (grazing) or a degenerate reversal: no derivative
+                return end, None
+        if end.status == 0 and pieces and pieces[-1][3] != 0:
+            j = ((j[0][0], j[0][1]), (0.0, 0.0))  # stopped exactly at t_end
+        return end, j
 
     def peak(self, t0: float, x0: float, v0: float, t_start: float, t_end: float,
              status: Optional[int] = None) -> float:

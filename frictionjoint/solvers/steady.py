@@ -284,9 +284,12 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         tr = simulate(system, t_s + period, z[:ndof], z[ndof:2 * ndof], pmap.state(z).w, t0=t_s,
                       t_eval=t_s_arr, record=("x",), marcher=m)
         x_s = tr.x
-    return PeriodicResponse(
+    res = PeriodicResponse(
         omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
         stops_per_cycle=stops, stuck=stuck_all[0] and system.n_sliders > 0,
         status=outcome.status, converged=converged, unique=unique, message=message,
         periods=periods, state=z, section_time=t_s, initial_state=z0[0], events=log, dissipated_per_cycle=diss[0],
         t=t_s_arr, x=x_s)
+    if converged:  # the Jacobian at the orbit (taken for the uniqueness test) is the monodromy
+        res.set_multipliers(np.linalg.eigvals(jac))
+    return res
