@@ -173,6 +173,17 @@ class CoulombOscillator:
         gx, gv = self.initial_guess()
         x0 = gx if x0 is None else check_real("x0", x0)
         v0 = gv if v0 is None else check_real("v0", v0)
+        if self.slip_force > 0:
+            # the closed-form kernel with its exact Jacobian; the general marcher where it does not apply
+            from .solvers.sdof import SdofCoulomb
+            from .solvers.sdof_steady import sdof_periodic_response
+
+            kernel = SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
+                                 self.omega, self.damping)
+            res = sdof_periodic_response(kernel, x0, v0, tol=tol, max_newton=25, max_periods=max_periods,
+                                         n_samples=n_samples)
+            if res is not None:
+                return res
         res = periodic_response(self.system, x0, v0, marcher=self._marcher, tol=tol,
                                 max_periods=max_periods, n_samples=n_samples)
         res.amplitude = float(res.amplitude[0])

@@ -16,7 +16,7 @@ from ..system import FrictionSystem
 from ..results import TimeResponse
 from .events import EventLog, Marcher
 
-__all__ = ["simulate", "RECORDABLE", "gauss_pieces"]
+__all__ = ["simulate", "RECORDABLE", "gauss_pieces", "gauss_nodes"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
@@ -27,6 +27,12 @@ def gauss_pieces(itv, a: float, b: float, rate: float | None = None):
     (8 pieces per period of ``rate``, default: the fastest rate of the configuration)."""
     if rate is None:
         rate = max(itv.omega, itv.config.max_rate)
+    return gauss_nodes(a, b, rate)
+
+
+def gauss_nodes(a: float, b: float, rate: float):
+    """Gauss-Legendre nodes and weights on ``[a, b]``, sub-divided into 8 pieces per period of
+    ``rate`` [rad/s]: exact to rounding for the exponentials times harmonics of a closed-form piece."""
     n = 1 if rate == 0 else max(1, math.ceil((b - a) * rate / (2 * math.pi) * 8))
     edges = np.linspace(a, b, n + 1)
     half = 0.5 * np.diff(edges)

@@ -1,0 +1,195 @@
+"""Periodic steady state of the single-DOF Coulomb oscillator on its closed-form kernel.
+
+The period map is :meth:`SdofCoulomb.monodromy`: one period of the exact scalar march and, with
+it, the exact Jacobian (transition matrices of the slip pieces times the saltation matrices of
+the events), so Newton needs no finite differences. The fixed point is found by the one shooting
+algorithm (:mod:`frictionjoint.solvers.shooting`) from a section inside the longest slip piece of
+the first period (the rule of :func:`frictionjoint.solvers.steady.periodic_response`), and the
+final period is evaluated on the kernel's pieces: peak ``|x|`` at the piece ends (every extreme
+of ``x`` is where ``v = 0``), first harmonic by Gauss quadrature per piece, events, stops and
+dissipation.
+
+:func:`sdof_periodic_response` answers None where this path does not apply -- no slipping start
+for the section, an event without a derivative (a graze), a rule of the kernel that fails, or no
+convergence (unbounded growth, slow transients) -- and the caller then takes the general marcher's
+path, which reports those cases in words.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import ConvergenceError
+from ..results import PeriodicResponse
+from .events import EventLog
+from .response import gauss_nodes
+from .sdof import SdofCoulomb
+from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
+
+__all__ = ["sdof_periodic_response"]
+
+#: a section at t = 0 needs the first and last pieces of the first period to be slip pieces at
+#: least this fraction of the period long (as periodic_response)
+_SECTION_MARGIN = 0.02
+
+
+class _NoDerivative(Exception):
+    """The period map has no derivative at this state (start at rest, grazing event)."""
+
+
+class _SdofPeriodMap:
+    """Period map of the kernel from the section time ``t_s`` (shooting protocol)."""
+
+    def __init__(self, kernel: SdofCoulomb, t_s: float, tol: float):
+        self.k, self.t_s = kernel, t_s
+        self.period = 2 * math.pi / kernel.omega
+        self.calls = 0
+        self.last = None
+        excitation, f = abs(kernel.force_amplitude), kernel.slip_force
+        load = max(excitation, f)
+        stiff = max(kernel.stiffness, kernel.mass * kernel.omega ** 2)
+        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
+        if excitation > 0:  # the rounding of the map (see steady._PeriodMap)
+            self.x_floor = max(self.x_floor, np.finfo(float).eps * excitation / kernel.stiffness / tol)
+        self.w_char = max(kernel.omega, math.sqrt(kernel.stiffness / kernel.mass))
+
+    def __call__(self, z):
+        x0, v0 = float(z[0]), float(z[1])
+        if v0 == 0.0:
+            end, jac = self.k.march(self.t_s, x0, v0, self.t_s + self.period), None
+        else:
+            end, jac = self.k.monodromy(self.t_s, x0, v0, self.t_s + self.period)
+        self.calls += 1
+        out = np.array([end.x, end.v])
+        self.last = (z.copy(), out, jac)
+        return out
+
+    def jacobian(self, z, pz, scale):
+        if self.last is None or not np.array_equal(self.last[0], z):
+            self(z)
+        jac = self.last[2]
+        if jac is None:
+            raise _NoDerivative
+        return np.array(jac)
+
+    def scales(self, z):
+        sx = max(abs(float(z[0])), abs(float(z[1])) / self.w_char, self.x_floor)
+        return np.array([sx, sx * self.w_char])
+
+    def amplitude(self, z) -> float:
+        return math.hypot(float(z[0]), float(z[1]) / self.k.omega)
+
+
+def _pieces(kernel, t0, x0, v0, t_end, status=None):
+    out = []
+    end = kernel.march(t0, x0, v0, t_end, status, on_piece=lambda *p: out.append(p))
+    return end, out
+
+
+def _section(kernel: SdofCoulomb, x0: float, v0: float):
+    """Section time and the state there, or None (see :func:`periodic_response`'s rule)."""
+    period = 2 * math.pi / kernel.omega
+    end, pieces = _pieces(kernel, 0.0, x0, v0, period)
+    slips = [p for p in pieces if p[3] != 0 and p[4] > p[0]]
+    if not slips:
+        return None  # stuck through the first period: the general path decides
+    first, last = pieces[0], pieces[-1]
+    margin = _SECTION_MARGIN * period
+    if (first[3] != 0 and last[3] != 0 and first[4] - first[0] > margin and last[4] - last[0] > margin
+            and len(pieces) > 1 and v0 != 0.0 and not _near_reversal(kernel, 0.0, x0, v0, first[3], margin)):
+        return 0.0, np.array([x0, v0]), 1.0
+    ta, _, _, _, tb, _, _ = max(slips, key=lambda p: p[4] - p[0])
+    t_s = (ta + 0.5 * (tb - ta)) % period
+    sec = kernel.march(period, end.x, end.v, period + t_s, end.status)
+    if sec.v == 0.0:
+        return None
+    return t_s, np.array([sec.x, sec.v]), 1.0 + t_s / period
+
+
+def _near_reversal(kernel, t, x, v, s, margin) -> bool:
+    """``|v| < margin |a|``: a velocity reversal within ``margin`` of the start (a kink of the map)."""
+    acc = (kernel.force_amplitude * math.cos(kernel.omega * t) - kernel.stiffness * x - kernel.damping * v
+           - s * kernel.slip_force) / kernel.mass
+    return abs(v) < margin * abs(acc)
+
+
+def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_newton: int,
+                           max_periods: int, n_samples: int = 0) -> PeriodicResponse | None:
+    """Periodic steady state on the kernel, or None where the general path must answer.
+
+    Parameters
+    ----------
+    kernel : SdofCoulomb
+    x0, v0 : float
+        Initial guess at ``t = 0`` [m, m/s].
+    tol, max_newton, max_periods, n_samples :
+        As :func:`frictionjoint.solvers.steady.periodic_response`.
+
+    Returns
+    -------
+    PeriodicResponse or None
+        Scalar ``amplitude``, ``phase``, ``harmonic_amplitude``; exact Floquet multipliers.
+    """
+    try:
+        section = _section(kernel, x0, v0)
+        if section is None:
+            return None
+        t_s, z, periods = section
+        pmap = _SdofPeriodMap(kernel, t_s, tol)
+        outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=max_newton, max_periods=max_periods)
+        if not outcome.converged:
+            return None
+        z = outcome.z
+        jac = pmap.jacobian(z, None, None)
+        end, pieces = _pieces(kernel, t_s, float(z[0]), float(z[1]), t_s + pmap.period)
+    except (_NoDerivative, ConvergenceError):
+        return None
+    return _evaluate(kernel, pmap, outcome, z, jac, pieces, periods + pmap.calls + 1, max_periods, n_samples)
+
+
+def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_samples) -> PeriodicResponse:
+    """The orbit's period on the kernel's pieces."""
+    w, period, t_s = kernel.omega, pmap.period, pmap.t_s
+    ev = kernel.evaluate
+    log = EventLog()
+    amp, a1, b1, diss = abs(float(z[0])), 0.0, 0.0, 0.0
+    rate = max(w, pmap.w_char)
+    z0 = None
+    for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
+        amp = max(amp, abs(xb))
+        if tb > ta:
+            nodes, weights = gauss_nodes(ta, tb, rate if s != 0 else 0.0)
+            xs = np.array([ev(s, ta, xa, va, t)[0] for t in nodes])
+            a1 += float(xs @ (weights * np.cos(w * nodes)))
+            b1 += float(xs @ (weights * np.sin(w * nodes)))
+        if s != 0:
+            diss += kernel.slip_force * abs(xb - xa)
+        if z0 is None and t_s > 0 and ta <= period <= tb:
+            z0 = np.array(ev(s, ta, xa, va, period))
+        if i + 1 < len(pieces):
+            after = pieces[i + 1][3]
+            kind = ("slip" if s == 0 else "stick" if after == 0 else "normal stop" if after == -s
+                    else "abnormal stop")
+            log.append(tb, 0, 0, kind)
+    a1 *= 2 / period
+    b1 *= 2 / period
+    unique = not has_unit_eigenvalue(jac, pmap.scales(z))
+    t_arr = x_arr = None
+    if n_samples:
+        t_arr = t_s + period * np.arange(n_samples) / n_samples
+        x_arr = np.empty(n_samples)
+        j = 0
+        for i, t in enumerate(t_arr):
+            while j + 1 < len(pieces) and pieces[j][4] <= t:
+                j += 1
+            ta, xa, va, s = pieces[j][:4]
+            x_arr[i] = ev(s, ta, xa, va, t)[0]
+    res = PeriodicResponse(
+        omega=w, amplitude=amp, phase=math.atan2(b1, a1), harmonic_amplitude=math.hypot(a1, b1),
+        stops_per_cycle=log.count("stick"), stuck=all(p[3] == 0 for p in pieces),
+        converged=True, unique=unique, message=orbit_message(outcome, unique, periods, max_periods),
+        periods=periods, state=np.array(z), section_time=t_s, initial_state=z if t_s == 0 else z0,
+        events=log, dissipated_per_cycle=diss, t=t_arr, x=x_arr)
+    res.set_multipliers(np.linalg.eigvals(jac))
+    return res
