@@ -13,13 +13,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ParameterError, check_count, check_system
 from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
-from .response import gauss_pieces
+from .response import piece_fourier, piece_peaks
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
 
 __all__ = ["periodic_response"]
@@ -236,30 +235,10 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             z0[0] = pmap.vector(st0)
         if tau_end <= 0:
             return
-        x_end, _ = itv.state(np.array([0.0, tau_end]))
-        np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
-        rate = itv.active_rate()
-        nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 32) + 1)
-        taus = np.linspace(0.0, tau_end, nsamp)
-        xs, vs = itv.state(taus)
-        for i in range(ndof):
-            sgn = np.sign(vs[i])
-            for k in np.flatnonzero(sgn[:-1] * sgn[1:] < 0):
-                def vel(t, i=i):
-                    return itv.state(t)[1][i, 0]
-                va, vb = vel(taus[k]), vel(taus[k + 1])
-                if va * vb < 0:
-                    tr = scipy.optimize.brentq(vel, taus[k], taus[k + 1], xtol=1e-16 * tau_end + 1e-300)
-                else:
-                    # the vectorised and scalar evaluations disagree in the last bits: the
-                    # reversal is at the end point whose velocity is zero (or nearer zero)
-                    tr = taus[k] if abs(va) <= abs(vb) else taus[k + 1]
-                amp[i] = max(amp[i], abs(itv.state(tr)[0][i, 0]))
-        nodes, wts = gauss_pieces(itv, 0.0, tau_end, rate)
-        xq, _ = itv.state(nodes)
-        ph = w * (itv.t0 + nodes)
-        a1[:] += xq @ (wts * np.cos(ph))
-        b1[:] += xq @ (wts * np.sin(ph))
+        x_end = piece_peaks(itv, tau_end, amp)
+        ca, sa = piece_fourier(itv, tau_end, w, lambda taus: itv.state(taus)[0])
+        a1[:] += ca
+        b1[:] += sa
         slip = itv.status != 0
         if slip.any():
             stuck_all[0] = False
