@@ -154,7 +154,9 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     outputs : sequence of str
         Outputs whose first harmonic and peak are reported (``x`` always).
     n_samples : int
-        Samples over the period for the first harmonics (trapezoidal rule).
+        Samples over the period for the first harmonics (trapezoidal rule), used only for outputs
+        the stepping object does not integrate exactly: ``x`` and ``friction_force`` come from its
+        exact Fourier integrals and peak over one communication step of a period.
     tol : float
         Tolerance on the scaled fixed-point residual.
     max_periods : int
@@ -180,9 +182,55 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     if converged:  # the Jacobian at the orbit: P(z) is usually the map's last call already
         monodromy = pmap.jacobian(z, pmap.image(z), None)
         unique = not has_unit_eigenvalue(monodromy, pmap.scales(z))
-    calls = [pmap.calls]
+    # the orbit's period: exact Fourier integrals where the stepping object has them, else samples
+    final = _exact_period(driver, p, z, period, outputs) or _sampled_period(driver, p, z, period, outputs,
+                                                                             n_samples)
+    harmonics, peak, stops, stuck_all = final
+    periods = pmap.calls + 1
+    status = outcome.status
+    message = orbit_message(outcome, unique, periods, max_periods)
+    res = PeriodicResponse(
+        omega=w, amplitude=peak, phase=harmonics["x"]["phase"], harmonic_amplitude=harmonics["x"]["amplitude"],
+        stops_per_cycle=stops, stuck=stuck_all and p.get("slip_force", 0.0) > 0,
+        converged=converged, unique=unique, message=message, periods=float(periods),
+        state=z, section_time=0.0, initial_state=z, status=status, harmonics=harmonics)
+    if monodromy is not None:
+        res.set_multipliers(np.linalg.eigvals(monodromy))
+    return res
 
-    # one period, sampled
+
+#: outputs whose harmonics a driver with exact Fourier integrals gives without sampling
+_EXACT_OUTPUTS = ("x", "friction_force")
+_INTEGRAL_OUTPUTS = ("peak_x", "stop_count", "x_cos_integral", "x_sin_integral", "friction_force_cos_integral",
+                     "friction_force_sin_integral", "event_count", "stuck")
+
+
+def _exact_period(driver, p, z, period, outputs):
+    """The orbit's period from the exact Fourier integrals and peak of the stepping object (one
+    communication step), or None where they do not apply (an older FMU, an output without them,
+    an orbit stuck all along: its holding force has no exact peak here)."""
+    if not (set(outputs) <= set(_EXACT_OUTPUTS) and set(_INTEGRAL_OUTPUTS) <= set(driver.outputs)):
+        return None
+    driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
+    stuck0 = bool(driver.get(["stuck"])[0])
+    driver.advance(period)
+    vals = dict(zip(_INTEGRAL_OUTPUTS, driver.get(_INTEGRAL_OUTPUTS)))
+    stuck_all = stuck0 and vals["event_count"] == 0
+    if stuck_all and "friction_force" in outputs:
+        return None
+    harmonics = {}
+    for n in outputs:
+        a1, b1 = (2 / period * vals[f"{n}_{k}_integral"] for k in ("cos", "sin"))
+        # |friction force| <= F, = F while slipping: its peak is F once the orbit slips
+        peak = vals["peak_x"] if n == "x" else float(p.get("slip_force", 0.0))
+        harmonics[n] = {"amplitude": float(math.hypot(a1, b1)), "phase": float(math.atan2(b1, a1)), "peak": peak}
+    return harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all
+
+
+def _sampled_period(driver, p, z, period, outputs, n_samples):
+    """The orbit's period from ``n_samples`` communication points (first harmonics by the
+    trapezoidal rule) and exact peaks of ``|x|`` (Brent on restored states at ``v = 0``)."""
+    w = float(p["omega"])
     names = tuple(dict.fromkeys(outputs + ("v", "stuck")))
     driver.start(dict(p, x0=float(z[0]), v0=float(z[1])))
     t = period * np.arange(1, n_samples + 1) / n_samples
@@ -191,7 +239,6 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
         driver.advance(float(tk))
         samples[:, k] = np.array(driver.get(names), dtype=float)
     col = {n: samples[i] for i, n in enumerate(names)}
-    calls[0] += 1
     c, s = np.cos(w * t), np.sin(w * t)
     harmonics = {}
     for n in outputs:
@@ -223,13 +270,4 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     harmonics["x"]["peak"] = peak
     stuck = col["stuck"] > 0.5
     stops = int(np.count_nonzero(stuck & ~np.roll(stuck, 1)))
-    status = outcome.status
-    message = orbit_message(outcome, unique, calls[0], max_periods)
-    res = PeriodicResponse(
-        omega=w, amplitude=peak, phase=harmonics["x"]["phase"], harmonic_amplitude=harmonics["x"]["amplitude"],
-        stops_per_cycle=stops, stuck=bool(stuck.all()) and p.get("slip_force", 0.0) > 0,
-        converged=converged, unique=unique, message=message, periods=float(calls[0]),
-        state=z, section_time=0.0, initial_state=z, status=status, harmonics=harmonics)
-    if monodromy is not None:
-        res.set_multipliers(np.linalg.eigvals(monodromy))
-    return res
+    return harmonics, peak, stops, bool(stuck.all())

@@ -10,9 +10,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .errors import ParameterError
 from .oscillator import CoulombOscillator
 from .solvers.events import EventLog, MarchState
+from .solvers.response import piece_fourier, piece_peaks
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
@@ -29,7 +32,11 @@ OSCILLATOR_PARAMETERS = {
     "base_amplitude": (0.0, "amplitude of the base motion base_amplitude*cos(omega t) [m]"),
     "x0": (0.0, "displacement at the start time [m]"),
     "v0": (0.0, "velocity at the start time [m/s]"),
+    "harmonics": (False, "integrate the Fourier integrals and the peak of |x| (outputs *_integral, "
+                         "peak_x) exactly, piece by piece, from the start"),
 }
+#: parameters of the oscillator itself (not of the run)
+_MODEL = ("mass", "stiffness", "damping", "slip_force", "force_amplitude", "omega", "base_amplitude")
 #: output name -> (type, description with unit)
 OSCILLATOR_OUTPUTS = {
     "x": (float, "displacement of the mass [m]"),
@@ -38,7 +45,19 @@ OSCILLATOR_OUTPUTS = {
     "stuck": (bool, "true while the mass sticks"),
     "dissipated_energy": (float, "energy dissipated by friction since the start [J]"),
     "event_count": (int, "number of stick/slip events since the start"),
+    "stop_count": (int, "number of stops of finite duration (slip -> stick) since the start"),
+    "peak_x": (float, "max |x| since the start, exact (harmonics on; else 0) [m]"),
+    "x_cos_integral": (float, "integral of x(t) cos(omega t) dt since the start, exact (harmonics on) [m s]"),
+    "x_sin_integral": (float, "integral of x(t) sin(omega t) dt since the start, exact (harmonics on) [m s]"),
+    "v_cos_integral": (float, "integral of v(t) cos(omega t) dt since the start, exact (harmonics on) [m]"),
+    "v_sin_integral": (float, "integral of v(t) sin(omega t) dt since the start, exact (harmonics on) [m]"),
+    "friction_force_cos_integral": (float, "integral of the friction force times cos(omega t) dt since the "
+                                           "start, exact (harmonics on) [N s]"),
+    "friction_force_sin_integral": (float, "integral of the friction force times sin(omega t) dt since the "
+                                           "start, exact (harmonics on) [N s]"),
 }
+#: the outputs integrated piece by piece with ``harmonics`` on, and their integrands' order in the state
+_INTEGRALS = ("x", "v", "friction_force")
 
 
 class OscillatorRun:
@@ -61,13 +80,16 @@ class OscillatorRun:
         p = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items()}
         p.update(parameters)
         self.parameters = p
-        self.osc = CoulombOscillator(**{k: p[k] for k in p if k not in ("x0", "v0")})
+        self.osc = CoulombOscillator(**{k: p[k] for k in _MODEL})
         self._marcher = self.osc._marcher
         self.force = 0.0
         self.hold(force)
         self.log = EventLog()
         self.state = self._marcher.initial_state(p["x0"], p["v0"], t0=start_time, log=self.log)
         self.dissipated_energy = 0.0
+        self.harmonics = bool(p["harmonics"])
+        self.integrals = np.zeros((len(_INTEGRALS), 2))  # [cos, sin] per integrand
+        self.peak_x = np.abs(self.state.x).copy() if self.harmonics else np.zeros(1)
 
     def hold(self, force: float) -> None:
         """Hold the external force ``force`` [N] from now on."""
@@ -86,12 +108,28 @@ class OscillatorRun:
         """March exactly to ``t_end`` [s]; events inside are located exactly."""
         fs = self.osc.slip_force
 
-        def dissipate(itv, tau):
+        m = self._marcher
+        w = self.osc.omega
+
+        def integrands(itv):
+            force = itv.reduce(m.force_observables(itv))
+
+            def values(taus):
+                x, v = itv.state(taus)
+                return np.vstack([x[0], v[0], itv.evaluate(force, taus)[0][:1]])
+            return values
+
+        def on_piece(itv, tau):
             if itv.status.size and itv.status[0] != 0:
                 x1, _ = itv.state(tau)
                 self.dissipated_energy += fs * abs(float(x1[0, 0]) - float(itv.x0[0]))
+            if self.harmonics and tau > 0:
+                piece_peaks(itv, tau, self.peak_x)
+                c, s_ = piece_fourier(itv, tau, w, integrands(itv))
+                self.integrals[:, 0] += c
+                self.integrals[:, 1] += s_
 
-        self._marcher.march(self.state, t_end, self.log, on_interval=dissipate)
+        m.march(self.state, t_end, self.log, on_interval=on_piece)
 
     def output(self, name: str):
         """Value of an output of :data:`OSCILLATOR_OUTPUTS` at the current time."""
@@ -106,6 +144,13 @@ class OscillatorRun:
             return self.dissipated_energy
         if name == "event_count":
             return len(self.log)
+        if name == "stop_count":
+            return self.log.count("stick")
+        if name == "peak_x":
+            return float(self.peak_x[0])
+        if name.endswith("_integral"):
+            kind, _, which = name[:-len("_integral")].rpartition("_")
+            return float(self.integrals[_INTEGRALS.index(kind), 0 if which == "cos" else 1])
         if name == "friction_force":
             m = self._marcher
             itv = m.interval(st)
@@ -118,6 +163,7 @@ class OscillatorRun:
         st, log = self.state, self.log
         return {"t": st.t, "x": st.x.copy(), "v": st.v.copy(), "w": st.w.copy(), "status": st.status.copy(),
                 "diss": self.dissipated_energy, "force": self.force,
+                "integrals": self.integrals.copy(), "peak_x": self.peak_x.copy(),
                 # the marcher's velocity scale sets its event tolerances: part of the state, so
                 # that a restored run continues bit for bit as the original did
                 "v_scale": self._marcher.v_scale,
@@ -130,5 +176,6 @@ class OscillatorRun:
         log.time, log.element, log.slider, log.kind = (list(a) for a in snap["log"])
         self.log = log
         self.dissipated_energy = snap["diss"]
+        self.integrals, self.peak_x = snap["integrals"].copy(), snap["peak_x"].copy()
         self._marcher.v_scale = snap["v_scale"]
         self.hold(snap["force"])

@@ -630,7 +630,8 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
     outputs : sequence of str
         Outputs whose first harmonic and peak are reported in ``FrequencyResponse.harmonics``.
     n_samples : int
-        Samples per period for the first harmonics, >= 16.
+        Samples per period for the first harmonics of outputs other than ``x`` and
+        ``friction_force`` (those are integrated exactly, piece by piece), >= 16.
     progress : bool
         Show a progress bar (tqdm, on stderr).
 
@@ -647,7 +648,7 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
     if not library and not (Path(model).suffix == ".fmu" and Path(model).is_file()):
         raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
     params = dict(parameters or {})
-    allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0"}
+    allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
     if unknown:
         raise ParameterError(f"parameters must be among {sorted(allowed)}, got {sorted(unknown)}")

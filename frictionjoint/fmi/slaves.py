@@ -126,7 +126,7 @@ class CoulombOscillatorSlave(_Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         for name, (default, text) in OSCILLATOR_PARAMETERS.items():
-            self._parameter(name, default, text)
+            self._parameter(name, default, text, kind=type(default))
         self._input("force", 0.0, "external force on the mass, added to the harmonic one, held over a step [N]")
         for name, (kind, text) in OSCILLATOR_OUTPUTS.items():
             self._output(name, text, kind=kind, getter=functools.partial(self._out, name))
