@@ -14,3 +14,14 @@ def fmus(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("fmus")
     return {p.stem: p for p in build_fmus(out)}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Markers by what a test needs: ``fmu`` for the users of the ``fmus`` fixture, ``stress`` for
+    tests/stress (``slow`` is set by hand on the tests that take more than about 2 s)."""
+    stress_dir = os.path.join(os.path.dirname(__file__), "stress")
+    for item in items:
+        if "fmus" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.fmu)
+        if str(item.fspath).startswith(stress_dir):
+            item.add_marker(pytest.mark.stress)

@@ -131,6 +131,7 @@ def test_driven_flanks_frozen_normal_load_follow_the_loop_formula():
     assert d.dissipated_energy - e0 == pytest.approx(8 * MU * n0 * (a * math.cos(G) - MU * n0 / KT), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_driven_flanks_with_normal_load_variation_and_lift_off_balance_energy():
     r = root(2e3, radial_dof=1)
     d = r.driven(normal_load_variation=True)
@@ -211,6 +212,7 @@ def test_microslip_flanks_from_mindlin_contact():
 
 
 # ------------------------------------------------------- friction-damper behaviour
+@pytest.mark.slow
 def test_blade_on_dovetail_root_shows_the_friction_damper_optimum():
     """Single-DOF blade (examples/dovetail_damper.py) at three centrifugal loads."""
     import importlib.util

@@ -2,6 +2,7 @@
 energy dissipated by friction and viscous damping, to <= 1e-9 relative; friction dissipation
 never negative and never decreasing (passivity). Property tests over random parameters."""
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import frictionjoint as fj
@@ -49,6 +50,7 @@ def test_regression_tiny_initial_velocity_is_snapped_to_rest():
     assert np.max(np.abs(tr.x)) <= 1e-20
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(kt=st.floats(0.5, 50.0), fs=st.floats(0.01, 1.5), r=st.floats(0.2, 3.0), zeta=st.floats(0.0, 0.2),
        x0=st.floats(-1, 1), v0=st.floats(-1, 1), n=st.integers(1, 4), seed=st.integers(0, 2**16))

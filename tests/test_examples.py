@@ -59,6 +59,7 @@ def test_readme_opens_with_the_two_commands():
     assert "<!-- numbers filled in by the core developer -->" in text or "## Accuracy" in text
 
 
+@pytest.mark.slow
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
     assert len(python) == 2  # the library example, the system of FMUs
@@ -105,6 +106,7 @@ def test_ci_runs_the_readme_test_command():
     assert bad.returncode != 0
 
 
+@pytest.mark.slow
 def test_readme_main_job_runs_with_fewer_points(tmp_path):
     """The README's main command, verbatim after installation, but with 6 frequencies instead of
     60 (CI time): FMUs built, the FMU swept, Den Hartog beside every stop-free point, plot written."""
