@@ -4,10 +4,10 @@ Linear structures with Coulomb sliders, Jenkins and Iwan elements, marched exact
 event (no time step, no regularisation), periodic steady states by shooting, and the analytic
 single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
 """
-from . import contact, shakedown
+from . import analytic, contact, shakedown
 from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
 from .elements.masing import ContinuousIwan
-from .errors import ConvergenceError, ParameterError
+from .errors import ConvergenceError, FMUError, NoSolutionError, ParameterError
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
 from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
@@ -24,12 +24,15 @@ from .system import FrictionSystem
 __version__ = "0.1.0"
 
 __all__ = [
+    "analytic",
     "ContinuousIwan",
     "CoulombOscillator",
     "CoulombSlider",
     "DovetailRoot",
     "ConvergenceError",
     "EventLog",
+    "FMUError",
+    "NoSolutionError",
     "ExternalForce",
     "FrequencyResponse",
     "FrictionSystem",

@@ -48,6 +48,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .errors import (
+    NoSolutionError,
     ParameterError,
     check_nonnegative,
     check_oscillator,
@@ -74,10 +75,6 @@ _EPS = np.finfo(float).eps
 _POINTS_PER_PERIOD = 64
 _MIN_POINTS = 256
 _BLOCK = 1 << 16
-
-
-class NoSolutionError(ParameterError):
-    """The requested closed form does not exist for these parameters (message says why)."""
 
 
 # --------------------------------------------------------------------------- kernels

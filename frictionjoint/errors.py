@@ -18,6 +18,7 @@ __all__ = [
     "check_nonnegative",
     "check_grid",
     "FMUError",
+    "NoSolutionError",
     "check_poisson_ratio",
     "check_count",
     "check_vector",
@@ -34,7 +35,12 @@ class ConvergenceError(RuntimeError):
 
 
 class FMUError(RuntimeError):
-    """An FMI call returned an error status (the message has the call and the FMU's log)."""
+    """An FMI call returned an error status, or an FMU does not build or validate (the message has
+    the call and the FMU's log)."""
+
+
+class NoSolutionError(ParameterError):
+    """The requested closed form does not exist for these parameters (message says why)."""
 
 
 def check_real(name: str, value) -> float:

@@ -91,7 +91,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     source_dir : path, optional
         Folder of the FMU scripts; the repository's ``fmus/`` by default.
     check : bool
-        Validate each FMU and raise ``RuntimeError`` listing the problems.
+        Validate each FMU and raise :class:`~frictionjoint.errors.FMUError` (a ``RuntimeError``)
+        listing the problems.
     structures : sequence of path or StructureDefinition
         Structure definitions (:mod:`frictionjoint.structure_file`): each becomes
         ``<name>.fmu``, a ``LinearStructure`` FMU carrying the definition in its resources.
@@ -100,6 +101,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     -------
     list of Path
     """
+    from ..errors import FMUError
     from ..structure_file import StructureDefinition, load_structure_definition
     from .slaves import STRUCTURE_RESOURCE
 
@@ -136,7 +138,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
                 if check:
                     problems = validate(path)
                     if problems:
-                        raise RuntimeError(f"{path.name} does not validate: " + "; ".join(problems))
+                        raise FMUError(f"{path.name} does not validate: " + "; ".join(problems))
                 built.append(Path(path))
         finally:
             sys.path.remove(str(tmp))
