@@ -92,12 +92,15 @@ def _finalize_before_exit(resources, model_identifier: str) -> None:
                           f"{model_identifier}.so")
     if binary in _HELD_BINARIES or not os.path.isfile(binary):  # e.g. the builder's dummy instance
         return
-    lib = ctypes.CDLL(binary)
+    try:
+        lib = ctypes.CDLL(binary)
+    except OSError:  # not loadable from here (the host loaded another copy): nothing to order
+        return
     finalize = getattr(lib, "finalizePythonInterpreter", None)
-    if finalize is None:  # a pythonfmu binary without this entry point: nothing to order
+    cxa_atexit = getattr(ctypes.CDLL(None), "__cxa_atexit", None)  # glibc (and most C libraries)
+    if finalize is None or cxa_atexit is None:  # nothing to order, or no way to: hold it loaded
         _HELD_BINARIES[binary] = lib
         return
-    cxa_atexit = ctypes.CDLL(None).__cxa_atexit
     cxa_atexit.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
     cxa_atexit.restype = ctypes.c_int
     if cxa_atexit(ctypes.cast(finalize, ctypes.c_void_p), None, None) == 0:
