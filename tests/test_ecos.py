@@ -40,7 +40,7 @@ def test_coulomb_oscillator_in_ecos_equals_fmpy(fmus):
     f = s.simulate(8 * period, period / 20, outs)
     assert np.max(np.abs(e.t - f.t)) < 1e-13
     for k in outs:
-        assert relative(e[k], f[k]) <= 1e-12, k  # measured 1e-15 (x, v)
+        assert relative(e[k], f[k]) <= 1e-12, k  # measured 7.5e-14 (x), 8.8e-14 (v), 4.4e-15 (energy)
     assert e["osc.dissipated_energy"][-1] > 0.1  # friction did work: events inside the steps
 
 
@@ -65,7 +65,7 @@ def test_every_fmu_and_two_instances_in_ecos_equal_this_master(fmus):
     assert e.success, e.message
     f = s.simulate(3 * period, period / 25, outs, transfer="jacobi")
     for k in outs:
-        assert relative(e[k], f[k]) <= 1e-9, k  # measured <= 4e-14
+        assert relative(e[k], f[k]) <= 1e-9, k  # measured <= 2.9e-13 (IwanJoint force), others <= 1.3e-14
     assert e["micro.dissipated_energy"][-1] > 0 and e["dove.dissipated_energy"][-1] > 0  # they slipped
 
 
