@@ -25,7 +25,7 @@ from ..results import PeriodicResponse
 from .events import EventLog
 from .response import gauss_nodes
 from .sdof import SdofCoulomb
-from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
+from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["sdof_periodic_response"]
 
@@ -46,12 +46,8 @@ class _SdofPeriodMap:
         self.period = 2 * math.pi / kernel.omega
         self.calls = 0
         self.last = None
-        excitation, f = abs(kernel.force_amplitude), kernel.slip_force
-        load = max(excitation, f)
-        stiff = max(kernel.stiffness, kernel.mass * kernel.omega ** 2)
-        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
-        if excitation > 0:  # the rounding of the map (see steady._PeriodMap)
-            self.x_floor = max(self.x_floor, np.finfo(float).eps * excitation / kernel.stiffness / tol)
+        self.x_floor = residual_floor(abs(kernel.force_amplitude), kernel.slip_force, kernel.stiffness,
+                                      kernel.mass, kernel.omega, tol)
         self.w_char = max(kernel.omega, math.sqrt(kernel.stiffness / kernel.mass))
 
     def __call__(self, z):

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ShootingOutcome", "find_periodic_orbit", "fixed_point_newton", "has_unit_eigenvalue",
+__all__ = ["ShootingOutcome", "find_periodic_orbit", "residual_floor", "fixed_point_newton", "has_unit_eigenvalue",
            "steady_growth", "orbit_message", "NEWTON_ITERATIONS_RETRY", "FIRST_RETRY_PERIOD",
            "RETRY_EVERY", "WANDERED_RESIDUAL", "UNIT_EIGENVALUE_TOL"]
 
@@ -80,6 +80,25 @@ class ShootingOutcome:
         if self.converged:
             return "periodic"
         return "unbounded" if self.growth is not None else "not converged"
+
+
+def residual_floor(excitation: float, slip_force: float, stiffness: float, mass: float, omega: float,
+                   tol: float) -> float:
+    """Displacement floor [m] of the residual scales of an exact period map.
+
+    A scale from the loads (``1e-6`` of the larger of excitation and slip force over the
+    dynamic stiffness ``max(K, M omega^2)``), raised to the map's rounding: the closed-form pieces
+    carry static deflections ``excitation / K``, whose rounding (about ``eps excitation / K``)
+    ``tol`` cannot go below -- a motion far smaller than the static deflection (``omega >>
+    omega_n``) is judged against it, not against its own size. Only the excitation counts there:
+    a slip force far above it (a stuck joint) deflects nothing.
+    """
+    load = max(excitation, slip_force)
+    stiff = max(stiffness, mass * omega ** 2)
+    floor = 1e-6 * load / stiff if load > 0 else 1e-6
+    if excitation > 0 and stiffness > 0:
+        floor = max(floor, np.finfo(float).eps * excitation / stiffness / tol)
+    return floor
 
 
 def has_unit_eigenvalue(jac, scale) -> bool:

@@ -19,7 +19,7 @@ from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .response import piece_fourier, piece_peaks
-from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
+from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response"]
 
@@ -35,24 +35,14 @@ class _PeriodMap:
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
         self.last = None
-        # a displacement scale from the loads, the floor of the residual scaling
         excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
                          float(np.max(np.abs(system.force_sin), initial=0)))
-        load = max(excitation, float(np.max(system.slip_force, initial=0)))
         k_static = float(np.max(np.abs(system.stiffness)))
-        stiff = max(k_static, float(np.max(np.abs(system.mass))) * system.omega ** 2)
-        self.x_floor = 1e-6 * load / stiff if load > 0 else 1e-6
-        # the closed-form pieces carry static deflections excitation / K, which sets the rounding
-        # noise of the map (about eps excitation / K) even when the motion is far smaller
-        # (omega >> omega_n): finite-difference steps stay well above it (the excitation only: a
-        # slip force far above it, e.g. a stuck joint, deflects nothing) ...
-        self.fd_floor = 0.0
-        if excitation > 0 and k_static > 0:
-            self.fd_floor = 1e-9 * excitation / k_static
-            # ... and the residual cannot fall below that noise: a motion far smaller than the
-            # static deflection is judged against eps excitation / K / tol, not against its own
-            # size (below which ``tol`` would be unreachable)
-            self.x_floor = max(self.x_floor, np.finfo(float).eps * excitation / k_static / tol)
+        self.x_floor = residual_floor(excitation, float(np.max(system.slip_force, initial=0)), k_static,
+                                      float(np.max(np.abs(system.mass))), system.omega, tol)
+        # finite-difference steps stay well above the map's rounding, eps excitation / K (the
+        # static deflections the closed-form pieces carry; see residual_floor)
+        self.fd_floor = 1e-9 * excitation / k_static if excitation > 0 and k_static > 0 else 0.0
         self.w_char = max(system.omega, float(np.max(system.structure.natural_frequencies(), initial=0)))
 
     def state(self, z: np.ndarray) -> MarchState:
