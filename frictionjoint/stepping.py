@@ -56,7 +56,7 @@ OSCILLATOR_OUTPUTS = {
     "friction_force_sin_integral": (float, "integral of the friction force times sin(omega t) dt since the "
                                            "start, exact (harmonics on) [N s]"),
 }
-#: the outputs integrated piece by piece with ``harmonics`` on, and their integrands' order in the state
+#: the quantities integrated piece by piece with ``harmonics`` on (the rows of the integrals, in order)
 _INTEGRALS = ("x", "v", "friction_force")
 
 
