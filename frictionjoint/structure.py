@@ -5,7 +5,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import ParameterError, check_count, check_nonnegative, check_positive
 
 __all__ = ["LinearStructure"]
 
@@ -68,6 +68,36 @@ class LinearStructure:
         if len(dof_names) != n or len(set(dof_names)) != n:
             raise ParameterError(f"dof_names must be {n} distinct names, got {dof_names!r}")
         self.dof_names = tuple(dof_names)
+
+    @classmethod
+    def chain(cls, n: int, mass: float = 1.0, stiffness: float = 1.0, damping: float = 0.0) -> "LinearStructure":
+        """Fixed-free chain of ``n`` equal masses: a spring from the ground to DOF 0 and one
+        between each pair of neighbours, a dashpot from every mass to the ground.
+
+        Parameters
+        ----------
+        n : int
+            Number of masses (DOFs), >= 1.
+        mass : float
+            Each mass [kg], > 0.
+        stiffness : float
+            Each spring [N/m], > 0.
+        damping : float
+            Each dashpot to the ground [N s/m], >= 0 (mass-proportional damping).
+
+        Returns
+        -------
+        LinearStructure
+        """
+        n = check_count("n", n, 1)
+        mass = check_positive("mass", mass)
+        stiffness = check_positive("stiffness", stiffness)
+        damping = check_nonnegative("damping", damping)
+        k = np.zeros((n, n))
+        k[0, 0] = stiffness
+        for i in range(n - 1):
+            k[i:i + 2, i:i + 2] += stiffness * np.array([[1.0, -1.0], [-1.0, 1.0]])
+        return cls(mass * np.eye(n), k, damping * np.eye(n))
 
     @property
     def n_dof(self) -> int:

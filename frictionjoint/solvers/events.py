@@ -665,9 +665,11 @@ class Marcher:
             ev = self.find_event(itv, horizon)
             if ev is None:
                 tau, trigger = horizon, None
+                itv.end_row = None
             else:
                 tau, j = ev
                 trigger = itv.events[1][j]
+                itv.end_row = j  # the event that ends the piece (saltation of the march's Jacobian)
             if on_interval is not None:
                 on_interval(itv, tau)
             self.advance(itv, tau, state)

@@ -42,6 +42,9 @@ WANDERED_RESIDUAL = 1e-3
 UNIT_EIGENVALUE_TOL = 1e-6
 #: chord iterations keep their Jacobian while the residual falls by at least this factor per step
 CHORD_RATE = 0.05
+#: singular values of the scaled ``J - I`` below this fraction of ``max(1, largest)`` are dropped
+#: from a Newton step (a neutral direction of the period map)
+NEWTON_RCOND = 1e-13
 #: smallest backtracking factor of a Newton step
 MIN_STEP = 1 / 32
 
@@ -109,6 +112,17 @@ def has_unit_eigenvalue(jac, scale) -> bool:
     return bool(sv[-1] <= UNIT_EIGENVALUE_TOL * max(sv[0], 1.0))
 
 
+def _newton_step(a, rhs):
+    """Least-squares solution of ``a s = rhs`` without the directions in which ``a = J - I`` is
+    singular to :data:`NEWTON_RCOND` *of the identity* (not of its largest singular value): where
+    ``J = I`` up to rounding (undamped exact resonance, ``P(z) = z + c``), no step is taken along
+    the neutral directions, where a relative cut-off would step to ``|z| ~ 1e16`` and call the
+    rounding of ``P`` there a fixed point."""
+    u, sv, vt = np.linalg.svd(a)
+    keep = sv > NEWTON_RCOND * max(1.0, sv[0])
+    return vt[keep].T @ ((u[:, keep].T @ rhs) / sv[keep])
+
+
 def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
     """Chord/Newton iterations on ``P(z) - z = 0`` with backtracking.
 
@@ -143,7 +157,7 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
             jac = jacobian(z, pz)
             jac_rnorm = rnorm
         a = (jac - np.eye(z.size)) / scale[:, None] * scale[None, :]
-        step = np.linalg.lstsq(a, -(pz - z) / scale, rcond=1e-13)[0] * scale
+        step = _newton_step(a, -(pz - z) / scale) * scale
         lam = 1.0
         while lam >= MIN_STEP:
             zn = z + lam * step

@@ -18,6 +18,7 @@ from ..errors import ParameterError, check_count, check_system
 from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
+from .monodromy import march_jacobian
 from .response import piece_fourier, piece_peaks
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
@@ -77,7 +78,24 @@ class _PeriodMap:
         return out
 
     def jacobian(self, z, pz, scale) -> np.ndarray:
-        """Finite-difference Jacobian of the map at ``z`` (``pz = P(z)``)."""
+        """Exact Jacobian of the map at ``z`` (``pz = P(z)``): the monodromy matrix of the march,
+        from its closed-form pieces and saltation matrices (:mod:`.monodromy`)."""
+        if self.last is None or not np.array_equal(self.last[0], z):
+            self(z)
+        full = march_jacobian(self.m, self.last[2])
+        sysm = self.system
+        n = self.n
+        nz = z.size
+        # z = [x, v, w of the Jenkins sliders] -> [x, v, w of all sliders] (rigid: w = d . x)
+        embed = np.zeros((full.shape[0], nz))
+        embed[:2 * n, :2 * n] = np.eye(2 * n)
+        embed[2 * n + self.jen, 2 * n + np.arange(self.jen.size)] = 1.0
+        rigid = np.flatnonzero(sysm.rigid)
+        embed[2 * n + rigid, :n] = sysm.slider_direction[rigid]
+        return full[np.r_[0:2 * n, 2 * n + self.jen]] @ embed
+
+    def fd_jacobian(self, z, pz, scale) -> np.ndarray:
+        """Finite-difference Jacobian of the map at ``z`` (the check of :meth:`jacobian`)."""
         return _jacobian(self, z, pz, scale)
 
     def amplitude(self, z) -> float:
@@ -201,7 +219,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         if jac is None or jac_rnorm > 1e-6:
             # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
             pz_orbit = orbit[1] if orbit is not None else pmap(z)
-            jac = _jacobian(pmap, z, pz_orbit, pmap.scales(z))
+            jac = pmap.jacobian(z, pz_orbit, pmap.scales(z))
         unique = not has_unit_eigenvalue(jac, pmap.scales(z))
 
     # evaluate the final period on the closed-form pieces

@@ -1,0 +1,192 @@
+"""The exact Jacobian of a march (the monodromy matrix of a period map) from its closed-form pieces.
+
+A march is a chain of pieces in fixed configurations joined by events. In full coordinates
+``Z = [x, v, w]`` (displacements, velocities, all slider positions) each piece is an affine flow,
+so a variation ``dZ`` of its start state is carried to its end by a matrix built from the piece's
+closed form (:class:`~frictionjoint.solvers.propagator.Interval`):
+
+    dy(tau) = e^{A tau} dy0 + (int_0^tau e^{A s} ds) db0,
+    dy0 = [0, N^T dv0],   db0 = [0, Mr^-1 N^T (-K_c dx0 + sum_stuck Jenkins k_i d_i dw_i)],
+    dx = dx0 + N dq,   dv = N dq',
+
+with ``e^{A tau} = V diag(e^{lam tau}) V^-1`` and ``int e^{A s} ds = V diag(tau phi1(lam tau)) V^-1``
+from the configuration's modal decomposition (or the matrix exponential of ``[[A, I], [0, 0]]``
+where it is defective). The reduced coordinates ``q`` of a configuration with stuck rigid
+sliders carry the constraint: a variation off the constraint is projected away at the piece's
+start. Stuck Jenkins sliders keep their ``w``; slipping Jenkins and rigid sliders follow
+``w = d . x`` (minus the slip offset).
+
+An event ``g(Z, t) = 0`` ending a piece moves with the state; the variation just after it is the
+saltation matrix times the variation just before (Aizerman & Gantmacher; e.g. Leine & Nijmeijer,
+*Dynamics and Bifurcations of Non-Smooth Mechanical Systems*, 2004, sec. 7.2):
+
+    S = I + (f+ - f-) (dg/dZ) / (dg/dt),
+
+``f-`` and ``f+`` the vector fields of the old and the new configuration at the event,
+``dg/dt`` the rate of the event function along the old flow. A rigid slider that sticks has a jump
+of acceleration (``S`` makes its velocity variation vanish along the slider); a slider that starts
+to slip does so at the force limit, where the acceleration is continuous and only a Jenkins
+slider's ``w`` rate changes; a zero-duration stop reverses the friction force (a jump of
+acceleration). An event at a fixed time (the end of a march, a break in an external force) needs
+no saltation.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from .propagator import _phi1
+
+__all__ = ["march_jacobian"]
+
+
+class _ConfigSensitivity:
+    """Per-configuration parts of the piece matrices: ``W B_y`` and ``W B_b`` (or ``B_y``, ``B_b``
+    for the defective case), cached on the configuration."""
+
+    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb")
+
+    def __init__(self, system, itv):
+        cfg = itv.config
+        pat = itv.pattern
+        n = system.n_dof
+        ns = system.n_sliders
+        nz = 2 * n + ns
+        m = cfg.m
+        nb = cfg.N
+        by = np.zeros((2 * m, nz))
+        bb = np.zeros((2 * m, nz))
+        by[m:, n:2 * n] = nb.T
+        bb[m:, :n] = -cfg.mr_inv_nt @ cfg.stiffness
+        if pat.has_jst:
+            jcols = 2 * n + np.flatnonzero(pat.jst)
+            bb[m:, jcols] = cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k)
+        self.n, self.nz = n, nz
+        self.by, self.bb = by, bb
+        if cfg.modal and m:
+            self.wby = cfg.W @ by
+            self.wbb = cfg.W @ bb
+        else:
+            self.wby = self.wbb = None
+
+
+def _sensitivity(marcher, itv) -> _ConfigSensitivity:
+    cache = marcher.__dict__.setdefault("_sensitivities", {})
+    key = itv.status.tobytes()
+    s = cache.get(key)
+    if s is None:
+        s = cache[key] = _ConfigSensitivity(marcher.system, itv)
+    return s
+
+
+def piece_matrix(marcher, itv, tau: float) -> np.ndarray:
+    """``(nZ, nZ)`` matrix carrying a variation of the full state ``[x, v, w]`` at the start of
+    the piece ``itv`` to its local time ``tau``."""
+    sens = _sensitivity(marcher, itv)
+    n, nz = sens.n, sens.nz
+    cfg = itv.config
+    m = cfg.m
+    if m == 0:
+        ymap = np.zeros((0, nz))
+    elif sens.wby is not None:
+        lt = cfg.lam * tau
+        e = np.exp(lt)
+        g = tau * _phi1(lt)
+        ymap = (cfg.V @ (e[:, None] * sens.wby + g[:, None] * sens.wbb)).real
+    else:
+        aug = np.zeros((4 * m, 4 * m))
+        aug[:2 * m, :2 * m] = cfg.A
+        aug[:2 * m, 2 * m:] = np.eye(2 * m)
+        big = scipy.linalg.expm(aug * tau)
+        ymap = big[:2 * m, :2 * m] @ sens.by + big[:2 * m, 2 * m:] @ sens.bb
+    phi = np.zeros((nz, nz))
+    phi[:n, :n] = np.eye(n)
+    if m:
+        phi[:n] += cfg.N @ ymap[:m]
+        phi[n:2 * n] = cfg.N @ ymap[m:]
+    jst = itv.pattern.jst
+    d = marcher.system.slider_direction
+    for i in range(nz - 2 * n):
+        if jst[i]:
+            phi[2 * n + i, 2 * n + i] = 1.0
+        else:
+            phi[2 * n + i] = d[i] @ phi[:n]
+    return phi
+
+
+def _event_gradient(marcher, itv, j: int) -> np.ndarray:
+    """Gradient of event row ``j`` of ``itv`` with respect to the full state at fixed time."""
+    system = marcher.system
+    n = system.n_dof
+    pat = itv.pattern
+    obs = pat.obs
+    grad = np.zeros(2 * n + system.n_sliders)
+    grad[:n] = obs.ax[j]
+    grad[n:2 * n] = obs.av[j]
+    if pat.a0k[j] != 0:
+        grad[2 * n + pat.widx[j]] += pat.a0k[j]
+    if pat.has_jst and pat.has_af:
+        grad[2 * n + np.flatnonzero(pat.jst)] += (obs.af[j] @ pat.jst_dt) * pat.jst_k
+    return grad
+
+
+def _field(system, itv, tau: float) -> np.ndarray:
+    """Rates ``[v', w']`` of the piece at local time ``tau`` (x' = v is continuous at events)."""
+    n = system.n_dof
+    cfg = itv.config
+    m = cfg.m
+    out = np.zeros(n + system.n_sliders)
+    if m:
+        y, dy = itv.y(np.array([tau]), order=1)
+        v = cfg.N @ y[m:, 0]
+        out[:n] = cfg.N @ dy[m:, 0]
+    else:
+        v = np.zeros(n)
+    moving = ~itv.pattern.jst
+    out[n:][moving] = system.slider_direction[moving] @ v
+    return out
+
+
+def saltation(marcher, before, tau: float, row: int, after) -> np.ndarray | None:
+    """Saltation matrix ``(nZ, nZ)`` of event ``row`` of piece ``before`` at its local time
+    ``tau``, the march going on in piece ``after``; None when it is the identity."""
+    system = marcher.system
+    n = system.n_dof
+    if np.array_equal(before.status, after.status):
+        return None  # abnormal stop: the configuration is kept, the flow is continuous
+    red, _ = before.events
+    one = tuple(r[row:row + 1] for r in red)
+    rate = float(before.evaluate(one, tau, order=1)[1][0, 0])
+    jump = _field(system, after, 0.0) - _field(system, before, tau)
+    grad = _event_gradient(marcher, before, row)
+    if rate == 0.0 or not np.any(jump):
+        return None
+    s = np.eye(2 * n + system.n_sliders)
+    s[n:] += np.outer(jump, grad / rate)
+    return s
+
+
+def march_jacobian(marcher, pieces) -> np.ndarray:
+    """Jacobian ``(nZ, nZ)`` of the end state of a march with respect to its start state, both in
+    full coordinates ``[x, v, w]``.
+
+    Parameters
+    ----------
+    marcher : Marcher
+        The marcher that made the pieces.
+    pieces : sequence of (Interval, float)
+        The march's pieces and their durations, in order, as passed to ``on_interval`` of
+        :meth:`~frictionjoint.solvers.events.Marcher.march` (each piece ended by an event carries
+        the event's row as ``end_row``).
+    """
+    system = marcher.system
+    nz = 2 * system.n_dof + system.n_sliders
+    jac = np.eye(nz)
+    for k, (itv, tau) in enumerate(pieces):
+        jac = piece_matrix(marcher, itv, tau) @ jac
+        row = getattr(itv, "end_row", None)
+        if row is not None and k + 1 < len(pieces):
+            s = saltation(marcher, itv, tau, row, pieces[k + 1][0])
+            if s is not None:
+                jac = s @ jac
+    return jac
