@@ -100,8 +100,9 @@ class PeriodicResponse:
         Energy dissipated by friction over one period [J].
     floquet_multipliers : ndarray or None
         Eigenvalues of the period map's Jacobian (the monodromy matrix) at the orbit; None when no
-        orbit was found. Exact (closed-form monodromy) for the single-DOF oscillator, else from
-        the finite-difference Jacobian (about 1e-7).
+        orbit was found. Exact (closed-form monodromy: the pieces' transition matrices times the
+        saltation matrices of the events) for the library's models; from a finite-difference
+        Jacobian (about 1e-7) for a stepping driver such as an FMU.
     stable : bool or None
         True when every multiplier lies inside the unit circle by more than
         :data:`STABILITY_MARGIN` (asymptotically stable orbit); None when no orbit was found.

@@ -102,3 +102,22 @@ def test_chain_steady_state_needs_few_periods():
     pr = periodic_response(chain(20, 5, slip=0.0004))
     assert pr.converged and pr.stops_per_cycle > 0
     assert pr.periods <= 15
+
+
+def test_stuck_only_orbit_is_the_linear_solution_without_marching():
+    """Joints that never slip: no period is marched; the orbit is the harmonic response of the
+    structure with the Jenkins springs added, (K + sum k d d^T - w^2 M + i w C)^-1 (f_c - i f_s),
+    computed here independently in full coordinates."""
+    sysm = chain(20, 3, slip=10.0)
+    pr = periodic_response(sysm, n_samples=64)
+    assert pr.converged and pr.stuck and pr.periods == 0 and len(pr.events) == 0
+    k = sysm.stiffness + (sysm.slider_direction.T * sysm.slider_stiffness) @ sysm.slider_direction
+    w = sysm.omega
+    x = np.linalg.solve(k - w * w * sysm.mass + 1j * w * sysm.damping, sysm.force_cos - 1j * sysm.force_sin)
+    assert np.max(np.abs(pr.harmonic_amplitude / np.abs(x) - 1)) <= 1e-12
+    assert np.max(np.abs(pr.amplitude / np.abs(x) - 1)) <= 1e-12  # no static offset from rest
+    t = pr.t
+    ref = (x[:, None] * np.exp(1j * w * t)[None, :]).real
+    assert np.max(np.abs(pr.x - ref)) <= 1e-12 * np.max(np.abs(x))
+    # a joint that would slip somewhere in the period is not taken for stuck
+    assert periodic_response(chain(20, 3, slip=0.0004)).periods > 0

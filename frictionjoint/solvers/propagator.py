@@ -28,6 +28,10 @@ import scipy.linalg
 
 __all__ = ["ConfigData", "Interval", "Observables"]
 
+#: stuck Jenkins springs stiffer than this multiple of the structure's largest diagonal stiffness
+#: have their configuration's eigenpairs refined (:func:`_refine_modes`)
+REFINE_RATIO = 100.0
+
 _PHI1_TERMS = 1.0 / np.array([math.factorial(k + 1) for k in range(22)])
 
 
@@ -150,7 +154,12 @@ class ConfigData:
                 v = w = None
             else:
                 v = v.astype(complex)
-                if np.any(jen_stuck):
+                kt = system.slider_stiffness[jen_stuck]
+                k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
+                # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
+                # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
+                # it restores digits
+                if kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref:
                     lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ system.stiffness @ nb,
                                            nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
                 w = np.linalg.inv(v)

@@ -20,13 +20,13 @@ from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
 from .response import piece_fourier, piece_peaks
-from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
+from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response"]
 
 
 class _PeriodMap:
-    def __init__(self, system, marcher: Marcher, t_s: float, tol: float = 1e-12):
+    def __init__(self, system, marcher: Marcher, t_s: float, tol: float = 1e-12, jacobian: str = "exact"):
         self.system = system
         self.m = marcher
         self.t_s = t_s
@@ -36,6 +36,8 @@ class _PeriodMap:
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
         self.last = None
+        if jacobian == "fd":
+            self.jacobian = self.fd_jacobian
         excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
                          float(np.max(np.abs(system.force_sin), initial=0)))
         k_static = float(np.max(np.abs(system.stiffness)))
@@ -83,16 +85,8 @@ class _PeriodMap:
         if self.last is None or not np.array_equal(self.last[0], z):
             self(z)
         full = march_jacobian(self.m, self.last[2])
-        sysm = self.system
         n = self.n
-        nz = z.size
-        # z = [x, v, w of the Jenkins sliders] -> [x, v, w of all sliders] (rigid: w = d . x)
-        embed = np.zeros((full.shape[0], nz))
-        embed[:2 * n, :2 * n] = np.eye(2 * n)
-        embed[2 * n + self.jen, 2 * n + np.arange(self.jen.size)] = 1.0
-        rigid = np.flatnonzero(sysm.rigid)
-        embed[2 * n + rigid, :n] = sysm.slider_direction[rigid]
-        return full[np.r_[0:2 * n, 2 * n + self.jen]] @ embed
+        return full[np.r_[0:2 * n, 2 * n + self.jen]] @ _embedding(self)
 
     def fd_jacobian(self, z, pz, scale) -> np.ndarray:
         """Finite-difference Jacobian of the map at ``z`` (the check of :meth:`jacobian`)."""
@@ -140,9 +134,72 @@ def _near_event(itv, margin: float) -> bool:
     return bool(np.any(np.abs(g) < margin * np.abs(dg)))
 
 
+def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_samples: int):
+    """The steady state of a system whose sliders all stick from ``st`` on and never slip: the
+    linear orbit of the stuck configuration (a static and a complex harmonic solve in its modes),
+    checked against every event function over the whole period (closed-form bounds: constant
+    part minus harmonic amplitude). None when it does not apply (something slips or may slip, a
+    mode that does not decay, a defective configuration)."""
+    if system.n_sliders == 0 or np.any(st.status != 0) or marcher.held_force is not None:
+        return None
+    itv0 = marcher.interval(st)
+    cfg = itv0.config
+    m = cfg.m
+    if not (cfg.modal and m) or float(np.max(cfg.lam.real)) >= 0 or system.external:
+        return None
+    w = system.omega
+    period = 2 * math.pi / w
+    wi, v = cfg.W, cfg.V
+    b0, bc, bs = itv0._bvec
+    y_static = -(v @ ((wi @ b0) / cfg.lam)).real
+    y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - cfg.lam))
+    y_start = y_static + y_harm.real
+    nb = cfg.N
+    orbit = MarchState(0.0, st.x + nb @ y_start[:m], nb @ y_start[m:], st.w, st.status)
+    marcher._project(orbit)
+    itv = marcher.interval(orbit)
+    red, _ = itv.events
+    bounds = itv.bounds(red, period)
+    if bounds is None or not all(lo > tol for lo, tol in zip(bounds[0].tolist(), marcher._tolerances(itv))):
+        return None
+    x_static = st.x + nb @ y_static[:m]
+    x_harm = nb @ y_harm[:m]
+    jen = ~system.rigid
+    z = np.concatenate([orbit.x, orbit.v, orbit.w[jen]])
+    pmap = _PeriodMap(system, marcher, 0.0, pmap_tol)
+    full = march_jacobian(marcher, [(itv, period)])
+    jac = full[np.r_[0:2 * system.n_dof, 2 * system.n_dof + np.flatnonzero(jen)]] @ _embedding(pmap)
+    unique = not has_unit_eigenvalue(jac, pmap.scales(z))
+    t_s = x_s = None
+    if n_samples:
+        t_s = period * np.arange(n_samples) / n_samples
+        x_s = x_static[:, None] + (x_harm[:, None] * np.exp(1j * w * t_s)[None, :]).real
+    res = PeriodicResponse(
+        omega=w, amplitude=np.abs(x_static) + np.abs(x_harm), phase=np.arctan2(-x_harm.imag, x_harm.real),
+        harmonic_amplitude=np.abs(x_harm), stops_per_cycle=0, stuck=True, status="periodic", converged=True,
+        unique=unique, message=orbit_message(ShootingOutcome(True, z, 0.0), unique, 0.0, 0),
+        periods=0.0, state=z, section_time=0.0, initial_state=z, events=EventLog(), dissipated_per_cycle=0.0,
+        t=t_s, x=x_s)
+    res.set_multipliers(np.linalg.eigvals(jac))
+    return res
+
+
+def _embedding(pmap: "_PeriodMap") -> np.ndarray:
+    """``z = [x, v, w of the Jenkins sliders]`` -> ``[x, v, w of all sliders]`` (rigid: ``w = d . x``)."""
+    sysm = pmap.system
+    n = pmap.n
+    nfull = 2 * n + sysm.n_sliders
+    embed = np.zeros((nfull, 2 * n + pmap.jen.size))
+    embed[:2 * n, :2 * n] = np.eye(2 * n)
+    embed[2 * n + pmap.jen, 2 * n + np.arange(pmap.jen.size)] = 1.0
+    rigid = np.flatnonzero(sysm.rigid)
+    embed[2 * n + rigid, :n] = sysm.slider_direction[rigid]
+    return embed
+
+
 def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
-                      n_samples: int = 0) -> PeriodicResponse:
+                      n_samples: int = 0, jacobian: str = "exact") -> PeriodicResponse:
     """Periodic steady state of a harmonically excited :class:`FrictionSystem`.
 
     Parameters
@@ -161,6 +218,10 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         Excitation periods marched at most in the fallback.
     n_samples : int
         If > 0, also return ``n_samples`` samples of ``x`` over the period (``t``, ``x``).
+    jacobian : {'exact', 'fd'}
+        Jacobian of the period map for Newton: ``'exact'`` (the monodromy matrix from the
+        closed-form pieces and the events' saltation matrices, no extra marching) or ``'fd'``
+        (finite differences, one period per state component; a check and a baseline).
 
     Returns
     -------
@@ -174,9 +235,14 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     max_newton = check_count("max_newton", max_newton, 1)
     max_periods = check_count("max_periods", max_periods, 0)
     n_samples = check_count("n_samples", n_samples, 0)
+    if jacobian not in ("exact", "fd"):
+        raise ParameterError(f"jacobian must be 'exact' or 'fd', got {jacobian!r}")
     m = marcher if marcher is not None else Marcher(system)
     period = 2 * math.pi / system.omega
     st = m.initial_state(x0, v0, w0, t0=0.0)
+    linear = _stuck_orbit(system, m, st, tol, n_samples)
+    if linear is not None:
+        return linear  # nothing slips: the linear orbit, without marching
     z_start = np.concatenate([st.x, st.v, st.w[~system.rigid]])
     pieces = []
     first_itv = []
@@ -194,7 +260,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     if (first[2] == fewest and last[2] == fewest and first[1] > margin
             and last[1] > margin and len(pieces) > 1 and not _near_event(first_itv[0], margin)):
         t_s = 0.0
-        pmap = _PeriodMap(system, m, t_s, tol)
+        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
         z = z_start
         st.t = 0.0
         pz = pmap.vector(st)
@@ -204,7 +270,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         t_s = (t_a + 0.5 * tau) % period
         m.march(st, period + t_s)
         st.t = t_s
-        pmap = _PeriodMap(system, m, t_s, tol)
+        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
         z = pmap.vector(st)
         pz = pmap(z)
         periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
