@@ -24,6 +24,7 @@ import scipy.optimize
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
 from .propagator import ConfigData, Interval, Observables
+from . import search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
@@ -116,7 +117,7 @@ class _Pattern:
     __slots__ = ("cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
                  "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
                  "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
-                 "has_rigid_stuck", "n_rows", "ax_abs")
+                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p")
 
 
 class Marcher:
@@ -139,6 +140,8 @@ class Marcher:
         self._rigid_idx = np.flatnonzero(system.rigid)
         self._rigid_dir = system.slider_direction[self._rigid_idx]
         self.held_force = None
+        #: event search of modal pieces compiled (:mod:`.search`) or in NumPy (same algorithm)
+        self.jit = search.ENABLED
 
     def set_held_force(self, force) -> None:
         """Hold an extra force vector (n_dof,) [N] from now on (zero-order-hold input, e.g. an
@@ -177,6 +180,7 @@ class Marcher:
         cfg = self.config(status)
         pat = _Pattern()
         pat.cfg = cfg
+        pat.modal_p = None
         # event functions, as in the reference construction (one row per slipping slider, two per
         # stuck slider); a0 = a0c + a0k * w[widx]
         rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
@@ -509,6 +513,8 @@ class Marcher:
         atzero = getattr(itv, "atzero", None)
         if atzero is None:
             atzero = np.zeros(len(meta), bool)
+        if self.jit and itv.modal_search():
+            return self._compiled_search(itv, red, tol, atzero, horizon, h)
         if horizon > 4 * h:
             # no event function can reach its zero band over the whole horizon (bounds of the
             # closed form): skip the sampling, which costs horizon * rate / 2pi * 16 evaluations
@@ -564,6 +570,23 @@ class Marcher:
             g_a, dg_a = g[:, -1], dg[:, -1]
             g = None
         return None
+
+    def _compiled_search(self, itv, red, tol, atzero, horizon, h):
+        """:meth:`find_event` of a modal piece in one compiled call (:func:`.search.first_event`)."""
+        pat = itv.pattern
+        cy, c0, cc, cs = red
+        cfg = itv.config
+        p = pat.modal_p
+        if p is None:
+            p = pat.modal_p = cy @ cfg.V
+        b0, bp, bm = itv._b
+        found, tau, row, vmax = search.first_event(p, itv._a, b0, bp, bm, c0, cfg.lam, cc, cs, self.system.omega,
+                                            itv.t0, np.asarray(tol, dtype=float), atzero, pat.vrows,
+                                            float(horizon), h)
+        self.v_scale *= 0.5
+        if pat.any_v:
+            self.v_scale = max(self.v_scale, vmax)
+        return (tau, row) if found else None
 
     def _locate(self, itv, red, j, a, b, crossing, tol, h, start_zero):
         one = tuple(r[j:j + 1] for r in red)

@@ -405,6 +405,13 @@ class Interval:
                 vals[1] + w * (cs * co - cc * si),
                 vals[2] - w * w * (cc * co + cs * si)]
 
+    def modal_search(self) -> bool:
+        """True when the event functions are plain exp-polynomials (modal configuration, no
+        near-resonant mode/forcing pair): the compiled search applies."""
+        if not self._ready:
+            self._prepare()
+        return bool(self.config.modal and self.config.m and not self._near)
+
     def scalar(self, red, j: int):
         """Fast scalar ``g(tau)`` and ``g'(tau)`` of observable row ``j`` (for root finding)."""
         one = tuple(r[j:j + 1] for r in red)

@@ -1,0 +1,354 @@
+"""Compiled event search of one closed-form piece (numba).
+
+The event functions of a piece in modal form are exp-polynomials,
+
+    g_r(tau) = Re(sum_i pa_ri e^{lam_i tau}) + k0_r + Re(kp_r e^{i w tau} + km_r e^{-i w tau})
+               + cc_r cos(w (t0 + tau)) + cs_r sin(w (t0 + tau)),
+
+and the first ``tau`` in ``(0, horizon]`` at which one of them leaves its zero band is the next
+event. :func:`first_event` is the whole search of
+:meth:`~frictionjoint.solvers.events.Marcher.find_event` for such a piece -- the bound that skips
+a piece no function can reach zero on, sampling with derivatives on a grid finer than the fastest
+mode, crossings and tangential dips, and the root (Brent's method, as scipy's ``brentq``) -- in
+one compiled call: the search is a few hundred scalar evaluations of a sum over the modes, each of
+which cost a NumPy call (microseconds) in Python and cost nanoseconds here.
+
+numba is the tool: the kernel is plain loops over small complex arrays, compiled once per
+installation (``cache=True``: about 9 s the first time, then loaded from ``__pycache__`` in about
+0.5 s) and called from the marcher with arrays it already holds. Without numba, and in the copy of
+the library bundled into an FMU (:data:`ENABLED` is False there: a fresh compile at every
+extraction of an FMU would dominate its start-up), the marcher runs its NumPy search.
+"""
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+try:
+    import numba
+except ImportError:  # pragma: no cover - numba is a dependency of the installed library
+    numba = None
+
+__all__ = ["first_event", "RTOL", "ENABLED"]
+
+#: whether the compiled search is used: numba is importable and this is the installed library
+#: (not the copy an FMU carries in its resources)
+ENABLED = numba is not None and __name__.startswith("frictionjoint.")
+
+
+def _jit(fun):
+    return numba.njit(cache=True)(fun) if ENABLED else fun
+
+
+#: relative tolerance of the root (as the Python path's brentq)
+RTOL = 4 * np.finfo(float).eps
+#: iterations of Brent's method at most
+_MAXITER = 100
+
+
+@_jit
+def _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, r):
+    g = 0.0
+    for i in range(lam.size):
+        g += (pa[r, i] * cmath.exp(lam[i] * tau)).real
+    e = cmath.exp(1j * w * tau)
+    g += k0[r] + (kp[r] * e + km[r] / e).real
+    if harmonic:
+        ph = w * (t0 + tau)
+        g += cc[r] * math.cos(ph) + cs[r] * math.sin(ph)
+    return g
+
+
+@_jit
+def _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, tau, r):
+    dg = 0.0
+    for i in range(lam.size):
+        dg += (pla[r, i] * cmath.exp(lam[i] * tau)).real
+    e = cmath.exp(1j * w * tau)
+    dg += (1j * w * (kp[r] * e - km[r] / e)).real
+    if harmonic:
+        ph = w * (t0 + tau)
+        dg += w * (cs[r] * math.cos(ph) - cc[r] * math.sin(ph))
+    return dg
+
+
+@_jit
+def _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, g, dg, col):
+    """g and g' of every row at ``tau`` into column ``col`` of ``g``, ``dg``."""
+    p = lam.size
+    e = np.empty(p, np.complex128)
+    for i in range(p):
+        e[i] = cmath.exp(lam[i] * tau)
+    eip = cmath.exp(1j * w * tau)
+    eim = eip.conjugate()
+    co = si = 0.0
+    if harmonic:
+        ph = w * (t0 + tau)
+        co = math.cos(ph)
+        si = math.sin(ph)
+    for r in range(k0.size):
+        a = 0.0
+        b = 0.0
+        for i in range(p):
+            a += (pa[r, i] * e[i]).real
+            b += (pla[r, i] * e[i]).real
+        a += k0[r] + (kp[r] * eip + km[r] * eim).real
+        b += (1j * w * (kp[r] * eip - km[r] * eim)).real
+        if harmonic:
+            a += cc[r] * co + cs[r] * si
+            b += w * (cs[r] * co - cc[r] * si)
+        g[r, col] = a
+        dg[r, col] = b
+
+
+@_jit
+def _brentq(which, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, xa, xb, xtol):
+    """scipy's brentq (scipy/optimize/Zeros/brentq.c) on g (``which = 0``) or g' (1) of row r."""
+    xpre, xcur = xa, xb
+    xblk = fblk = spre = scur = 0.0
+    if which == 0:
+        fpre = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xpre, r)
+        fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+    else:
+        fpre = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xpre, r)
+        fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+    if fpre == 0.0:
+        return xpre
+    if fcur == 0.0:
+        return xcur
+    for _ in range(_MAXITER):
+        if fpre != 0.0 and fcur != 0.0 and (fpre < 0.0) != (fcur < 0.0):
+            xblk = xpre
+            fblk = fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre = xcur
+            xcur = xblk
+            xblk = xpre
+            fpre = fcur
+            fcur = fblk
+            fblk = fpre
+        delta = (xtol + RTOL * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0.0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):
+                spre = scur
+                scur = stry
+            else:
+                spre = sbis
+                scur = sbis
+        else:
+            spre = sbis
+            scur = sbis
+        xpre = xcur
+        fpre = fcur
+        if abs(scur) > delta:
+            xcur += scur
+        else:
+            xcur += delta if sbis > 0 else -delta
+        if which == 0:
+            fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+        else:
+            fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+    return xcur
+
+
+@_jit
+def _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
+    """Root of g on [a, b] (g(a) >= 0 > g(b) up to rounding): a zero end point wins."""
+    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, a, r) <= 0:
+        return a
+    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, b, r) >= 0:
+        return b
+    return _brentq(0, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+
+
+@_jit
+def _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
+    """Root just after a start at zero (see ``Marcher._locate_tiny``)."""
+    prev = a + (b - a) / 64
+    for k in range(2, 65):
+        t = a + (b - a) * k / 64
+        if (_value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, prev, r) > 0
+                > _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, r)):
+            return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, prev, t, xtol)
+        prev = t
+    hi = a + (b - a) / 64
+    if not _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, hi, r) < 0:
+        return b
+    d = hi - a
+    for _ in range(80):
+        d *= 0.5
+        lo = a + d
+        if lo <= a:
+            break
+        if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, lo, r) > 0:
+            return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, lo, hi, xtol)
+        hi = lo
+    return b
+
+
+@_jit
+def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, crossing, tol, h, start_zero):
+    """Event time of row r in [a, b] (a crossing or a dip found by the sampling), or -1."""
+    xtol = 1e-16 * h
+    if crossing:
+        if start_zero or _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, a, r) < 0:
+            # the function starts at zero: find a positive point before the crossing
+            prev = a
+            for k in range(1, 33):
+                t = a + (b - a) * k / 32
+                if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, r) < 0:
+                    if k == 1:
+                        if not start_zero:
+                            return a
+                        return _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, t, xtol)
+                    return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, prev, t, xtol)
+                prev = t
+            return b
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+    # dip: a local minimum between a and b
+    if (_slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, a, r) >= 0
+            or _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, b, r) <= 0):
+        return -1.0
+    tm = _brentq(1, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+    if start_zero and tm <= 1e-9 * h:
+        return -1.0
+    gm = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, tm, r)
+    if gm < 0:
+        if start_zero and gm >= -tol:
+            return tm
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, tm, xtol)
+    if gm <= tol:
+        return tm
+    return -1.0
+
+
+@_jit
+def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
+    """First event of a modal piece in ``(0, horizon]``.
+
+    Parameters
+    ----------
+    p : (rows, modes) complex ndarray
+        Event functions in modal coordinates (``C_y V``).
+    a, b0, bp, bm : (modes,) complex ndarray
+        The piece's modal solution ``eta = e^{lam tau} a + b0 + bp e^{i w tau} + bm e^{-i w tau}``.
+    c0, cc, cs : (rows,) ndarray
+        Constant and direct harmonic parts of the event functions.
+    lam : (modes,) complex ndarray
+        Eigenvalues of the configuration.
+    w, t0 : float
+        Excitation angular frequency [rad/s] and the piece's start time [s].
+    tol : (rows,) ndarray
+        Zero bands; ``atzero`` (rows,) bool: functions that start inside theirs.
+    vrows : (rows,) bool ndarray
+        Velocity rows (their values set the marcher's velocity scale).
+    horizon, h : float
+        End of the search and sampling step [s].
+
+    Returns
+    -------
+    found : bool
+    tau : float
+        Local time of the event.
+    row : int
+        Row of the event function.
+    vmax : float
+        Largest ``|g|`` of the velocity rows seen (bound, start or samples).
+    """
+    nr, nm = p.shape
+    pa = np.empty((nr, nm), np.complex128)
+    pla = np.empty((nr, nm), np.complex128)
+    k0 = np.empty(nr)
+    kp = np.empty(nr, np.complex128)
+    km = np.empty(nr, np.complex128)
+    harmonic = False
+    for r in range(nr):
+        s0 = 0.0
+        sp = 0j
+        sm = 0j
+        for i in range(nm):
+            pa[r, i] = p[r, i] * a[i]
+            pla[r, i] = pa[r, i] * lam[i]
+            s0 += (p[r, i] * b0[i]).real
+            sp += p[r, i] * bp[i]
+            sm += p[r, i] * bm[i]
+        k0[r] = s0 + c0[r]
+        kp[r] = sp
+        km[r] = sm
+        if cc[r] != 0.0 or cs[r] != 0.0:
+            harmonic = True
+    vmax = 0.0
+    if horizon > 4 * h:
+        # closed-form bound about k0 (see Interval.bounds): forced part |Z|, free modes
+        # sum |pa_i| max(1, e^{Re lam_i horizon}), and the rounding of terms of these sizes; no
+        # function can reach its zero band over the whole horizon: skip the sampling
+        grow = np.empty(nm)
+        for i in range(nm):
+            grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
+        e0 = cmath.exp(1j * w * t0)
+        skip = True
+        spread = np.empty(nr)
+        for r in range(nr):
+            z = kp[r] + km[r].conjugate() + (cc[r] - 1j * cs[r]) * e0
+            free = 0.0
+            pb = 0.0
+            for i in range(nm):
+                free += abs(pa[r, i]) * grow[i]
+                pb += abs(p[r, i]) * abs(b0[i])
+            sr = abs(z) + free
+            spread[r] = sr + 1e-12 * (abs(k0[r]) + sr + pb)
+            if atzero[r] or not (k0[r] - spread[r] > tol[r]):
+                skip = False
+        if skip:
+            for r in range(nr):
+                if vrows[r]:
+                    vmax = max(vmax, abs(k0[r] + spread[r]))
+            return False, 0.0, -1, vmax
+    # two sample columns (previous, current), filled one sample at a time: the search stops at
+    # the first sample step with a located event, with nothing evaluated beyond it
+    g = np.empty((nr, 2))
+    dg = np.empty((nr, 2))
+    _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, 0.0, g, dg, 0)
+    for r in range(nr):
+        if atzero[r]:
+            g[r, 0] = 0.0
+        if vrows[r]:
+            vmax = max(vmax, abs(g[r, 0]))
+    n_steps = max(1, math.ceil(horizon / h))
+    t_prev = 0.0
+    prev, cur = 0, 1
+    for k in range(1, n_steps + 1):
+        t = min(h * k, horizon)
+        _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, g, dg, cur)
+        best_tau = math.inf
+        best_row = -1
+        for r in range(nr):
+            if vrows[r]:
+                vmax = max(vmax, abs(g[r, cur]))
+            cross = g[r, prev] >= 0 and g[r, cur] < 0
+            dip = dg[r, prev] < 0 and dg[r, cur] > 0 and not cross
+            if not (cross or dip):
+                continue
+            start_zero = k == 1 and atzero[r]
+            tau = _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, t_prev, t, cross,
+                          tol[r], h, start_zero)
+            if tau >= 0 and tau < best_tau:
+                best_tau = tau
+                best_row = r
+        if best_row >= 0:
+            return True, best_tau, best_row, vmax
+        t_prev = t
+        prev, cur = cur, prev
+    return False, 0.0, -1, vmax
