@@ -1,8 +1,10 @@
 """Run time against error of CoulombOscillator.steady_state, with a baseline in the same process.
 
-Baseline: the event-driven scipy solve_ivp brute force of tests/bruteforce.py (DOP853, rtol 1e-12,
-marched period by period to a fixed point), i.e. what a careful user would write. Errors are
-relative to Den Hartog's closed form (frictionjoint.analytic). Usage:
+Baselines: the event-driven scipy solve_ivp brute force of tests/bruteforce.py (DOP853, rtol 1e-12,
+marched period by period to a fixed point), i.e. what a careful user would write; and what most
+users write first, tanh-regularised friction in LSODA (eps = 1e-4 wn P0/k, rtol 1e-9, 60 periods,
+peak of the last; frictionjoint.benchmark.regularised_amplitude). Errors are relative to Den
+Hartog's closed form (frictionjoint.analytic). Usage:
 
     python benchmarks/steady_state.py [--repeat N]
 """
@@ -20,6 +22,7 @@ import bruteforce as bf  # noqa: E402
 
 import frictionjoint as fj  # noqa: E402
 from frictionjoint.analytic import den_hartog  # noqa: E402
+from frictionjoint.benchmark import Case, make_problem, regularised_amplitude  # noqa: E402
 
 
 def best_time(fn, repeat):
@@ -48,6 +51,12 @@ def main(argv=None):
               f"{ss.periods:8.1f} {1.0:8.2f}")
         print(f"{case:>14} {'solve_ivp events':>22} {abs(bs.amplitude / ref - 1):11.2e} {t_bf * 1e3:10.1f} "
               f"{bs.periods:8d} {t_bf / t_fj:8.2f}")
+        problem = make_problem(Case(r, f))
+        t_reg, a_reg = best_time(lambda: regularised_amplitude(problem, "LSODA", 1e-4, 1e-9, periods=60,
+                                                                       max_evaluations=10 ** 8),
+                                 max(1, args.repeat // 2))
+        print(f"{case:>14} {'tanh LSODA (1e-4)':>22} {abs(a_reg / ref - 1):11.2e} {t_reg * 1e3:10.1f} "
+              f"{60:8d} {t_reg / t_fj:8.2f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ import numpy as np
 from .errors import ParameterError
 from .oscillator import CoulombOscillator
 from .solvers.events import EventLog, MarchState
+from .solvers.propagator import Observables
 from .solvers.response import piece_fourier, piece_peaks
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
@@ -112,12 +113,13 @@ class OscillatorRun:
         w = self.osc.omega
 
         def integrands(itv):
-            force = itv.reduce(m.force_observables(itv))
-
-            def values(taus):
-                x, v = itv.state(taus)
-                return np.vstack([x[0], v[0], itv.evaluate(force, taus)[0][:1]])
-            return values
+            # rows x, v (of the oscillator's DOF) and its slider's friction force
+            force = m.force_observables(itv)
+            n = m.system.n_dof
+            zero = np.zeros(n)
+            unit = np.eye(n)[0]
+            return itv.reduce(Observables([unit, zero, force.ax[0]], [zero, unit, force.av[0]],
+                                          [zero, zero, force.af[0]], [0.0, 0.0, force.a0[0]]))
 
         def on_piece(itv, tau):
             if itv.status.size and itv.status[0] != 0:

@@ -15,10 +15,14 @@ from ..errors import ParameterError, check_real, check_system
 from ..system import FrictionSystem
 from ..results import TimeResponse
 from .events import EventLog, Marcher
+from .propagator import Observables
 
-__all__ = ["simulate", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier"]
+__all__ = ["simulate", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
+           "displacement_observables"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
+#: Newton iterations at most of :func:`piece_peaks` (each halves the bracket at worst)
+_PEAK_ITERATIONS = 60
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
 
@@ -45,40 +49,64 @@ def gauss_nodes(a: float, b: float, rate: float):
 def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     """Raise ``amp`` (n_dof,) to ``max |x_i|`` over the closed-form piece ``[0, tau_end]`` of
     ``itv``: its ends and every velocity reversal inside (sign changes of ``v`` sampled at 32 points
-    per period of the active rate, each located by Brent's method to ~1e-16 of the piece).
-    Returns ``x`` at the two ends, (n_dof, 2)."""
-    import scipy.optimize
-
+    per period of the active rate, all located together by safeguarded Newton iterations on the
+    exact ``v`` and ``a``, to ~1e-16 of the piece). Returns ``x`` at the two ends, (n_dof, 2)."""
     x_end, _ = itv.state(np.array([0.0, tau_end]))
     np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
+    m = itv.config.m
+    if m == 0:
+        return x_end
     rate = itv.active_rate()
     nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 32) + 1)
     taus = np.linspace(0.0, tau_end, nsamp)
     _, vs = itv.state(taus)
-    for i in range(amp.size):
-        sgn = np.sign(vs[i])
-        for k in np.flatnonzero(sgn[:-1] * sgn[1:] < 0):
-            def vel(t, i=i):
-                return itv.state(t)[1][i, 0]
-            va, vb = vel(taus[k]), vel(taus[k + 1])
-            if va * vb < 0:
-                tr = scipy.optimize.brentq(vel, taus[k], taus[k + 1], xtol=1e-16 * tau_end + 1e-300)
-            else:
-                # the vectorised and scalar evaluations disagree in the last bits: the
-                # reversal is at the end point whose velocity is zero (or nearer zero)
-                tr = taus[k] if abs(va) <= abs(vb) else taus[k + 1]
-            amp[i] = max(amp[i], abs(itv.state(tr)[0][i, 0]))
+    sgn = np.sign(vs)
+    rows, ks = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
+    if rows.size == 0:
+        return x_end
+    nb = itv.config.N[rows]
+    lo, hi = taus[ks], taus[ks + 1]
+    v_lo, v_hi = vs[rows, ks], vs[rows, ks + 1]
+    t = lo + (hi - lo) * (v_lo / (v_lo - v_hi))  # secant start inside the bracket
+    for _ in range(_PEAK_ITERATIONS):
+        y, dy = itv.y(t, order=1)
+        v = np.einsum("ij,ji->i", nb, y[m:])
+        acc = np.einsum("ij,ji->i", nb, dy[m:])
+        # keep the bracket: the side with the sign of v_lo moves to t
+        left = np.sign(v) == np.sign(v_lo)
+        lo = np.where(left, t, lo)
+        hi = np.where(left, hi, t)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_new = t - v / acc
+        inside = (t_new > lo) & (t_new < hi)
+        t_new = np.where(inside, t_new, 0.5 * (lo + hi))
+        moved = np.abs(t_new - t)
+        t = t_new
+        if float(np.max(moved)) <= 1e-16 * tau_end or not np.all(v):
+            break
+    x = itv.state(t)[0][rows, np.arange(rows.size)]
+    np.maximum.at(amp, rows, np.abs(x))
     return x_end
 
 
-def piece_fourier(itv, tau_end: float, omega: float, values):
-    """``int y(t) cos(omega t) dt`` and ``int y(t) sin(omega t) dt`` over the piece ``[0, tau_end]``
-    of ``itv`` (Gauss-Legendre per piece at the active rate: exact to rounding for its
-    exponentials times harmonics); ``values(taus) -> (n, k)`` evaluates ``y`` at local times."""
+def piece_fourier(itv, tau_end: float, omega: float, red):
+    """``int Q(t) cos(omega t) dt`` and ``int Q(t) sin(omega t) dt`` over the piece ``[0, tau_end]``
+    of ``itv`` for the observables ``red`` (:meth:`Interval.reduce`): in closed form
+    (:meth:`Interval.fourier`), or by Gauss-Legendre per piece at the active rate where the
+    configuration has no plain modal form (exact to rounding for its exponentials times harmonics)."""
+    exact = itv.fourier(red, omega, tau_end)
+    if exact is not None:
+        return exact.real, exact.imag
     nodes, wts = gauss_pieces(itv, 0.0, tau_end, itv.active_rate())
-    yq = values(nodes)
+    yq = itv.evaluate(red, nodes)[0]
     ph = omega * (itv.t0 + nodes)
     return yq @ (wts * np.cos(ph)), yq @ (wts * np.sin(ph))
+
+
+def displacement_observables(n: int) -> Observables:
+    """The displacements ``x`` (n rows) as :class:`Observables` (for :func:`piece_fourier`)."""
+    z = np.zeros((n, n))
+    return Observables(np.eye(n), z, z, np.zeros(n))
 
 
 def _check_record(record):

@@ -19,7 +19,7 @@ from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
-from .response import piece_fourier, piece_peaks
+from .response import displacement_observables, piece_fourier, piece_peaks
 from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response"]
@@ -299,6 +299,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     w = system.omega
 
     z0 = [None]
+    x_obs = displacement_observables(ndof)
 
     def on_interval(itv, tau_end):
         t_zero = period if t_s > 0 else t_s
@@ -310,7 +311,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
         if tau_end <= 0:
             return
         x_end = piece_peaks(itv, tau_end, amp)
-        ca, sa = piece_fourier(itv, tau_end, w, lambda taus: itv.state(taus)[0])
+        ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
         a1[:] += ca
         b1[:] += sa
         slip = itv.status != 0
