@@ -85,10 +85,13 @@ def test_preloaded_flanks_have_the_equivalent_jenkins_steady_state():
     jen, kpar = r.equivalent_jenkins(dof=0)
     assert jen.tangential_stiffness == pytest.approx(2 * KT * math.cos(G) ** 2, rel=1e-15)
     assert jen.slip_force == pytest.approx(2 * MU * r.static.normal_force * math.cos(G), rel=1e-15)
-    for omega in (14000.0, 16500.0):
+    # 14000 rad/s: the flanks stick over the whole orbit (the stuck orbit keeps the friction force
+    # below 0.56 of the slip limit: closed-form bound of the event functions); until the exact
+    # Jacobian, shooting reported a slip there that dissipated 1.2e-16 J per cycle (rounding)
+    for omega, stuck in ((14000.0, True), (16500.0, False)):
         a = fj.periodic_response(_blade([r], omega))
         b = fj.periodic_response(_blade([jen], omega, k_extra=kpar))
-        assert a.converged and b.converged and not a.stuck
+        assert a.converged and b.converged and a.stuck == b.stuck == stuck
         assert a.harmonic_amplitude[0] == pytest.approx(b.harmonic_amplitude[0], rel=1e-9)
         assert a.dissipated_per_cycle == pytest.approx(b.dissipated_per_cycle, rel=1e-9)
 

@@ -16,6 +16,7 @@ path, which reports those cases in words.
 """
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
@@ -24,7 +25,7 @@ from ..errors import ConvergenceError
 from ..results import PeriodicResponse
 from .events import EventLog
 from .response import gauss_nodes
-from .sdof import SdofCoulomb
+from .sdof import SdofCoulomb, _phi1
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["sdof_periodic_response"]
@@ -49,6 +50,7 @@ class _SdofPeriodMap:
         self.x_floor = residual_floor(abs(kernel.force_amplitude), kernel.slip_force, kernel.stiffness,
                                       kernel.mass, kernel.omega, tol)
         self.w_char = max(kernel.omega, math.sqrt(kernel.stiffness / kernel.mass))
+        self.exact_jacobian = True  # every call computes the monodromy with the march
 
     def __call__(self, z):
         x0, v0 = float(z[0]), float(z[1])
@@ -144,6 +146,32 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     return _evaluate(kernel, pmap, outcome, z, jac, pieces, periods + pmap.calls + 1, max_periods, n_samples)
 
 
+def _piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float, nu: float):
+    """``int_ta^tb x(t) e^{i nu t} dt`` over a piece of the kernel in closed form, or None (near
+    resonance, critically or over-damped: Gauss quadrature instead).
+
+    A stuck piece holds ``x = xa``; a slip piece is ``A cos wt + B sin wt + xc + Re(C e^{lam tau})``
+    (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), and ``int_ta^tb e^{mu t} dt =
+    e^{mu ta} T phi1(mu T)``."""
+    big_t = tb - ta
+
+    def j(mu):
+        return cmath.exp(mu * ta) * big_t * _phi1(mu * big_t)
+    if s == 0 and kernel.slip_force > 0:
+        return xa * j(1j * nu)
+    if kernel._near or kernel._q <= 0.0:
+        return None
+    t0, xh0, vh0, _, xc = kernel._start(ta, xa, va, s)
+    w, a, r = kernel.omega, kernel._a, kernel._root
+    jp, jm = j(1j * (nu + w)), j(1j * (nu - w))
+    out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * j(1j * nu)
+    c = complex(xh0, -(a * xh0 + vh0) / r)
+    lam = complex(-a, r)
+    e0 = cmath.exp(1j * nu * ta)
+    return out + 0.5 * e0 * big_t * (c * _phi1((lam + 1j * nu) * big_t)
+                                      + c.conjugate() * _phi1((lam.conjugate() + 1j * nu) * big_t))
+
+
 def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_samples) -> PeriodicResponse:
     """The orbit's period on the kernel's pieces."""
     w, period, t_s = kernel.omega, pmap.period, pmap.t_s
@@ -154,7 +182,11 @@ def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_sam
     z0 = None
     for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
         amp = max(amp, abs(xb))
-        if tb > ta:
+        exact = _piece_fourier(kernel, s, ta, xa, va, tb, w) if tb > ta else 0j
+        if exact is not None:
+            a1 += exact.real
+            b1 += exact.imag
+        else:
             nodes, weights = gauss_nodes(ta, tb, rate if s != 0 else 0.0)
             xs = np.array([ev(s, ta, xa, va, t)[0] for t in nodes])
             a1 += float(xs @ (weights * np.cos(w * nodes)))

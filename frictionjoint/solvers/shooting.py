@@ -12,7 +12,9 @@ The period map is any object with
 - ``pmap(z) -> P(z)`` (one period marched);
 - ``pmap.jacobian(z, pz, scale) -> J`` (``pz = P(z)`` given);
 - ``pmap.scales(z) -> (nz,)`` component scales of the residual (its norm is ``max |r_i| / scale_i``);
-- ``pmap.amplitude(z) -> float``, a size of the motion, watched for unbounded growth.
+- ``pmap.amplitude(z) -> float``, a size of the motion, watched for unbounded growth;
+- optionally ``pmap.exact_jacobian = True``: the Jacobian comes with the map's last call at no
+  marching cost (full Newton steps instead of chord steps).
 
 The library's exact period map (:func:`frictionjoint.solvers.steady.periodic_response`) and the
 period map of a stepping driver (the library's or an FMU's, :func:`frictionjoint.drivers.shoot`)
@@ -123,7 +125,7 @@ def _newton_step(a, rhs):
     return vt[keep].T @ ((u[:, keep].T @ rhs) / sv[keep])
 
 
-def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
+def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: bool = True):
     """Chord/Newton iterations on ``P(z) - z = 0`` with backtracking.
 
     Parameters
@@ -140,6 +142,10 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
         Residual tolerance.
     iterations : int
         Newton iterations at most.
+    chord : bool
+        Keep a Jacobian while the residual falls fast (chord iterations: for a Jacobian that costs
+        periods, e.g. finite differences); False takes a fresh one at every step (full Newton: for
+        an exact Jacobian that the last period's pieces give at no marching cost).
 
     Returns
     -------
@@ -172,7 +178,7 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations):
             jac = None  # the chord Jacobian was stale: refresh it and retry
             continue
         # chord method: keep the Jacobian while the residual falls fast
-        if rn > CHORD_RATE * rnorm:
+        if not chord or rn > CHORD_RATE * rnorm:
             jac = None
         z, pz, rnorm = zn, pzn, rn
     return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
@@ -242,7 +248,7 @@ def find_periodic_orbit(pmap, z, pz, *, tol: float, max_newton: int, max_periods
 
     def newton(z, pz, iterations):
         return fixed_point_newton(pmap, lambda z, pz: pmap.jacobian(z, pz, scale0), z, pz, scale0, tol,
-                                  iterations)
+                                  iterations, chord=not getattr(pmap, "exact_jacobian", False))
 
     converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
     growth = slow = None

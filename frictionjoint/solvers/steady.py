@@ -36,6 +36,7 @@ class _PeriodMap:
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
         self.last = None
+        self.exact_jacobian = jacobian == "exact"
         if jacobian == "fd":
             self.jacobian = self.fd_jacobian
         excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
