@@ -32,6 +32,8 @@ no saltation.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg
 
@@ -130,12 +132,14 @@ def _event_gradient(marcher, itv, j: int) -> np.ndarray:
     return grad
 
 
-def _field(system, itv, tau: float) -> np.ndarray:
-    """Rates ``[v', w']`` of the piece at local time ``tau`` (x' = v is continuous at events)."""
+def _field(system, itv, tau: float, row: int | None = None):
+    """Rates ``[v', w']`` of the piece at local time ``tau`` (x' = v is continuous at events) and,
+    for an event ``row``, the rate of its event function there (one state evaluation for both)."""
     n = system.n_dof
     cfg = itv.config
     m = cfg.m
     out = np.zeros(n + system.n_sliders)
+    y = dy = None
     if m:
         y, dy = itv.y(np.array([tau]), order=1)
         v = cfg.N @ y[m:, 0]
@@ -144,7 +148,15 @@ def _field(system, itv, tau: float) -> np.ndarray:
         v = np.zeros(n)
     moving = ~itv.pattern.jst
     out[n:][moving] = system.slider_direction[moving] @ v
-    return out
+    if row is None:
+        return out
+    # g' = cy y' + w (cs cos - cc sin), as Interval.evaluate with order 1
+    cy, _, cc, cs = itv.events[0]
+    ph = itv.omega * (itv.t0 + tau)
+    rate = itv.omega * (cs[row] * math.cos(ph) - cc[row] * math.sin(ph))
+    if m:
+        rate += float(cy[row] @ dy[:, 0])
+    return out, float(rate)
 
 
 def saltation(marcher, before, tau: float, row: int, after) -> np.ndarray | None:
@@ -154,10 +166,8 @@ def saltation(marcher, before, tau: float, row: int, after) -> np.ndarray | None
     n = system.n_dof
     if np.array_equal(before.status, after.status):
         return None  # abnormal stop: the configuration is kept, the flow is continuous
-    red, _ = before.events
-    one = tuple(r[row:row + 1] for r in red)
-    rate = float(before.evaluate(one, tau, order=1)[1][0, 0])
-    jump = _field(system, after, 0.0) - _field(system, before, tau)
+    f_before, rate = _field(system, before, tau, row)
+    jump = _field(system, after, 0.0) - f_before
     grad = _event_gradient(marcher, before, row)
     if rate == 0.0 or not np.any(jump):
         return None

@@ -357,6 +357,21 @@ class Interval:
             out.append((self._aug @ dz)[:m2])
         return out
 
+    def velocity(self, tau, order: int = 0) -> list[np.ndarray]:
+        """Structural velocity (n_dof, k) at local times ``tau`` and its time derivatives up to
+        ``order`` (no displacements computed)."""
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        tau = np.atleast_1d(np.asarray(tau, dtype=float))
+        if not (cfg.modal and cfg.m):
+            return [cfg.N @ y[cfg.m:] for y in self.y(tau, order + 1)[1:]] if cfg.m else \
+                [np.zeros((self.system.n_dof, tau.size))] * (order + 1)
+        nv = getattr(cfg, "_nv", None)
+        if nv is None:
+            nv = cfg._nv = cfg.N @ cfg.V[cfg.m:]
+        return [(nv @ e).real for e in self._eta(tau, order)]
+
     def state(self, tau):
         """Structural displacement and velocity (n_dof, k) at local times ``tau``."""
         y = self.y(tau)[0]

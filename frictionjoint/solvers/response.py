@@ -48,45 +48,71 @@ def gauss_nodes(a: float, b: float, rate: float):
 
 def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     """Raise ``amp`` (n_dof,) to ``max |x_i|`` over the closed-form piece ``[0, tau_end]`` of
-    ``itv``: its ends and every velocity reversal inside (sign changes of ``v`` sampled at 32 points
-    per period of the active rate, all located together by safeguarded Newton iterations on the
-    exact ``v`` and ``a``, to ~1e-16 of the piece). Returns ``x`` at the two ends, (n_dof, 2)."""
+    ``itv``: its ends and every velocity reversal inside. ``v`` and ``a`` are sampled at 16 points
+    per period of the active rate (as the event search samples its functions): a sign change of
+    ``v`` brackets a reversal; a sign change of ``a`` with ``|v|`` falling brackets an extremum of
+    ``v``, which holds two reversals if ``v`` changes sign there. All roots are located together by
+    safeguarded Newton iterations on the exact ``v`` and ``a`` (to ~1e-16 of the piece). Returns
+    ``x`` at the two ends, (n_dof, 2)."""
     x_end, _ = itv.state(np.array([0.0, tau_end]))
     np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
-    m = itv.config.m
-    if m == 0:
+    if itv.config.m == 0:
         return x_end
     rate = itv.active_rate()
-    nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 32) + 1)
+    nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 16) + 1)
     taus = np.linspace(0.0, tau_end, nsamp)
-    _, vs = itv.state(taus)
-    sgn = np.sign(vs)
-    rows, ks = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
+    vs, acc = itv.velocity(taus, order=1)
+    rows, ks = np.nonzero(np.sign(vs[:, :-1]) * np.sign(vs[:, 1:]) < 0)
+    lo, hi = taus[ks], taus[ks + 1]
+    # extrema of v between samples of one sign, |v| falling into them: two reversals if v changes
+    # sign at the extremum
+    drows, dks = np.nonzero((np.sign(acc[:, :-1]) * np.sign(acc[:, 1:]) < 0)
+                            & (np.sign(vs[:, :-1]) == np.sign(vs[:, 1:])) & (vs[:, :-1] * acc[:, :-1] < 0))
+    if drows.size:
+        tm = _roots(itv, drows, taus[dks], taus[dks + 1], 1, tau_end, np.max(np.abs(acc), axis=1)[drows])
+        vm = itv.velocity(tm)[0][drows, np.arange(drows.size)]
+        two = np.sign(vm) != np.sign(vs[drows, dks])
+        rows = np.concatenate([rows, drows[two], drows[two]])
+        lo = np.concatenate([lo, taus[dks][two], tm[two]])
+        hi = np.concatenate([hi, tm[two], taus[dks + 1][two]])
     if rows.size == 0:
         return x_end
-    nb = itv.config.N[rows]
-    lo, hi = taus[ks], taus[ks + 1]
-    v_lo, v_hi = vs[rows, ks], vs[rows, ks + 1]
-    t = lo + (hi - lo) * (v_lo / (v_lo - v_hi))  # secant start inside the bracket
-    for _ in range(_PEAK_ITERATIONS):
-        y, dy = itv.y(t, order=1)
-        v = np.einsum("ij,ji->i", nb, y[m:])
-        acc = np.einsum("ij,ji->i", nb, dy[m:])
-        # keep the bracket: the side with the sign of v_lo moves to t
-        left = np.sign(v) == np.sign(v_lo)
-        lo = np.where(left, t, lo)
-        hi = np.where(left, hi, t)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t_new = t - v / acc
-        inside = (t_new > lo) & (t_new < hi)
-        t_new = np.where(inside, t_new, 0.5 * (lo + hi))
-        moved = np.abs(t_new - t)
-        t = t_new
-        if float(np.max(moved)) <= 1e-16 * tau_end or not np.all(v):
-            break
+    t = _roots(itv, rows, lo, hi, 0, tau_end, np.max(np.abs(vs), axis=1)[rows])
     x = itv.state(t)[0][rows, np.arange(rows.size)]
     np.maximum.at(amp, rows, np.abs(x))
     return x_end
+
+
+def _roots(itv, rows, lo, hi, order: int, tau_end: float, scale) -> np.ndarray:
+    """Roots of ``v`` (``order`` 0) or ``a`` (1) of DOF ``rows[i]`` in ``[lo[i], hi[i]]`` (one sign
+    change each): Newton steps on the exact function and its derivative, bisection where a step
+    would leave the bracket; a root is done when the step is at rounding of ``t`` or the function
+    is below 1e-15 of its ``scale`` (a near-double root, where x, the quantity wanted there,
+    no longer changes: its error is ~ |f| times the distance to the root)."""
+    idx = np.arange(rows.size)
+
+    def fun(t):
+        vals = itv.velocity(t, order + 1)
+        return vals[order][rows, idx], vals[order + 1][rows, idx]
+    f_lo, _ = fun(lo)
+    f_hi, _ = fun(hi)
+    t = lo + (hi - lo) * (f_lo / (f_lo - f_hi))  # secant start inside the bracket
+    sign_lo = np.sign(f_lo)
+    for _ in range(_PEAK_ITERATIONS):
+        f, df = fun(t)
+        left = np.sign(f) == sign_lo
+        lo = np.where(left, t, lo)
+        hi = np.where(left, hi, t)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_new = t - f / df
+        inside = (t_new > lo) & (t_new < hi)
+        t_new = np.where(inside, t_new, 0.5 * (lo + hi))
+        done = ((np.abs(t_new - t) <= 4 * np.finfo(float).eps * np.abs(t) + 1e-16 * tau_end)
+                | (np.abs(f) <= 1e-15 * scale))
+        t = np.where(f == 0, t, t_new)
+        if np.all(done):
+            break
+    return t
 
 
 def piece_fourier(itv, tau_end: float, omega: float, red):
