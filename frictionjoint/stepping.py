@@ -1,22 +1,23 @@
 """A stepped run of the Coulomb oscillator: the state a co-simulation step needs.
 
-:class:`OscillatorRun` is what an FMU instance of the oscillator is: parameters, the exact marcher
-and its state, a held external force, and the cumulative outputs (dissipated energy, event
+:class:`OscillatorRun` is what an FMU instance of the oscillator is: parameters, the exact
+single-DOF kernel and its state, a held external force, and the cumulative outputs (dissipated energy, event
 count). ``advance(t)`` marches exactly to ``t`` (events located inside, whatever the step).
 The FMU slave (:mod:`frictionjoint.fmi.slaves`) maps FMI variables onto it, and the direct
 sweep drives the same object without the FMU layer.
 """
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import ParameterError, check_real
 from .oscillator import CoulombOscillator
-from .solvers.events import EventLog, MarchState
-from .solvers.propagator import Observables
-from .solvers.response import piece_fourier, piece_peaks
+from .solvers.response import gauss_nodes
+from .solvers.sdof import SdofCoulomb, _phi1
+from .solvers.sdof_steady import sdof_piece_fourier
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
@@ -64,6 +65,12 @@ _INTEGRALS = ("x", "v", "friction_force")
 class OscillatorRun:
     """The Coulomb oscillator from a start time, stepped exactly with a held external force.
 
+    It runs on the closed-form single-DOF kernel (:class:`~frictionjoint.solvers.sdof.SdofCoulomb`):
+    a held force ``F_h`` only moves the spring's rest position (``x = x~ + F_h / k``), so the kernel
+    marches ``x~`` and the outputs shift it back. Every extreme of ``x`` is at a piece end (a slip
+    piece ends where ``v = 0``), and the Fourier integrals are closed forms per piece
+    (:func:`~frictionjoint.solvers.sdof_steady.sdof_piece_fourier`; ``int v e^{iwt}`` by parts).
+
     Parameters
     ----------
     parameters : dict
@@ -81,103 +88,145 @@ class OscillatorRun:
         p = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items()}
         p.update(parameters)
         self.parameters = p
-        self.osc = CoulombOscillator(**{k: p[k] for k in _MODEL})
-        self._marcher = self.osc._marcher
+        self.osc = osc = CoulombOscillator(**{k: p[k] for k in _MODEL})
+        self._kernel = SdofCoulomb(osc.mass, osc.stiffness, osc.slip_force, osc.equivalent_force_amplitude,
+                                   osc.omega, osc.damping)
+        self.t = check_real("start_time", start_time)
+        self.x = check_real("x0", p["x0"])
+        self.v = check_real("v0", p["v0"])
         self.force = 0.0
         self.hold(force)
-        self.log = EventLog()
-        self.state = self._marcher.initial_state(p["x0"], p["v0"], t0=start_time, log=self.log)
+        self.v_scale = abs(self.v)
+        self.event_count = self.stop_count = 0
+        self.status = 1 if self.v > 0 else (-1 if self.v < 0 else self._settle(0))
         self.dissipated_energy = 0.0
         self.harmonics = bool(p["harmonics"])
         self.integrals = np.zeros((len(_INTEGRALS), 2))  # [cos, sin] per integrand
-        self.peak_x = np.abs(self.state.x).copy() if self.harmonics else np.zeros(1)
+        self.peak_x = abs(self.x) if self.harmonics else 0.0
+        self._resettle = False
+
+    def _settle(self, status: int) -> int:
+        """Stick/slip status at rest (``v = 0``) by the kernel's rules; counts a change."""
+        if self._kernel.slip_force == 0.0:
+            return 0
+        new = self._kernel.settle(self.t, self.x - self._shift, status, self.v_scale)
+        if new != status:
+            self.event_count += 1
+        return new
+
+    @property
+    def _shift(self) -> float:
+        return self.force / self._kernel.stiffness
 
     def hold(self, force: float) -> None:
         """Hold the external force ``force`` [N] from now on."""
         if not math.isfinite(force):
             raise ParameterError(f"force must be finite, got {force!r}")
-        if force != self.force or self._marcher.held_force is None:
-            self._marcher.set_held_force([force])
+        if force != self.force:
             self.force = float(force)
+            self._resettle = True  # a mass at rest may start or stop slipping under the new force
 
     @property
     def time(self) -> float:
         """Current time [s]."""
-        return self.state.t
+        return self.t
 
     def advance(self, t_end: float) -> None:
         """March exactly to ``t_end`` [s]; events inside are located exactly."""
-        fs = self.osc.slip_force
+        k = self._kernel
+        if self._resettle and self.v == 0.0:
+            self.status = self._settle(self.status)
+        self._resettle = False
+        if t_end <= self.t:
+            return
+        shift = self._shift
+        fs = k.slip_force
+        on_piece = self._on_piece if self.harmonics else self._on_piece_energy
+        res = k.march(self.t, self.x - shift, self.v, t_end, status=self.status if fs > 0 else None,
+                      on_piece=on_piece, v_scale=self.v_scale)
+        self.t, self.x, self.v, self.status, self.v_scale = res.t, res.x + shift, res.v, res.status, res.v_scale
+        self.event_count += res.n_events
+        self.stop_count += res.events["stick"]
 
-        m = self._marcher
-        w = self.osc.omega
+    def _on_piece_energy(self, ta, xa, va, s, tb, xb, vb):
+        if s != 0 and self._kernel.slip_force > 0:
+            self.dissipated_energy += self._kernel.slip_force * abs(xb - xa)
 
-        def integrands(itv):
-            # rows x, v (of the oscillator's DOF) and its slider's friction force
-            force = m.force_observables(itv)
-            n = m.system.n_dof
-            zero = np.zeros(n)
-            unit = np.eye(n)[0]
-            return itv.reduce(Observables([unit, zero, force.ax[0]], [zero, unit, force.av[0]],
-                                          [zero, zero, force.af[0]], [0.0, 0.0, force.a0[0]]))
-
-        def on_piece(itv, tau):
-            if itv.status.size and itv.status[0] != 0:
-                x1, _ = itv.state(tau)
-                self.dissipated_energy += fs * abs(float(x1[0, 0]) - float(itv.x0[0]))
-            if self.harmonics and tau > 0:
-                piece_peaks(itv, tau, self.peak_x)
-                c, s_ = piece_fourier(itv, tau, w, integrands(itv))
-                self.integrals[:, 0] += c
-                self.integrals[:, 1] += s_
-
-        m.march(self.state, t_end, self.log, on_interval=on_piece)
+    def _on_piece(self, ta, xa, va, s, tb, xb, vb):
+        """Energy, peak and Fourier integrals of one closed-form piece (kernel coordinates)."""
+        self._on_piece_energy(ta, xa, va, s, tb, xb, vb)
+        k = self._kernel
+        shift = self._shift
+        self.peak_x = max(self.peak_x, abs(xb + shift))
+        if tb <= ta:
+            return
+        w = k.omega
+        e = _exp_integral(1j * w, ta, tb)
+        fx = sdof_piece_fourier(k, s, ta, xa, va, tb, w)
+        if fx is None:
+            nodes, weights = gauss_nodes(ta, tb, max(w, k._rate_slip))
+            xs = np.array([k.evaluate(s, ta, xa, va, t)[0] for t in nodes])
+            fx = complex(xs @ (weights * np.cos(w * nodes)), xs @ (weights * np.sin(w * nodes)))
+        fx += shift * e
+        # int v e^{iwt} = [x e^{iwt}] - i w int x e^{iwt}
+        fv = (xb + shift) * cmath.exp(1j * w * tb) - (xa + shift) * cmath.exp(1j * w * ta) - 1j * w * fx
+        if k.slip_force == 0.0:
+            ff = 0j
+        elif s != 0:
+            ff = s * k.slip_force * e
+        else:  # holding force P cos(wt) + F_h - k x = P cos(wt) - k x~ (v = 0, stuck)
+            p0 = k.force_amplitude
+            ff = (0.5 * p0 * (_exp_integral(2j * w, ta, tb) + (tb - ta))
+                  - k.stiffness * (fx - shift * e))
+        for row, val in enumerate((fx, fv, ff)):
+            self.integrals[row, 0] += val.real
+            self.integrals[row, 1] += val.imag
 
     def output(self, name: str):
         """Value of an output of :data:`OSCILLATOR_OUTPUTS` at the current time."""
-        st = self.state
         if name == "x":
-            return float(st.x[0])
+            return float(self.x)
         if name == "v":
-            return float(st.v[0])
+            return float(self.v)
         if name == "stuck":
-            return bool(st.status.size and st.status[0] == 0)
+            return bool(self.status == 0 and self._kernel.slip_force > 0)
         if name == "dissipated_energy":
             return self.dissipated_energy
         if name == "event_count":
-            return len(self.log)
+            return self.event_count
         if name == "stop_count":
-            return self.log.count("stick")
+            return self.stop_count
         if name == "peak_x":
-            return float(self.peak_x[0])
+            return float(self.peak_x)
         if name.endswith("_integral"):
             kind, _, which = name[:-len("_integral")].rpartition("_")
             return float(self.integrals[_INTEGRALS.index(kind), 0 if which == "cos" else 1])
         if name == "friction_force":
-            m = self._marcher
-            itv = m.interval(st)
-            val = itv.start_values(itv.reduce(m.force_observables(itv)))[0]
-            return float(val[0]) if val.size else 0.0
+            k = self._kernel
+            if k.slip_force == 0.0:
+                return 0.0
+            if self.status != 0:
+                return float(self.status * k.slip_force)
+            return float(k.force_amplitude * math.cos(k.omega * self.t) + self.force - k.stiffness * self.x)
         raise ParameterError(f"output must be one of {sorted(OSCILLATOR_OUTPUTS)}, got {name!r}")
 
     def snapshot(self) -> dict:
-        """The complete state as plain data (floats, lists, numpy arrays)."""
-        st, log = self.state, self.log
-        return {"t": st.t, "x": st.x.copy(), "v": st.v.copy(), "w": st.w.copy(), "status": st.status.copy(),
-                "diss": self.dissipated_energy, "force": self.force,
-                "integrals": self.integrals.copy(), "peak_x": self.peak_x.copy(),
-                # the marcher's velocity scale sets its event tolerances: part of the state, so
-                # that a restored run continues bit for bit as the original did
-                "v_scale": self._marcher.v_scale,
-                "log": (list(log.time), list(log.element), list(log.slider), list(log.kind))}
+        """The complete state as plain data (floats and a numpy array): the march's velocity
+        scale (its event tolerances) included, so that a restored run continues bit for bit."""
+        return {"t": self.t, "x": self.x, "v": self.v, "status": self.status, "v_scale": self.v_scale,
+                "diss": self.dissipated_energy, "force": self.force, "resettle": self._resettle,
+                "integrals": self.integrals.copy(), "peak_x": self.peak_x,
+                "events": (self.event_count, self.stop_count)}
 
     def restore(self, snap: dict) -> None:
         """Return to a :meth:`snapshot`."""
-        self.state = MarchState(snap["t"], snap["x"], snap["v"], snap["w"], snap["status"])
-        log = EventLog()
-        log.time, log.element, log.slider, log.kind = (list(a) for a in snap["log"])
-        self.log = log
-        self.dissipated_energy = snap["diss"]
-        self.integrals, self.peak_x = snap["integrals"].copy(), snap["peak_x"].copy()
-        self._marcher.v_scale = snap["v_scale"]
-        self.hold(snap["force"])
+        self.t, self.x, self.v, self.status = snap["t"], snap["x"], snap["v"], snap["status"]
+        self.v_scale, self.dissipated_energy, self.force = snap["v_scale"], snap["diss"], snap["force"]
+        self._resettle = snap["resettle"]
+        self.integrals, self.peak_x = snap["integrals"].copy(), snap["peak_x"]
+        self.event_count, self.stop_count = snap["events"]
+
+
+def _exp_integral(mu: complex, ta: float, tb: float) -> complex:
+    """``int_ta^tb e^{mu t} dt``."""
+    return cmath.exp(mu * ta) * (tb - ta) * _phi1(mu * (tb - ta))

@@ -241,7 +241,10 @@ def test_fmu_in_this_process_errors_and_state(fmus):
         assert a.time == 2.0
         a.step_to(5.0)
         b.step_to(5.0)
-        assert a.get(["x"])[0] == x1 == b.get(["x"])[0]
+        assert a.get(["x"])[0] == x1  # restored: bit for bit
+        # b's steps split the march at 3 s, a's at 2 s: the closed form restarts at other times,
+        # so the two agree to rounding (1 ulp here), not bit for bit
+        assert abs(b.get(["x"])[0] - x1) <= 4e-16 * max(1.0, abs(x1))
         assert abs(x1 - x_ref) <= 1e-12
         with pytest.raises(FMUError, match="cannot deserialise the FMU state"):
             a.set_state((b"not a state", 0.0))

@@ -1,24 +1,86 @@
-"""OscillatorRun (the stepping object behind CoulombOscillator.fmu and the sweep drivers): a
-snapshot is the complete state, so a restored run continues bit for bit as the original."""
+"""OscillatorRun (the stepping object behind CoulombOscillator.fmu and the sweep drivers) runs on
+the closed-form single-DOF kernel: checked against the general n-DOF marcher (the reference) on the
+same system, and a snapshot is the complete state, so a restored run continues bit for bit."""
 import itertools
+import math
 
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.solvers.events import EventLog, Marcher
+from frictionjoint.solvers.propagator import Observables
+from frictionjoint.solvers.response import displacement_observables, piece_fourier, piece_peaks
 from frictionjoint.stepping import OscillatorRun
 
 
 def test_restore_mid_run_continues_bit_identically():
     for f, w, x0 in itertools.product((0.1, 0.5, 0.7), (0.45, 1.5, 2.5), (0.0, 50.0)):
-        p = dict(slip_force=f, force_amplitude=1.0, omega=w, x0=x0)
+        p = dict(slip_force=f, force_amplitude=1.0, omega=w, x0=x0, harmonics=True)
         a = OscillatorRun(p)
         a.advance(7.3)
         snap = a.snapshot()
-        v_scale = a._marcher.v_scale
-        a.advance(41.0)  # the marcher's velocity scale (its event tolerances) moves on
+        v_scale = a.v_scale
+        a.hold(0.2)
+        a.advance(41.0)  # the velocity scale (the event tolerances) and the held force move on
         a.restore(snap)
-        assert a._marcher.v_scale == v_scale
+        assert a.v_scale == v_scale
         a.advance(60.0)
         b = OscillatorRun(p)
         b.advance(7.3)
         b.advance(60.0)
-        for name in ("x", "v", "friction_force", "dissipated_energy", "event_count", "stuck"):
+        for name in ("x", "v", "friction_force", "dissipated_energy", "event_count", "stop_count", "stuck",
+                     "peak_x", "x_cos_integral", "friction_force_sin_integral"):
             assert a.output(name) == b.output(name), (f, w, x0, name)
-        assert a.log.time == b.log.time and a.log.kind == b.log.kind
+
+
+CASES = [dict(slip_force=0.3, omega=0.8), dict(slip_force=0.5, omega=0.5, damping=0.1),
+         dict(slip_force=0.6, omega=2.0, base_amplitude=0.2), dict(slip_force=0.2, omega=1.3, x0=3.0, v0=-1.0)]
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_kernel_run_matches_the_general_marcher(case):
+    """Steps of unequal length with a held force that changes between them: states to 1e-12,
+    events per kind, dissipation, peak and the exact Fourier integrals of x and of the friction
+    force against the n-DOF marcher with the same held forces and pieces evaluated on its side."""
+    p = dict(force_amplitude=1.0, harmonics=True, **case)
+    run = OscillatorRun(p)
+    osc = fj.CoulombOscillator(**{k: v for k, v in p.items() if k not in ("x0", "v0", "harmonics")})
+    m = Marcher(osc.system)
+    log = EventLog()
+    st = m.initial_state([p.get("x0", 0.0)], [p.get("v0", 0.0)], log=log)
+    amp = np.abs(st.x).copy()
+    ints = np.zeros((3, 2))
+    vel = Observables([[0.0]], [[1.0]], [[0.0]], [0.0])
+    w = osc.omega
+    diss = [0.0]
+
+    def on(itv, tau):
+        if itv.status[0] != 0:
+            diss[0] += osc.slip_force * abs(float(itv.state(tau)[0][0, 0]) - float(itv.x0[0]))
+        if tau > 0:
+            piece_peaks(itv, tau, amp)
+            for row, obs in enumerate((displacement_observables(1), m.force_observables(itv), vel)):
+                c, s = piece_fourier(itv, tau, w, itv.reduce(obs))
+                ints[row] += [float(c[0]), float(s[0])]
+    t = 0.0
+    for k, (dt, force) in enumerate(zip((3.1, 0.7, 11.0, 5.3, 20.0), (0.0, 0.25, 0.25, -0.4, 0.0))):
+        run.hold(force)
+        m.set_held_force([force])
+        t += dt
+        run.advance(t)
+        m.march(st, t, log, on_interval=on)
+        scale = max(1.0, abs(float(st.x[0])))
+        assert abs(run.output("x") - float(st.x[0])) <= 1e-12 * scale
+        assert abs(run.output("v") - float(st.v[0])) <= 1e-12 * scale * max(1.0, w)
+        assert run.output("stuck") == bool(st.status[0] == 0)
+        itv = m.interval(st)
+        force_now = float(itv.start_values(itv.reduce(m.force_observables(itv)))[0][0])
+        assert abs(run.output("friction_force") - force_now) <= 1e-12 * max(1.0, abs(force_now))
+    assert run.output("event_count") == len(log)
+    assert run.output("stop_count") == log.count("stick")
+    assert run.output("dissipated_energy") == pytest.approx(diss[0], rel=1e-11, abs=1e-13)
+    assert run.output("peak_x") == pytest.approx(float(amp[0]), rel=1e-12)
+    for row, name in enumerate(("x", "friction_force", "v")):
+        for col, which in enumerate(("cos", "sin")):
+            assert run.output(f"{name}_{which}_integral") == pytest.approx(ints[row, col], rel=1e-10, abs=1e-11 * t)

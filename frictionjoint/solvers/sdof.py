@@ -104,6 +104,9 @@ class SdofResult(NamedTuple):
         Number of events on the way (stick, slip, normal and abnormal stops).
     events : dict
         Count per kind, keys :data:`EVENT_KINDS`.
+    v_scale : float
+        The march's velocity scale at the end (its event tolerances): pass it back as
+        ``v_scale`` to continue exactly as an unbroken march.
     """
 
     t: float
@@ -112,6 +115,7 @@ class SdofResult(NamedTuple):
     status: int
     n_events: int
     events: dict
+    v_scale: float = 0.0
 
 
 class SdofCoulomb:
@@ -540,7 +544,7 @@ class SdofCoulomb:
 
     # ------------------------------------------------------------------- march
     def march(self, t0: float, x0: float, v0: float, t_end: float, status: Optional[int] = None,
-              on_piece: Optional[Callable] = None) -> SdofResult:
+              on_piece: Optional[Callable] = None, v_scale: Optional[float] = None) -> SdofResult:
         """March exactly from ``(t0, x0, v0)`` to ``t_end``, event by event.
 
         Parameters
@@ -560,6 +564,9 @@ class SdofCoulomb:
             ``on_piece(t_start, x_start, v_start, status, t_stop, x_stop, v_stop)`` for every
             closed-form piece, in time order (``v_stop = 0`` at an event, before the rules at
             ``v = 0`` are applied); :meth:`evaluate` gives the state anywhere on it.
+        v_scale : float, optional
+            Velocity scale of the event tolerances at the start (``|v0|`` if omitted); a
+            returned :attr:`SdofResult.v_scale` continues a march exactly.
 
         Returns
         -------
@@ -585,7 +592,7 @@ class SdofCoulomb:
         counts = [0, 0, 0, 0]
         if self.slip_force == 0.0:
             return self._march_linear(t, x, v, t_end, on_piece)
-        v_scale = abs(v)
+        v_scale = abs(v) if v_scale is None else max(float(v_scale), 0.0)
         if settle_first:
             new = self.settle(t, x, s, v_scale)
             if new != s:
@@ -618,6 +625,7 @@ class SdofCoulomb:
                 raise ConvergenceError(f"events do not advance time at t = {t!r} (chattering)")
             t, x, v = t_stop, xe, ve
             if ev is None:
+                s, v = self._settle_at_end(t, x, v, s, v_scale, counts)
                 break
             if not (math.isfinite(x) and math.isfinite(t)):
                 raise ConvergenceError(f"non-finite state at t = {t!r}")
@@ -629,7 +637,20 @@ class SdofCoulomb:
                 new = 0
             counts[0 if new == 0 else (3 if new == s else 2)] += 1
             s = new
-        return SdofResult(t, x, v, s, sum(counts), dict(zip(EVENT_KINDS, counts)))
+        return SdofResult(t, x, v, s, sum(counts), dict(zip(EVENT_KINDS, counts)), v_scale)
+
+    def _settle_at_end(self, t, x, v, s, v_scale, counts):
+        """At the end of a march in a slip piece, a velocity within its zero band is an event at
+        ``t_end`` (as :meth:`Marcher.settle` judges the state it arrives at): settled by the rules,
+        counted, ``v = 0`` if the status changes. Returns ``(status, v)``."""
+        fscale = max(abs(self.force_amplitude) + self.slip_force, self._fscale_fixed, abs(self.stiffness * x))
+        if abs(v) > 1e-11 * max(v_scale, fscale / (self.mass * self._rate_slip)):
+            return s, v
+        new = self.settle(t, x, s, v_scale)
+        if new == s:
+            return s, v
+        counts[0 if new == 0 else 2] += 1
+        return new, 0.0
 
     def _march_linear(self, t, x, v, t_end, on_piece):
         """``slip_force = 0``: one closed form; with ``on_piece``, pieces split at ``v = 0`` (not

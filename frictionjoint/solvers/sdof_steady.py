@@ -28,7 +28,7 @@ from .response import gauss_nodes
 from .sdof import SdofCoulomb, _phi1
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
-__all__ = ["sdof_periodic_response"]
+__all__ = ["sdof_periodic_response", "sdof_piece_fourier"]
 
 #: a section at t = 0 needs the first and last pieces of the first period to be slip pieces at
 #: least this fraction of the period long (as periodic_response)
@@ -146,7 +146,7 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     return _evaluate(kernel, pmap, outcome, z, jac, pieces, periods + pmap.calls + 1, max_periods, n_samples)
 
 
-def _piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float, nu: float):
+def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float, nu: float):
     """``int_ta^tb x(t) e^{i nu t} dt`` over a piece of the kernel in closed form, or None (near
     resonance, critically or over-damped: Gauss quadrature instead).
 
@@ -182,7 +182,7 @@ def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_sam
     z0 = None
     for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
         amp = max(amp, abs(xb))
-        exact = _piece_fourier(kernel, s, ta, xa, va, tb, w) if tb > ta else 0j
+        exact = sdof_piece_fourier(kernel, s, ta, xa, va, tb, w) if tb > ta else 0j
         if exact is not None:
             a1 += exact.real
             b1 += exact.imag
