@@ -19,7 +19,7 @@ import scipy.optimize
 
 from .errors import ParameterError
 from .results import PeriodicResponse
-from .solvers.shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message
+from .solvers.shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["LibraryDriver", "FMUDriver", "shoot"]
@@ -175,6 +175,9 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     period = 2 * math.pi / w
     outputs = tuple(dict.fromkeys(("x",) + tuple(outputs)))
     pmap = _DriverPeriodMap(driver, p)
+    on_orbit = _orbit_start(driver, p, pmap, state, outputs, tol)
+    if on_orbit is not None:
+        return on_orbit
     z = np.array(state if state is not None else _one_harmonic_guess(p), dtype=float)
     outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=20, max_periods=max_periods)
     z, converged = outcome.z, outcome.converged
@@ -199,6 +202,46 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     return res
 
 
+_ORBIT_OUTPUTS = ("orbit_found", "x", "v", "monodromy_xx", "monodromy_xv", "monodromy_vx", "monodromy_vv")
+
+
+def _orbit_start(driver, p, pmap, state, outputs, tol):
+    """The steady state from a driver that starts on it (``start_on_orbit``: the stepping object
+    shoots with the exact period-map Jacobian at its initialisation), checked through the driver:
+    one communication step of a period must return to the start state to ``100 tol`` (scaled as
+    the shooting residual). None where the driver cannot, or the check fails (shooting through
+    the driver then)."""
+    names = set(driver.outputs)
+    if not (set(_ORBIT_OUTPUTS) <= names and set(_INTEGRAL_OUTPUTS) <= names
+            and set(outputs) <= set(_EXACT_OUTPUTS)):
+        return None
+    guess = {} if state is None else dict(x0=float(state[0]), v0=float(state[1]))
+    final = _exact_period(driver, dict(p, start_on_orbit=True, **guess), None, pmap.period, outputs)
+    if final is None:
+        return None
+    harmonics, peak, stops, stuck_all, start, end = final
+    if not start["orbit_found"]:
+        return None
+    z = np.array([start["x"], start["v"]])
+    pz = np.array([end["x"], end["v"]])
+    rnorm = float(np.max(np.abs(pz - z) / pmap.scales(z)))
+    if not rnorm <= 100 * tol:
+        return None
+    jac = np.array([[start["monodromy_xx"], start["monodromy_xv"]], [start["monodromy_vx"], start["monodromy_vv"]]])
+    known = bool(np.any(jac))
+    unique = not has_unit_eigenvalue(jac, pmap.scales(z)) if known else True
+    outcome = ShootingOutcome(True, z, rnorm)
+    res = PeriodicResponse(
+        omega=float(p["omega"]), amplitude=peak, phase=harmonics["x"]["phase"],
+        harmonic_amplitude=harmonics["x"]["amplitude"], stops_per_cycle=stops,
+        stuck=stuck_all and p.get("slip_force", 0.0) > 0, converged=True, unique=unique,
+        message=orbit_message(outcome, unique, 1.0, 0) + " (the driver started on it; one period checked)",
+        periods=1.0, state=z, section_time=0.0, initial_state=z, status="periodic", harmonics=harmonics)
+    if known:
+        res.set_multipliers(np.linalg.eigvals(jac))
+    return res
+
+
 #: outputs whose harmonics a driver with exact Fourier integrals gives without sampling
 _EXACT_OUTPUTS = ("x", "friction_force")
 _INTEGRAL_OUTPUTS = ("peak_x", "stop_count", "x_cos_integral", "x_sin_integral", "friction_force_cos_integral",
@@ -208,13 +251,24 @@ _INTEGRAL_OUTPUTS = ("peak_x", "stop_count", "x_cos_integral", "x_sin_integral",
 def _exact_period(driver, p, z, period, outputs):
     """The orbit's period from the exact Fourier integrals and peak of the stepping object (one
     communication step), or None where they do not apply (an older FMU, an output without them,
-    an orbit stuck all along: its holding force has no exact peak here)."""
+    an orbit stuck all along: its holding force has no exact peak here). ``z = None``: the driver
+    starts on the orbit itself (``start_on_orbit`` in ``p``); then the start and end values of
+    :data:`_ORBIT_OUTPUTS` are returned too."""
     if not (set(outputs) <= set(_EXACT_OUTPUTS) and set(_INTEGRAL_OUTPUTS) <= set(driver.outputs)):
         return None
-    driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
+    start = end = None
+    if z is None:
+        driver.start(dict(p, harmonics=True))
+        start = dict(zip(_ORBIT_OUTPUTS, driver.get(_ORBIT_OUTPUTS)))
+        if not start["orbit_found"]:
+            return None, None, None, None, start, None
+    else:
+        driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
     stuck0 = bool(driver.get(["stuck"])[0])
     driver.advance(period)
     vals = dict(zip(_INTEGRAL_OUTPUTS, driver.get(_INTEGRAL_OUTPUTS)))
+    if z is None:
+        end = dict(zip(("x", "v"), driver.get(["x", "v"])))
     stuck_all = stuck0 and vals["event_count"] == 0
     if stuck_all and "friction_force" in outputs:
         return None
@@ -224,6 +278,8 @@ def _exact_period(driver, p, z, period, outputs):
         # |friction force| <= F, = F while slipping: its peak is F once the orbit slips
         peak = vals["peak_x"] if n == "x" else float(p.get("slip_force", 0.0))
         harmonics[n] = {"amplitude": float(math.hypot(a1, b1)), "phase": float(math.atan2(b1, a1)), "peak": peak}
+    if z is None:
+        return harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all, start, end
     return harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all
 
 

@@ -13,11 +13,11 @@ import math
 
 import numpy as np
 
-from .errors import ParameterError, check_real
+from .errors import ConvergenceError, ParameterError, check_positive, check_real
 from .oscillator import CoulombOscillator
 from .solvers.response import gauss_nodes
 from .solvers.sdof import SdofCoulomb, _phi1
-from .solvers.sdof_steady import sdof_piece_fourier
+from .solvers.sdof_steady import sdof_orbit, sdof_piece_fourier
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
@@ -36,6 +36,8 @@ OSCILLATOR_PARAMETERS = {
     "v0": (0.0, "velocity at the start time [m/s]"),
     "harmonics": (False, "integrate the Fourier integrals and the peak of |x| (outputs *_integral, "
                          "peak_x) exactly, piece by piece, from the start"),
+    "start_on_orbit": (False, "start on the periodic steady state (x0, v0 are then only the initial guess "
+                              "of its shooting): no transient to march; outputs orbit_found, monodromy_*"),
 }
 #: parameters of the oscillator itself (not of the run)
 _MODEL = ("mass", "stiffness", "damping", "slip_force", "force_amplitude", "omega", "base_amplitude")
@@ -57,6 +59,11 @@ OSCILLATOR_OUTPUTS = {
                                            "start, exact (harmonics on) [N s]"),
     "friction_force_sin_integral": (float, "integral of the friction force times sin(omega t) dt since the "
                                            "start, exact (harmonics on) [N s]"),
+    "orbit_found": (bool, "true when start_on_orbit found the periodic steady state (the run starts on it)"),
+    "monodromy_xx": (float, "d x(ts + T) / d x(ts), Jacobian of the period map at the orbit's section time ts (start_on_orbit; else 0)"),
+    "monodromy_xv": (float, "d x(ts + T) / d v(ts) [s] (start_on_orbit; else 0)"),
+    "monodromy_vx": (float, "d v(ts + T) / d x(ts) [1/s] (start_on_orbit; else 0)"),
+    "monodromy_vv": (float, "d v(ts + T) / d v(ts) (start_on_orbit; else 0)"),
 }
 #: the quantities integrated piece by piece with ``harmonics`` on (the rows of the integrals, in order)
 _INTEGRALS = ("x", "v", "friction_force")
@@ -88,12 +95,19 @@ class OscillatorRun:
         p = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items()}
         p.update(parameters)
         self.parameters = p
-        self.osc = osc = CoulombOscillator(**{k: p[k] for k in _MODEL})
-        self._kernel = SdofCoulomb(osc.mass, osc.stiffness, osc.slip_force, osc.equivalent_force_amplitude,
-                                   osc.omega, osc.damping)
+        self._osc = None
+        base = check_real("base_amplitude", p["base_amplitude"])
+        stiffness = check_positive("stiffness", p["stiffness"])
+        # force and base motion act in phase on the mass: P0 = P + k Y (CoulombOscillator's model)
+        self._kernel = SdofCoulomb(p["mass"], stiffness, p["slip_force"],
+                                   check_real("force_amplitude", p["force_amplitude"]) + stiffness * base,
+                                   p["omega"], p["damping"])
         self.t = check_real("start_time", start_time)
         self.x = check_real("x0", p["x0"])
         self.v = check_real("v0", p["v0"])
+        self.orbit_found, self.monodromy = False, np.zeros((2, 2))
+        if p["start_on_orbit"]:
+            self._start_on_orbit()
         self.force = 0.0
         self.hold(force)
         self.v_scale = abs(self.v)
@@ -104,6 +118,41 @@ class OscillatorRun:
         self.integrals = np.zeros((len(_INTEGRALS), 2))  # [cos, sin] per integrand
         self.peak_x = abs(self.x) if self.harmonics else 0.0
         self._resettle = False
+
+    @property
+    def osc(self) -> CoulombOscillator:
+        """The oscillator as a library model (built on first use: the run itself needs only the
+        kernel)."""
+        if self._osc is None:
+            self._osc = CoulombOscillator(**{k: self.parameters[k] for k in _MODEL})
+        return self._osc
+
+    def _start_on_orbit(self) -> None:
+        """Replace ``(x, v)`` by the periodic steady state at the start time: shooting on the
+        kernel's exact period map from ``(x0, v0)`` as the guess at ``t = 0``, nothing evaluated on
+        the orbit but its state (the library's ``steady_state`` where the kernel cannot answer)."""
+        orbit = sdof_orbit(self._kernel, self.x, self.v, tol=1e-12, max_newton=25, max_periods=2000)
+        if orbit is not None:
+            pmap, outcome, jac, _ = orbit
+            t_s, (x, v) = pmap.t_s, (float(a) for a in outcome.z)
+        else:
+            res = self.osc.steady_state(self.x, self.v)
+            if not res.converged:
+                return
+            t_s, x, v = res.section_time, float(res.state[0]), float(res.state[1])
+            try:  # at the orbit's section (a slipping state, where the period map is smooth)
+                jac = self.osc.monodromy(t_s, x, v)
+            except ConvergenceError:
+                jac = None
+        # along the orbit from its section to the start time (less than a period: it is periodic)
+        dt = (self.t - t_s) % (2 * math.pi / self._kernel.omega)
+        if dt > 0.0:
+            end = self._kernel.march(t_s, x, v, t_s + dt)
+            x, v = end.x, end.v
+        self.x, self.v = x, v
+        self.orbit_found = True
+        if jac is not None:
+            self.monodromy = np.array(jac, dtype=float)
 
     def _settle(self, status: int) -> int:
         """Stick/slip status at rest (``v = 0``) by the kernel's rules; counts a change."""
@@ -201,6 +250,11 @@ class OscillatorRun:
         if name.endswith("_integral"):
             kind, _, which = name[:-len("_integral")].rpartition("_")
             return float(self.integrals[_INTEGRALS.index(kind), 0 if which == "cos" else 1])
+        if name == "orbit_found":
+            return self.orbit_found
+        if name.startswith("monodromy_"):
+            i, j = ("xv".index(c) for c in name[-2:])
+            return float(self.monodromy[i, j])
         if name == "friction_force":
             k = self._kernel
             if k.slip_force == 0.0:

@@ -84,3 +84,30 @@ def test_kernel_run_matches_the_general_marcher(case):
     for row, name in enumerate(("x", "friction_force", "v")):
         for col, which in enumerate(("cos", "sin")):
             assert run.output(f"{name}_{which}_integral") == pytest.approx(ints[row, col], rel=1e-10, abs=1e-11 * t)
+
+
+@pytest.mark.parametrize("start_time", [0.0, 2.7])
+def test_start_on_orbit(start_time):
+    """start_on_orbit: the run starts on the steady state (that of CoulombOscillator.steady_state,
+    marched to the start time), one period later it is back to 1e-12, and the monodromy output
+    has the steady state's Floquet multipliers."""
+    p = dict(slip_force=0.3, force_amplitude=1.0, omega=0.8, start_on_orbit=True, harmonics=True)
+    run = OscillatorRun(p, start_time=start_time)
+    assert run.output("orbit_found")
+    osc = fj.CoulombOscillator(slip_force=0.3, force_amplitude=1.0, omega=0.8)
+    ss = osc.steady_state()
+    ref = osc.simulate(start_time, *ss.initial_state[:2], t_eval=[start_time], record=("x", "v")) \
+        if start_time else None
+    x_ref = ss.initial_state[0] if ref is None else ref.x[-1]
+    assert abs(run.output("x") - x_ref) <= 1e-11 * ss.amplitude
+    x0, v0 = run.output("x"), run.output("v")
+    run.advance(start_time + osc.period)
+    assert abs(run.output("x") - x0) <= 1e-12 * ss.amplitude
+    assert abs(run.output("v") - v0) <= 1e-12 * ss.amplitude * osc.omega
+    jac = np.array([[run.output("monodromy_xx"), run.output("monodromy_xv")],
+                    [run.output("monodromy_vx"), run.output("monodromy_vv")]])
+    got = np.sort_complex(np.linalg.eigvals(jac))
+    assert np.max(np.abs(got - np.sort_complex(ss.floquet_multipliers))) <= 1e-12
+    assert run.output("peak_x") == pytest.approx(ss.amplitude, rel=1e-12)
+    off = OscillatorRun(dict(p, start_on_orbit=False))
+    assert not off.output("orbit_found") and off.output("monodromy_xx") == 0.0

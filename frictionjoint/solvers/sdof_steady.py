@@ -28,7 +28,7 @@ from .response import gauss_nodes
 from .sdof import SdofCoulomb, _phi1
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
-__all__ = ["sdof_periodic_response", "sdof_piece_fourier"]
+__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier"]
 
 #: a section at t = 0 needs the first and last pieces of the first period to be slip pieces at
 #: least this fraction of the period long (as periodic_response)
@@ -129,6 +129,23 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     PeriodicResponse or None
         Scalar ``amplitude``, ``phase``, ``harmonic_amplitude``; exact Floquet multipliers.
     """
+    orbit = sdof_orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
+    if orbit is None:
+        return None
+    pmap, outcome, jac, periods = orbit
+    z = outcome.z
+    try:
+        end, pieces = _pieces(kernel, pmap.t_s, float(z[0]), float(z[1]), pmap.t_s + pmap.period)
+    except ConvergenceError:
+        return None
+    return _evaluate(kernel, pmap, outcome, z, jac, pieces, periods + 1, max_periods, n_samples)
+
+
+def sdof_orbit(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_newton: int, max_periods: int):
+    """The periodic orbit on the kernel, nothing evaluated on it: ``(pmap, outcome, jac, periods)``
+    (``pmap.t_s`` the section time, ``outcome.z`` the state there, ``jac`` the exact monodromy,
+    ``periods`` marched), or None where the general path must answer (see
+    :func:`sdof_periodic_response`)."""
     try:
         section = _section(kernel, x0, v0)
         if section is None:
@@ -138,12 +155,10 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
         outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=max_newton, max_periods=max_periods)
         if not outcome.converged:
             return None
-        z = outcome.z
-        jac = pmap.jacobian(z, None, None)
-        end, pieces = _pieces(kernel, t_s, float(z[0]), float(z[1]), t_s + pmap.period)
+        jac = pmap.jacobian(outcome.z, None, None)
     except (_NoDerivative, ConvergenceError):
         return None
-    return _evaluate(kernel, pmap, outcome, z, jac, pieces, periods + pmap.calls + 1, max_periods, n_samples)
+    return pmap, outcome, jac, periods + pmap.calls
 
 
 def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float, nu: float):
