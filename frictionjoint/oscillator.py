@@ -10,6 +10,7 @@ from .errors import ConvergenceError, check_count, check_nonnegative, check_posi
 from .excitation import HarmonicBaseMotion, HarmonicForce
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import Marcher
+from .solvers.response import check_run
 from .solvers.response import simulate as _simulate
 from .solvers.steady import periodic_response
 from .structure import LinearStructure
@@ -115,12 +116,29 @@ class CoulombOscillator:
         """
         x0 = check_real("x0", x0)
         v0 = check_real("v0", v0)
+        _, t_end, t_eval, record = check_run(self.omega, 0.0, t_end, t_eval, record)
+        if "energy" not in record:
+            # the closed-form kernel; the general marcher (the reference) keeps the energy
+            # accounting and the states where the kernel's rules find no consistent status
+            from .solvers.sdof_simulate import sdof_simulate
+
+            try:
+                return sdof_simulate(self._kernel(), t_end, x0, v0, t_eval, record)
+            except ConvergenceError:
+                pass
         tr = _simulate(self.system, t_end, x0, v0, t_eval=t_eval, record=record, marcher=self._marcher)
         for name in ("x", "v", "friction_force"):
             a = getattr(tr, name)
             if a is not None:
                 setattr(tr, name, a[0])
         return tr
+
+    def _kernel(self):
+        """The closed-form single-DOF kernel of this oscillator (force and base motion in phase)."""
+        from .solvers.sdof import SdofCoulomb
+
+        return SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
+                           self.omega, self.damping)
 
     def initial_guess(self):
         """One-harmonic (describing-function) estimate ``(x, v)`` of the orbit at ``t = 0``."""
@@ -175,12 +193,9 @@ class CoulombOscillator:
         v0 = gv if v0 is None else check_real("v0", v0)
         if self.slip_force > 0:
             # the closed-form kernel with its exact Jacobian; the general marcher where it does not apply
-            from .solvers.sdof import SdofCoulomb
             from .solvers.sdof_steady import sdof_periodic_response
 
-            kernel = SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
-                                 self.omega, self.damping)
-            res = sdof_periodic_response(kernel, x0, v0, tol=tol, max_newton=25, max_periods=max_periods,
+            res = sdof_periodic_response(self._kernel(), x0, v0, tol=tol, max_newton=25, max_periods=max_periods,
                                          n_samples=n_samples)
             if res is not None:
                 return res
@@ -218,9 +233,5 @@ class CoulombOscillator:
         -------
         (2, 2) ndarray or None
         """
-        from .solvers.sdof import SdofCoulomb
-
-        kernel = SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
-                             self.omega, self.damping)
-        _, jac = kernel.monodromy(t0, x0, v0, t0 + self.period)
+        _, jac = self._kernel().monodromy(t0, x0, v0, t0 + self.period)
         return None if jac is None else np.array(jac)

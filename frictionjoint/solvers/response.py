@@ -17,7 +17,7 @@ from ..results import TimeResponse
 from .events import EventLog, Marcher
 from .propagator import Observables
 
-__all__ = ["simulate", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
+__all__ = ["simulate", "check_run", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
            "displacement_observables"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
@@ -135,6 +135,25 @@ def displacement_observables(n: int) -> Observables:
     return Observables(np.eye(n), z, z, np.zeros(n))
 
 
+def check_run(omega: float, t0, t_end, t_eval, record):
+    """Checked ``(t0, t_end, t_eval, record)`` of a time response; ``t_eval`` defaults to 32 points
+    per period of ``omega`` [rad/s] (1000 intervals without excitation)."""
+    t0 = check_real("t0", t0)
+    t_end = check_real("t_end", t_end)
+    if t_end <= t0:
+        raise ParameterError(f"t_end must be > t0 = {t0}, got {t_end}")
+    record = _check_record(record)
+    if t_eval is None:
+        period = 2 * math.pi / omega if omega > 0 else (t_end - t0) / 1000
+        n = max(2, math.ceil(32 * (t_end - t0) / period) + 1)
+        t_eval = np.linspace(t0, t_end, n)
+    t_eval = np.asarray(t_eval, dtype=float).reshape(-1)
+    if (t_eval.size == 0 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) < 0)
+            or t_eval[0] < t0 or t_eval[-1] > t_end):
+        raise ParameterError(f"t_eval must be finite, ascending and within [t0, t_end] = [{t0}, {t_end}]")
+    return t0, t_end, t_eval, record
+
+
 def _check_record(record):
     if isinstance(record, str):
         record = (record,)
@@ -172,19 +191,7 @@ def simulate(system, t_end: float, x0=0.0, v0=0.0, w0=None, t0: float = 0.0, t_e
     TimeResponse
     """
     check_system("system", system, FrictionSystem)
-    t0 = check_real("t0", t0)
-    t_end = check_real("t_end", t_end)
-    if t_end <= t0:
-        raise ParameterError(f"t_end must be > t0 = {t0}, got {t_end}")
-    record = _check_record(record)
-    if t_eval is None:
-        period = 2 * math.pi / system.omega if system.omega > 0 else (t_end - t0) / 1000
-        n = max(2, math.ceil(32 * (t_end - t0) / period) + 1)
-        t_eval = np.linspace(t0, t_end, n)
-    t_eval = np.asarray(t_eval, dtype=float).reshape(-1)
-    if (t_eval.size == 0 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) < 0)
-            or t_eval[0] < t0 or t_eval[-1] > t_end):
-        raise ParameterError(f"t_eval must be finite, ascending and within [t0, t_end] = [{t0}, {t_end}]")
+    t0, t_end, t_eval, record = check_run(system.omega, t0, t_end, t_eval, record)
     m = marcher if marcher is not None else Marcher(system)
     log = EventLog()
     state = m.initial_state(x0, v0, w0, t0=t0, log=log)
