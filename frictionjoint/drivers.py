@@ -259,16 +259,18 @@ def _exact_period(driver, p, z, period, outputs):
     start = end = None
     if z is None:
         driver.start(dict(p, harmonics=True))
-        start = dict(zip(_ORBIT_OUTPUTS, driver.get(_ORBIT_OUTPUTS)))
+        start = dict(zip(_ORBIT_OUTPUTS + ("stuck",), driver.get(_ORBIT_OUTPUTS + ("stuck",))))
         if not start["orbit_found"]:
             return None, None, None, None, start, None
+        stuck0 = start["stuck"]
     else:
         driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
-    stuck0 = bool(driver.get(["stuck"])[0])
+        stuck0 = bool(driver.get(["stuck"])[0])
     driver.advance(period)
-    vals = dict(zip(_INTEGRAL_OUTPUTS, driver.get(_INTEGRAL_OUTPUTS)))
+    names = _INTEGRAL_OUTPUTS + (("x", "v") if z is None else ())
+    vals = dict(zip(names, driver.get(names)))
     if z is None:
-        end = dict(zip(("x", "v"), driver.get(["x", "v"])))
+        end = {"x": vals["x"], "v": vals["v"]}
     stuck_all = stuck0 and vals["event_count"] == 0
     if stuck_all and "friction_force" in outputs:
         return None

@@ -90,33 +90,37 @@ class FMUInstance:
         self._n = 0
         self._h = None
 
-    def set(self, values: dict) -> None:
-        """Set variables by name (Real, Integer or Boolean)."""
-        for name, value in values.items():
+    _SETTERS = {"Real": ("setReal", float), "Integer": ("setInteger", int), "Boolean": ("setBoolean", bool)}
+    _GETTERS = {"Real": ("getReal", float), "Integer": ("getInteger", int), "Boolean": ("getBoolean", bool)}
+
+    def _by_type(self, names) -> dict:
+        """``type -> [(position, name), ...]`` of variables (one FMI call per type, not per name)."""
+        groups = {}
+        for pos, name in enumerate(names):
             if name not in self.vr:
                 raise KeyError(f"{self.path.name} has no variable {name!r}")
             t = self.types[name]
-            if t == "Real":
-                self._call("setReal", [self.vr[name]], [float(value)])
-            elif t == "Integer":
-                self._call("setInteger", [self.vr[name]], [int(value)])
-            elif t == "Boolean":
-                self._call("setBoolean", [self.vr[name]], [bool(value)])
-            else:
+            if t not in self._SETTERS:
                 raise TypeError(f"unsupported type {t} of {name}")
+            groups.setdefault(t, []).append((pos, name))
+        return groups
+
+    def set(self, values: dict) -> None:
+        """Set variables by name (Real, Integer or Boolean)."""
+        names = list(values)
+        for t, items in self._by_type(names).items():
+            fun, conv = self._SETTERS[t]
+            self._call(fun, [self.vr[n] for _, n in items], [conv(values[n]) for _, n in items])
 
     def get(self, names) -> list:
         """Values of variables by name."""
-        out = []
-        for name in names:
-            t = self.types[name]
-            vr = [self.vr[name]]
-            if t == "Real":
-                out.append(self._call("getReal", vr)[0])
-            elif t == "Integer":
-                out.append(self._call("getInteger", vr)[0])
-            else:
-                out.append(bool(self._call("getBoolean", vr)[0]))
+        names = list(names)
+        out = [None] * len(names)
+        for t, items in self._by_type(names).items():
+            fun, conv = self._GETTERS[t]
+            vals = self._call(fun, [self.vr[n] for _, n in items])
+            for (pos, _), val in zip(items, vals):
+                out[pos] = conv(val)
         return out
 
     # ---------------------------------------------------------------- stepping

@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
@@ -30,8 +29,6 @@ __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
 EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
 _SAMPLES_PER_PERIOD = 16
-_CHUNK = 48
-_RTOL = 4 * np.finfo(float).eps
 
 
 def _absmax(a: np.ndarray) -> float:
@@ -491,16 +488,13 @@ class Marcher:
                 log.append(state.t, owner[i], i, "abnormal stop")
 
     # ----------------------------------------------------------- event search
-    def _fade_v_scale(self, pat: _Pattern, values: np.ndarray) -> None:
-        """Velocity scale with a fading memory: halved per interval, raised by the velocity rows
-        of ``values`` (what is seen), so that tolerances follow a response that decays by many
-        orders of magnitude instead of staying tied to the largest velocity ever seen."""
-        self.v_scale *= 0.5
-        if pat.any_v:
-            self.v_scale = max(self.v_scale, _absmax(values[pat.vrows]))
-
     def find_event(self, itv: Interval, horizon: float):
-        """First event in ``(0, horizon]`` of the interval: ``(tau, j)`` or ``None``."""
+        """First event in ``(0, horizon]`` of the interval: ``(tau, j)`` or ``None``.
+
+        The search of :mod:`.search` (compiled for modal pieces, NumPy otherwise). The velocity
+        scale has a fading memory: halved per interval, raised by the velocity rows seen, so that
+        the tolerances follow a response that decays by many orders of magnitude instead of
+        staying tied to the largest velocity ever seen."""
         red, meta = itv.events
         if red is None or horizon <= 0:
             return None
@@ -514,151 +508,21 @@ class Marcher:
         if atzero is None:
             atzero = np.zeros(len(meta), bool)
         if self.jit and itv.modal_search():
-            return self._compiled_search(itv, red, tol, atzero, horizon, h)
-        if horizon > 4 * h:
-            # no event function can reach its zero band over the whole horizon (bounds of the
-            # closed form): skip the sampling, which costs horizon * rate / 2pi * 16 evaluations
-            # (a stiff stuck joint: rate ~ 1e5 rad/s, ~1e5 samples per excitation period)
-            bnd = itv.bounds(red, horizon)
-            if bnd is not None:
-                lo, hi = bnd
-                if not atzero.any() and all(l > t for l, t in zip(lo.tolist(), tol)):
-                    self._fade_v_scale(pat, hi)
-                    return None
-        steps = h * np.arange(1, _CHUNK + 1)
-        # the start values are evaluated together with the first chunk of samples
-        n = min(_CHUNK, max(1, math.ceil(horizon / h)))
-        taus = steps[:n].copy()
-        taus[-1] = min(taus[-1], horizon)
-        taus = taus[taus <= horizon]
-        sample = itv.sampler(red)
-        g, dg = sample(np.concatenate([[0.0], taus]))
-        g_a = np.where(atzero, 0.0, g[:, 0])
-        dg_a = dg[:, 0]
-        g, dg = g[:, 1:], dg[:, 1:]
-        tau_a = 0.0
-        vrows = pat.vrows
-        any_v = pat.any_v
-        self._fade_v_scale(pat, g_a)
-        while tau_a < horizon:
-            if g is None:
-                n = min(_CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
-                taus = tau_a + steps[:n]
-                taus[-1] = min(taus[-1], horizon)
-                taus = taus[taus <= horizon]
-                g, dg = sample(taus)
-            if any_v:
-                self.v_scale = max(self.v_scale, _absmax(g[vrows]))
-            ga = np.hstack([g_a[:, None], g])
-            dga = np.hstack([dg_a[:, None], dg])
-            ta = np.concatenate([[tau_a], taus])
-            cross = (ga[:, :-1] >= 0) & (ga[:, 1:] < 0)
-            dip = (dga[:, :-1] < 0) & (dga[:, 1:] > 0) & ~cross
-            cand = cross | dip
-            if cand.any():
-                cols = np.flatnonzero(cand.any(axis=0))
-                for k in cols:
-                    best = None
-                    for j in np.flatnonzero(cand[:, k]):
-                        tau = self._locate(itv, red, j, ta[k], ta[k + 1], bool(cross[j, k]),
-                                           tol[j], h, start_zero=(k == 0 and tau_a == 0.0 and atzero[j]))
-                        if tau is not None and (best is None or tau < best[0]):
-                            best = (tau, j)
-                    if best is not None:
-                        return best
-            tau_a = taus[-1]
-            g_a, dg_a = g[:, -1], dg[:, -1]
-            g = None
-        return None
-
-    def _compiled_search(self, itv, red, tol, atzero, horizon, h):
-        """:meth:`find_event` of a modal piece in one compiled call (:func:`.search.first_event`)."""
-        pat = itv.pattern
-        cy, c0, cc, cs = red
-        cfg = itv.config
-        p = pat.modal_p
-        if p is None:
-            p = pat.modal_p = cy @ cfg.V
-        b0, bp, bm = itv._b
-        found, tau, row, vmax = search.first_event(p, itv._a, b0, bp, bm, c0, cfg.lam, cc, cs, self.system.omega,
-                                            itv.t0, np.asarray(tol, dtype=float), atzero, pat.vrows,
-                                            float(horizon), h)
+            cy, c0, cc, cs = red
+            cfg = itv.config
+            p = pat.modal_p
+            if p is None:
+                p = pat.modal_p = cy @ cfg.V
+            b0, bp, bm = itv._b
+            found, tau, row, vmax = search.first_event(p, itv._a, b0, bp, bm, c0, cfg.lam, cc, cs,
+                                                       self.system.omega, itv.t0, np.asarray(tol, dtype=float),
+                                                       atzero, pat.vrows, float(horizon), h)
+        else:
+            found, tau, row, vmax = search.numpy_first_event(itv, red, tol, atzero, pat.vrows, horizon, h)
         self.v_scale *= 0.5
         if pat.any_v:
             self.v_scale = max(self.v_scale, vmax)
         return (tau, row) if found else None
-
-    def _locate(self, itv, red, j, a, b, crossing, tol, h, start_zero):
-        one = tuple(r[j:j + 1] for r in red)
-        g, dg = itv.scalar(red, j)
-
-        xtol = 1e-16 * h
-        if crossing:
-            if start_zero or g(a) < 0:
-                # the function starts at zero: find a positive point before the crossing
-                ts = np.linspace(a, b, 33)[1:]
-                vals = itv.evaluate(one, ts)[0][0]
-                neg = np.flatnonzero(vals < 0)
-                if neg.size == 0:
-                    # the sampler saw g(b) < 0, the scalar evaluations do not (last-bit rounding)
-                    return b
-                first = neg[0]
-                if first == 0:
-                    return a if not start_zero else self._locate_tiny(g, a, ts[0], xtol)
-                a = ts[first - 1]
-                b = ts[first]
-            return self._brent(g, a, b, xtol)
-        # dip: local minimum between a and b
-        if dg(a) >= 0 or dg(b) <= 0:  # a sign change of g' that was rounding noise
-            return None
-        tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=_RTOL)
-        if start_zero and tm <= 1e-9 * h:
-            return None
-        gm = g(tm)
-        if gm < 0:
-            if start_zero and gm >= -tol:
-                # a function that starts in its zero band and dips only inside it (e.g. a slip
-                # velocity that reverses by a few ulps where the holding force is within
-                # rounding of the slip limit): no crossing to locate (its root would be the
-                # start itself, and time would not advance); the bottom of the dip is the event
-                return tm
-            return self._brent(g, a, tm, xtol)
-        if gm <= tol:
-            return tm
-        return None
-
-    @staticmethod
-    def _brent(g, a, b, xtol):
-        """Root of ``g`` on ``[a, b]`` (g(a) >= 0 > g(b) up to rounding): where the scalar and the
-        vectorised evaluations disagree in the last bits, the end point that is zero wins."""
-        ga, gb = g(a), g(b)
-        if ga <= 0:
-            return a
-        if gb >= 0:
-            return b
-        return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=_RTOL)
-
-    def _locate_tiny(self, g, a, b, xtol):
-        ts = np.linspace(a, b, 65)[1:]
-        for lo, hi in zip(ts[:-1], ts[1:]):
-            if g(lo) > 0 > g(hi):
-                return self._brent(g, lo, hi, xtol)
-        # the positive stretch after a start at zero can be far shorter than the grid (e.g. a
-        # slip of a few microseconds where the force exceeds the slip limit by 1e-12 of it):
-        # halve towards the start until g is positive, then the root lies just beyond
-        hi = ts[0]
-        if not g(hi) < 0:
-            return b
-        d = hi - a
-        for _ in range(80):
-            d *= 0.5
-            lo = a + d
-            if lo <= a:
-                break
-            if g(lo) > 0:
-                return self._brent(g, lo, hi, xtol)
-            hi = lo
-        return b
 
     # ----------------------------------------------------------------- march
     def advance(self, itv: Interval, tau: float, state: MarchState) -> None:

@@ -549,44 +549,6 @@ class Interval:
             return g, dg
         return f
 
-    def fourier(self, red, nu: float, tau_end: float):
-        """``int Q(t) e^{i nu t} dt`` over the piece ``[0, tau_end]`` (absolute time ``t = t0 + tau``)
-        of the observables ``red`` (:meth:`reduce`), (n_obs,) complex, in closed form: each term of
-        the modal solution is an exponential, ``int_0^T e^{mu tau} d tau = T phi1(mu T)``. None
-        where the closed form is not available (defective or near-resonant configuration)."""
-        cfg = self.config
-        if not self._ready:
-            self._prepare()
-        if cfg.m and (not cfg.modal or self._near):
-            return None
-        cy, c0, cc, cs = red
-        w = self.omega
-        t0 = self.t0
-        big_t = tau_end
-
-        def ints(mu):  # int_0^T e^{mu tau} d tau for an array of mu
-            return big_t * _phi1(np.asarray(mu, dtype=complex) * big_t)
-
-        e0 = cmath.exp(1j * nu * t0)
-        out = c0 * (e0 * ints([1j * nu])[0])
-        if np.any(cc) or np.any(cs):
-            ep = cmath.exp(1j * (nu + w) * t0) * ints([1j * (nu + w)])[0]
-            em = cmath.exp(1j * (nu - w) * t0) * ints([1j * (nu - w)])[0]
-            out = out + cc * (0.5 * (ep + em)) + cs * ((ep - em) / 2j)
-        if cfg.m:
-            p = cy @ cfg.V
-            b0, bp, bm = self._b
-            lam = cfg.lam
-
-            def modal(n_):  # int_0^T eta(tau) e^{i n_ tau} d tau, per mode
-                z = 1j * n_
-                return (self._a * ints(lam + z) + b0 * ints([z])[0] + bp * ints([z + 1j * w])[0]
-                        + bm * ints([z - 1j * w])[0])
-            plus = e0 * (p @ modal(nu))
-            minus = np.conj(np.conj(e0) * (p @ modal(-nu)))
-            out = out + 0.5 * (plus + minus)
-        return out
-
     def evaluate(self, red, tau, order: int = 0) -> list[np.ndarray]:
         """Observable values (n_obs, k) and time derivatives up to ``order`` at local times ``tau``."""
         cy, c0, cc, cs = red

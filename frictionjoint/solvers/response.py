@@ -7,6 +7,7 @@ friction dissipation is exact (``slip_force * |slip|`` on every slipping piece).
 """
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
@@ -15,9 +16,9 @@ from ..errors import ParameterError, check_real, check_system
 from ..system import FrictionSystem
 from ..results import TimeResponse
 from .events import EventLog, Marcher
-from .propagator import Observables
+from .propagator import Observables, _phi1
 
-__all__ = ["simulate", "check_run", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
+__all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
            "displacement_observables"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
@@ -115,12 +116,52 @@ def _roots(itv, rows, lo, hi, order: int, tau_end: float, scale) -> np.ndarray:
     return t
 
 
+def interval_fourier(itv, red, nu: float, tau_end: float):
+    """``int Q(t) e^{i nu t} dt`` over the piece ``[0, tau_end]`` of ``itv`` (absolute time
+    ``t = t0 + tau``) of the observables ``red`` (:meth:`Interval.reduce`), (n_obs,) complex, in
+    closed form: each term of the modal solution is an exponential, ``int_0^T e^{mu tau} d tau =
+    T phi1(mu T)``. None where the closed form is not available (defective or near-resonant
+    configuration)."""
+    cfg = itv.config
+    if not itv._ready:
+        itv._prepare()
+    if cfg.m and (not cfg.modal or itv._near):
+        return None
+    cy, c0, cc, cs = red
+    w = itv.omega
+    t0 = itv.t0
+    big_t = tau_end
+
+    def ints(mu):  # int_0^T e^{mu tau} d tau for an array of mu
+        return big_t * _phi1(np.asarray(mu, dtype=complex) * big_t)
+
+    e0 = cmath.exp(1j * nu * t0)
+    out = c0 * (e0 * ints([1j * nu])[0])
+    if np.any(cc) or np.any(cs):
+        ep = cmath.exp(1j * (nu + w) * t0) * ints([1j * (nu + w)])[0]
+        em = cmath.exp(1j * (nu - w) * t0) * ints([1j * (nu - w)])[0]
+        out = out + cc * (0.5 * (ep + em)) + cs * ((ep - em) / 2j)
+    if cfg.m:
+        p = cy @ cfg.V
+        b0, bp, bm = itv._b
+        lam = cfg.lam
+
+        def modal(n_):  # int_0^T eta(tau) e^{i n_ tau} d tau, per mode
+            z = 1j * n_
+            return (itv._a * ints(lam + z) + b0 * ints([z])[0] + bp * ints([z + 1j * w])[0]
+                    + bm * ints([z - 1j * w])[0])
+        plus = e0 * (p @ modal(nu))
+        minus = np.conj(np.conj(e0) * (p @ modal(-nu)))
+        out = out + 0.5 * (plus + minus)
+    return out
+
+
 def piece_fourier(itv, tau_end: float, omega: float, red):
     """``int Q(t) cos(omega t) dt`` and ``int Q(t) sin(omega t) dt`` over the piece ``[0, tau_end]``
     of ``itv`` for the observables ``red`` (:meth:`Interval.reduce`): in closed form
-    (:meth:`Interval.fourier`), or by Gauss-Legendre per piece at the active rate where the
+    (:func:`interval_fourier`), or by Gauss-Legendre per piece at the active rate where the
     configuration has no plain modal form (exact to rounding for its exponentials times harmonics)."""
-    exact = itv.fourier(red, omega, tau_end)
+    exact = interval_fourier(itv, red, omega, tau_end)
     if exact is not None:
         return exact.real, exact.imag
     nodes, wts = gauss_pieces(itv, 0.0, tau_end, itv.active_rate())

@@ -1,4 +1,4 @@
-"""Compiled event search of one closed-form piece (numba).
+"""Event search of one closed-form piece: compiled (numba) for modal pieces, NumPy for the others.
 
 The event functions of a piece in modal form are exp-polynomials,
 
@@ -6,18 +6,19 @@ The event functions of a piece in modal form are exp-polynomials,
                + cc_r cos(w (t0 + tau)) + cs_r sin(w (t0 + tau)),
 
 and the first ``tau`` in ``(0, horizon]`` at which one of them leaves its zero band is the next
-event. :func:`first_event` is the whole search of
-:meth:`~frictionjoint.solvers.events.Marcher.find_event` for such a piece -- the bound that skips
-a piece no function can reach zero on, sampling with derivatives on a grid finer than the fastest
-mode, crossings and tangential dips, and the root (Brent's method, as scipy's ``brentq``) -- in
-one compiled call: the search is a few hundred scalar evaluations of a sum over the modes, each of
-which cost a NumPy call (microseconds) in Python and cost nanoseconds here.
+event. Both paths do the same: the closed-form bound that skips a piece no function can reach zero
+on, sampling with derivatives on a grid finer than the fastest mode (16 points per period),
+crossings and tangential dips, and the root by Brent's method. :func:`first_event` does it in one
+compiled call: the search is a few hundred scalar evaluations of a sum over the modes, each of which
+costs a NumPy call (microseconds) in Python and nanoseconds here. :func:`numpy_first_event` serves
+the pieces without a plain modal form (defective or near-resonant configurations) and runs where
+the compiled search is off.
 
 numba is the tool: the kernel is plain loops over small complex arrays, compiled once per
 installation (``cache=True``: about 9 s the first time, then loaded from ``__pycache__`` in about
 0.5 s) and called from the marcher with arrays it already holds. Without numba, and in the copy of
 the library bundled into an FMU (:data:`ENABLED` is False there: a fresh compile at every
-extraction of an FMU would dominate its start-up), the marcher runs its NumPy search.
+extraction of an FMU would dominate its start-up), the marcher runs the NumPy search.
 """
 from __future__ import annotations
 
@@ -25,13 +26,14 @@ import cmath
 import math
 
 import numpy as np
+import scipy.optimize
 
 try:
     import numba
 except ImportError:  # pragma: no cover - numba is a dependency of the installed library
     numba = None
 
-__all__ = ["first_event", "RTOL", "ENABLED"]
+__all__ = ["first_event", "numpy_first_event", "RTOL", "ENABLED", "CHUNK"]
 
 #: whether the compiled search is used: numba is importable and this is the installed library
 #: (not the copy an FMU carries in its resources)
@@ -46,6 +48,8 @@ def _jit(fun):
 RTOL = 4 * np.finfo(float).eps
 #: iterations of Brent's method at most
 _MAXITER = 100
+#: samples per chunk of the NumPy search
+CHUNK = 48
 
 
 @_jit
@@ -352,3 +356,139 @@ def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, ho
         t_prev = t
         prev, cur = cur, prev
     return False, 0.0, -1, vmax
+
+
+# ------------------------------------------------------------------------------ the NumPy path
+def numpy_first_event(itv, red, tol, atzero, vrows, horizon: float, h: float):
+    """:func:`first_event` for any piece (defective or near-resonant configurations included),
+    with NumPy: the closed-form bound, samples in chunks of :data:`CHUNK` with derivatives, and
+    each candidate located on the piece's scalar closed form (scipy's brentq). Same arguments and
+    returns as :func:`first_event`, for the piece ``itv`` and its reduced event functions ``red``."""
+    vmax = 0.0
+    any_v = bool(np.any(vrows))
+    if horizon > 4 * h:
+        # no event function can reach its zero band over the whole horizon (bounds of the
+        # closed form): skip the sampling, which costs horizon * rate / 2pi * 16 evaluations
+        # (a stiff stuck joint: rate ~ 1e5 rad/s, ~1e5 samples per excitation period)
+        bnd = itv.bounds(red, horizon)
+        if bnd is not None:
+            lo, hi = bnd
+            if not atzero.any() and all(lv > tv for lv, tv in zip(lo.tolist(), tol)):
+                return False, 0.0, -1, (float(np.max(np.abs(hi[vrows]))) if any_v else 0.0)
+    steps = h * np.arange(1, CHUNK + 1)
+    # the start values are evaluated together with the first chunk of samples
+    n = min(CHUNK, max(1, math.ceil(horizon / h)))
+    taus = steps[:n].copy()
+    taus[-1] = min(taus[-1], horizon)
+    taus = taus[taus <= horizon]
+    sample = itv.sampler(red)
+    g, dg = sample(np.concatenate([[0.0], taus]))
+    g_a = np.where(atzero, 0.0, g[:, 0])
+    dg_a = dg[:, 0]
+    g, dg = g[:, 1:], dg[:, 1:]
+    tau_a = 0.0
+    if any_v:
+        vmax = float(np.max(np.abs(g_a[vrows])))
+    while tau_a < horizon:
+        if g is None:
+            n = min(CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
+            taus = tau_a + steps[:n]
+            taus[-1] = min(taus[-1], horizon)
+            taus = taus[taus <= horizon]
+            g, dg = sample(taus)
+        if any_v:
+            vmax = max(vmax, float(np.max(np.abs(g[vrows]))))
+        ga = np.hstack([g_a[:, None], g])
+        dga = np.hstack([dg_a[:, None], dg])
+        ta = np.concatenate([[tau_a], taus])
+        cross = (ga[:, :-1] >= 0) & (ga[:, 1:] < 0)
+        dip = (dga[:, :-1] < 0) & (dga[:, 1:] > 0) & ~cross
+        cand = cross | dip
+        if cand.any():
+            for k in np.flatnonzero(cand.any(axis=0)):
+                best = None
+                for j in np.flatnonzero(cand[:, k]):
+                    tau = _np_locate(itv, red, j, ta[k], ta[k + 1], bool(cross[j, k]), tol[j], h,
+                                     start_zero=(k == 0 and tau_a == 0.0 and atzero[j]))
+                    if tau is not None and (best is None or tau < best[0]):
+                        best = (tau, int(j))
+                if best is not None:
+                    return True, best[0], best[1], vmax
+        tau_a = taus[-1]
+        g_a, dg_a = g[:, -1], dg[:, -1]
+        g = None
+    return False, 0.0, -1, vmax
+
+
+def _np_locate(itv, red, j, a, b, crossing, tol, h, start_zero):
+    """Event time of row ``j`` in ``[a, b]`` (see :func:`_locate`), or None."""
+    one = tuple(r[j:j + 1] for r in red)
+    g, dg = itv.scalar(red, j)
+    xtol = 1e-16 * h
+    if crossing:
+        if start_zero or g(a) < 0:
+            # the function starts at zero: find a positive point before the crossing
+            ts = np.linspace(a, b, 33)[1:]
+            vals = itv.evaluate(one, ts)[0][0]
+            neg = np.flatnonzero(vals < 0)
+            if neg.size == 0:
+                # the sampler saw g(b) < 0, the scalar evaluations do not (last-bit rounding)
+                return b
+            first = neg[0]
+            if first == 0:
+                return a if not start_zero else _np_locate_tiny(g, a, ts[0], xtol)
+            a = ts[first - 1]
+            b = ts[first]
+        return _np_brent(g, a, b, xtol)
+    # dip: local minimum between a and b
+    if dg(a) >= 0 or dg(b) <= 0:  # a sign change of g' that was rounding noise
+        return None
+    tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=RTOL)
+    if start_zero and tm <= 1e-9 * h:
+        return None
+    gm = g(tm)
+    if gm < 0:
+        if start_zero and gm >= -tol:
+            # a function that starts in its zero band and dips only inside it (e.g. a slip
+            # velocity that reverses by a few ulps where the holding force is within
+            # rounding of the slip limit): no crossing to locate (its root would be the
+            # start itself, and time would not advance); the bottom of the dip is the event
+            return tm
+        return _np_brent(g, a, tm, xtol)
+    if gm <= tol:
+        return tm
+    return None
+
+
+def _np_brent(g, a, b, xtol):
+    """Root of ``g`` on ``[a, b]`` (g(a) >= 0 > g(b) up to rounding): where the scalar and the
+    vectorised evaluations disagree in the last bits, the end point that is zero wins."""
+    ga, gb = g(a), g(b)
+    if ga <= 0:
+        return a
+    if gb >= 0:
+        return b
+    return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=RTOL)
+
+
+def _np_locate_tiny(g, a, b, xtol):
+    ts = np.linspace(a, b, 65)[1:]
+    for lo, hi in zip(ts[:-1], ts[1:]):
+        if g(lo) > 0 > g(hi):
+            return _np_brent(g, lo, hi, xtol)
+    # the positive stretch after a start at zero can be far shorter than the grid (e.g. a
+    # slip of a few microseconds where the force exceeds the slip limit by 1e-12 of it):
+    # halve towards the start until g is positive, then the root lies just beyond
+    hi = ts[0]
+    if not g(hi) < 0:
+        return b
+    d = hi - a
+    for _ in range(80):
+        d *= 0.5
+        lo = a + d
+        if lo <= a:
+            break
+        if g(lo) > 0:
+            return _np_brent(g, lo, hi, xtol)
+        hi = lo
+    return b
