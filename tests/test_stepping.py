@@ -2,7 +2,6 @@
 the closed-form single-DOF kernel: checked against the general n-DOF marcher (the reference) on the
 same system, and a snapshot is the complete state, so a restored run continues bit for bit."""
 import itertools
-import math
 
 import numpy as np
 import pytest

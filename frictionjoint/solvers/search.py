@@ -239,6 +239,66 @@ def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, crossing
 
 
 @_jit
+def _coefficients(p, a, b0, bp, bm, c0, lam, cc, cs):
+    """``pa, pla, k0, kp, km`` of the event functions (module docstring) and whether any has a
+    direct harmonic part."""
+    nr, nm = p.shape
+    pa = np.empty((nr, nm), np.complex128)
+    pla = np.empty((nr, nm), np.complex128)
+    k0 = np.empty(nr)
+    kp = np.empty(nr, np.complex128)
+    km = np.empty(nr, np.complex128)
+    harmonic = False
+    for r in range(nr):
+        s0 = 0.0
+        sp = 0j
+        sm = 0j
+        for i in range(nm):
+            pa[r, i] = p[r, i] * a[i]
+            pla[r, i] = pa[r, i] * lam[i]
+            s0 += (p[r, i] * b0[i]).real
+            sp += p[r, i] * bp[i]
+            sm += p[r, i] * bm[i]
+        k0[r] = s0 + c0[r]
+        kp[r] = sp
+        km[r] = sm
+        if cc[r] != 0.0 or cs[r] != 0.0:
+            harmonic = True
+    return pa, pla, k0, kp, km, harmonic
+
+
+@_jit
+def _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows, horizon):
+    """True when no function can reach its zero band over ``[0, horizon]`` (closed-form bound
+    about k0, see ``Interval.bounds``: forced part |Z|, free modes sum |pa_i| max(1, e^{Re lam_i
+    horizon}), and the rounding of terms of these sizes), with the velocity rows' upper bound."""
+    nr, nm = p.shape
+    grow = np.empty(nm)
+    for i in range(nm):
+        grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
+    e0 = cmath.exp(1j * w * t0)
+    skip = True
+    spread = np.empty(nr)
+    for r in range(nr):
+        z = kp[r] + km[r].conjugate() + (cc[r] - 1j * cs[r]) * e0
+        free = 0.0
+        pb = 0.0
+        for i in range(nm):
+            free += abs(pa[r, i]) * grow[i]
+            pb += abs(p[r, i]) * abs(b0[i])
+        sr = abs(z) + free
+        spread[r] = sr + 1e-12 * (abs(k0[r]) + sr + pb)
+        if atzero[r] or not (k0[r] - spread[r] > tol[r]):
+            skip = False
+    vmax = 0.0
+    if skip:
+        for r in range(nr):
+            if vrows[r]:
+                vmax = max(vmax, abs(k0[r] + spread[r]))
+    return skip, vmax
+
+
+@_jit
 def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
     """First event of a modal piece in ``(0, horizon]``.
 
@@ -271,54 +331,12 @@ def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, ho
     vmax : float
         Largest ``|g|`` of the velocity rows seen (bound, start or samples).
     """
-    nr, nm = p.shape
-    pa = np.empty((nr, nm), np.complex128)
-    pla = np.empty((nr, nm), np.complex128)
-    k0 = np.empty(nr)
-    kp = np.empty(nr, np.complex128)
-    km = np.empty(nr, np.complex128)
-    harmonic = False
-    for r in range(nr):
-        s0 = 0.0
-        sp = 0j
-        sm = 0j
-        for i in range(nm):
-            pa[r, i] = p[r, i] * a[i]
-            pla[r, i] = pa[r, i] * lam[i]
-            s0 += (p[r, i] * b0[i]).real
-            sp += p[r, i] * bp[i]
-            sm += p[r, i] * bm[i]
-        k0[r] = s0 + c0[r]
-        kp[r] = sp
-        km[r] = sm
-        if cc[r] != 0.0 or cs[r] != 0.0:
-            harmonic = True
+    pa, pla, k0, kp, km, harmonic = _coefficients(p, a, b0, bp, bm, c0, lam, cc, cs)
+    nr = k0.size
     vmax = 0.0
     if horizon > 4 * h:
-        # closed-form bound about k0 (see Interval.bounds): forced part |Z|, free modes
-        # sum |pa_i| max(1, e^{Re lam_i horizon}), and the rounding of terms of these sizes; no
-        # function can reach its zero band over the whole horizon: skip the sampling
-        grow = np.empty(nm)
-        for i in range(nm):
-            grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
-        e0 = cmath.exp(1j * w * t0)
-        skip = True
-        spread = np.empty(nr)
-        for r in range(nr):
-            z = kp[r] + km[r].conjugate() + (cc[r] - 1j * cs[r]) * e0
-            free = 0.0
-            pb = 0.0
-            for i in range(nm):
-                free += abs(pa[r, i]) * grow[i]
-                pb += abs(p[r, i]) * abs(b0[i])
-            sr = abs(z) + free
-            spread[r] = sr + 1e-12 * (abs(k0[r]) + sr + pb)
-            if atzero[r] or not (k0[r] - spread[r] > tol[r]):
-                skip = False
+        skip, vmax = _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows, horizon)
         if skip:
-            for r in range(nr):
-                if vrows[r]:
-                    vmax = max(vmax, abs(k0[r] + spread[r]))
             return False, 0.0, -1, vmax
     # two sample columns (previous, current), filled one sample at a time: the search stops at
     # the first sample step with a located event, with nothing evaluated beyond it

@@ -198,6 +198,87 @@ def _embedding(pmap: "_PeriodMap") -> np.ndarray:
     return embed
 
 
+def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jacobian: str):
+    """March the first period from ``st`` (at ``t = 0``) and choose the section time: ``t = 0`` if it
+    lies well inside pieces with the fewest stuck sliders, else the middle of the longest such piece
+    (the period map is smooth there). Returns ``(pmap, z, P(z), periods marched)``."""
+    period = 2 * math.pi / system.omega
+    pieces = []
+    first_itv = []
+
+    def keep_first(itv, tau):
+        if not first_itv:
+            first_itv.append(itv)
+        pieces.append((itv.t0, tau, int(np.count_nonzero(itv.status == 0))))
+    m.march(st, period, on_interval=keep_first)
+    fewest = min(p[2] for p in pieces)
+    first, last = pieces[0], pieces[-1]
+    margin = 0.02 * period
+    if (first[2] == fewest and last[2] == fewest and first[1] > margin
+            and last[1] > margin and len(pieces) > 1 and not _near_event(first_itv[0], margin)):
+        t_s = 0.0
+        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
+        z = z_start
+        st.t = 0.0
+        pz = pmap.vector(st)
+        periods = 1.0
+    else:
+        t_a, tau, _ = max((p for p in pieces if p[2] == fewest), key=lambda p: p[1])
+        t_s = (t_a + 0.5 * tau) % period
+        m.march(st, period + t_s)
+        st.t = t_s
+        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
+        z = pmap.vector(st)
+        pz = pmap(z)
+        periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
+    return pmap, z, pz, periods
+
+
+def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
+    """The orbit's period on its closed-form pieces (those of the map's last call at ``z``, or
+    marched again): per-DOF peaks, first-harmonic coefficients ``a1, b1``, friction dissipation,
+    whether all stuck, the state at ``t = 0`` and the event log."""
+    period = pmap.period
+    t_s = pmap.t_s
+    log = EventLog()
+    ndof = system.n_dof
+    amp = np.zeros(ndof)
+    a1 = np.zeros(ndof)
+    b1 = np.zeros(ndof)
+    diss = [0.0]
+    stuck_all = [True]
+    w = system.omega
+    z0 = [None]
+    x_obs = displacement_observables(ndof)
+
+    def on_interval(itv, tau_end):
+        t_zero = period if t_s > 0 else t_s
+        if z0[0] is None and itv.t0 <= t_zero <= itv.t0 + tau_end:
+            xz, vz = itv.state(t_zero - itv.t0)
+            st0 = MarchState(0.0, xz[:, 0], vz[:, 0], itv.w, itv.status)
+            m._project(st0)
+            z0[0] = pmap.vector(st0)
+        if tau_end <= 0:
+            return
+        x_end = piece_peaks(itv, tau_end, amp)
+        ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
+        a1[:] += ca
+        b1[:] += sa
+        slip = itv.status != 0
+        if slip.any():
+            stuck_all[0] = False
+            d = system.slider_direction[slip]
+            diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
+
+    if orbit is not None:
+        _, _, pieces, log = orbit
+        for itv, tau in pieces:
+            on_interval(itv, tau)
+    else:
+        pmap(z, log=log, on_interval=on_interval)
+    return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all[0], z0[0], log
+
+
 def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
                       n_samples: int = 0, jacobian: str = "exact") -> PeriodicResponse:
@@ -245,37 +326,7 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     if linear is not None:
         return linear  # nothing slips: the linear orbit, without marching
     z_start = np.concatenate([st.x, st.v, st.w[~system.rigid]])
-    pieces = []
-    first_itv = []
-
-    def keep_first(itv, tau):
-        if not first_itv:
-            first_itv.append(itv)
-        pieces.append((itv.t0, tau, int(np.count_nonzero(itv.status == 0))))
-    m.march(st, period, on_interval=keep_first)
-    # section time: t = 0 if it lies well inside pieces with the fewest stuck sliders, else the
-    # middle of the longest such piece (the period map is smooth there)
-    fewest = min(p[2] for p in pieces)
-    first, last = pieces[0], pieces[-1]
-    margin = 0.02 * period
-    if (first[2] == fewest and last[2] == fewest and first[1] > margin
-            and last[1] > margin and len(pieces) > 1 and not _near_event(first_itv[0], margin)):
-        t_s = 0.0
-        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
-        z = z_start
-        st.t = 0.0
-        pz = pmap.vector(st)
-        periods = 1.0
-    else:
-        t_a, tau, _ = max((p for p in pieces if p[2] == fewest), key=lambda p: p[1])
-        t_s = (t_a + 0.5 * tau) % period
-        m.march(st, period + t_s)
-        st.t = t_s
-        pmap = _PeriodMap(system, m, t_s, tol, jacobian)
-        z = pmap.vector(st)
-        pz = pmap(z)
-        periods = 1.0 + t_s / period  # first period + shift; map calls are added at the end
-
+    pmap, z, pz, periods = _first_section(system, m, st, z_start, tol, jacobian)
     outcome = find_periodic_orbit(pmap, z, pz, tol=tol, max_newton=max_newton, max_periods=max_periods,
                                   z_start=z_start)
     converged, z, jac, jac_rnorm = outcome.converged, outcome.z, outcome.jac, outcome.jac_rnorm
@@ -289,61 +340,24 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
             jac = pmap.jacobian(z, pz_orbit, pmap.scales(z))
         unique = not has_unit_eigenvalue(jac, pmap.scales(z))
 
-    # evaluate the final period on the closed-form pieces
-    log = EventLog()
-    ndof = system.n_dof
-    amp = np.zeros(ndof)
-    a1 = np.zeros(ndof)
-    b1 = np.zeros(ndof)
-    diss = [0.0]
-    stuck_all = [True]
-    w = system.omega
-
-    z0 = [None]
-    x_obs = displacement_observables(ndof)
-
-    def on_interval(itv, tau_end):
-        t_zero = period if t_s > 0 else t_s
-        if z0[0] is None and itv.t0 <= t_zero <= itv.t0 + tau_end:
-            xz, vz = itv.state(t_zero - itv.t0)
-            st0 = MarchState(0.0, xz[:, 0], vz[:, 0], itv.w, itv.status)
-            m._project(st0)
-            z0[0] = pmap.vector(st0)
-        if tau_end <= 0:
-            return
-        x_end = piece_peaks(itv, tau_end, amp)
-        ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
-        a1[:] += ca
-        b1[:] += sa
-        slip = itv.status != 0
-        if slip.any():
-            stuck_all[0] = False
-            d = system.slider_direction[slip]
-            diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
-
-    if orbit is not None:
-        _, _, pieces, log = orbit
-        for itv, tau in pieces:
-            on_interval(itv, tau)
-    else:
-        pmap(z, log=log, on_interval=on_interval)
+    amp, a1, b1, diss, stuck_all, z0, log = _orbit_period(system, m, pmap, z, orbit)
     periods += pmap.calls  # every call of the period map marches one period
-    a1 *= 2 / period
-    b1 *= 2 / period
+    t_s = pmap.t_s
     stops = log.count("stick")
     message = orbit_message(outcome, unique, periods, max_periods)
     t_s_arr = x_s = None
     if n_samples:
         t_s_arr = t_s + period * np.arange(n_samples) / n_samples
         from .response import simulate
+        ndof = system.n_dof
         tr = simulate(system, t_s + period, z[:ndof], z[ndof:2 * ndof], pmap.state(z).w, t0=t_s,
                       t_eval=t_s_arr, record=("x",), marcher=m)
         x_s = tr.x
     res = PeriodicResponse(
         omega=system.omega, amplitude=amp, phase=np.arctan2(b1, a1), harmonic_amplitude=np.hypot(a1, b1),
-        stops_per_cycle=stops, stuck=stuck_all[0] and system.n_sliders > 0,
+        stops_per_cycle=stops, stuck=stuck_all and system.n_sliders > 0,
         status=outcome.status, converged=converged, unique=unique, message=message,
-        periods=periods, state=z, section_time=t_s, initial_state=z0[0], events=log, dissipated_per_cycle=diss[0],
+        periods=periods, state=z, section_time=t_s, initial_state=z0, events=log, dissipated_per_cycle=diss,
         t=t_s_arr, x=x_s)
     if converged:  # the Jacobian at the orbit (taken for the uniqueness test) is the monodromy
         res.set_multipliers(np.linalg.eigvals(jac))
