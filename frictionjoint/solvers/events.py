@@ -364,26 +364,29 @@ class Marcher:
 
     def _tolerances(self, itv) -> list:
         """Zero tolerances of the event functions (list of floats): force and velocity scales
-        times 1e-12/1e-11. Cached on the interval for the velocity scale they were made with."""
+        times 1e-12/1e-11. Cached on the interval: the force parts once, the list for the velocity
+        scale it was made with."""
         cached = getattr(itv, "_tol", None)
-        if cached is not None and cached[0] == self.v_scale:
-            return cached[1]
-        pat = itv.pattern
-        kx0 = itv.kx0
-        fscale = max(_absmax(itv.f_const), self._fscale_fixed, _absmax(kx0))
-        if pat.ax_abs is not None:
-            # the event functions are sums of terms of size |ax| |x0|: rounding is relative to
-            # those terms, not to their (possibly cancelling) sum
-            fscale = max(fscale, _absmax(pat.ax_abs @ np.abs(itv.x0)))
-        rate = max(self.system.omega, itv.config.max_rate, 1e-300)
-        # velocity scale: what has been seen, or what the loads can produce in 1/rate
         v_scale = self.v_scale
-        v_ref = max(v_scale, fscale / (self._mass_scale * rate))
-        tv = 1e-11 * v_ref
-        tol = [tv if isv else 1e-12 * max(fs, fscale) for isv, fs in zip(pat.row_v_list, pat.row_fs)]
+        if cached is not None and cached[0] == v_scale:
+            return cached[1]
+        parts = getattr(itv, "_tol_parts", None)
+        if parts is None:
+            pat = itv.pattern
+            fscale = max(_absmax(itv.f_const), self._fscale_fixed, _absmax(itv.kx0))
+            if pat.ax_abs is not None:
+                # the event functions are sums of terms of size |ax| |x0|: rounding is relative to
+                # those terms, not to their (possibly cancelling) sum
+                fscale = max(fscale, _absmax(pat.ax_abs @ np.abs(itv.x0)))
+            rate = max(self.system.omega, itv.config.max_rate, 1e-300)
+            force_tol = [None if isv else 1e-12 * max(fs, fscale) for isv, fs in zip(pat.row_v_list, pat.row_fs)]
+            # velocity scale: what has been seen, or what the loads can produce in 1/rate
+            parts = itv._tol_parts = (fscale / (self._mass_scale * rate), force_tol)
+        v_floor, force_tol = parts
+        tv = 1e-11 * max(v_scale, v_floor)
+        tol = [tv if ft is None else ft for ft in force_tol]
         itv._tol = (v_scale, tol)
         return tol
-
 
     # -------------------------------------------------------------- settling
     def _project(self, state: MarchState) -> None:
