@@ -201,6 +201,9 @@ class CoulombOscillator:
                 return res
         res = periodic_response(self.system, x0, v0, marcher=self._marcher, tol=tol,
                                 max_periods=max_periods, n_samples=n_samples)
+        if res.status == "failed":  # the march failed: a status, with the scalar fields of this API
+            res.amplitude = res.phase = res.harmonic_amplitude = float("nan")
+            return res
         res.amplitude = float(res.amplitude[0])
         res.phase = float(res.phase[0])
         res.harmonic_amplitude = float(res.harmonic_amplitude[0])

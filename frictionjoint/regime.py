@@ -46,8 +46,8 @@ def classify(response) -> str:
         duration per cycle), ``'stuck'`` (nothing slips over the period), ``'unbounded'``
         (growth without bound) or ``'not converged'``.
     """
-    if response.status != "periodic":  # 'unbounded' or 'not converged'
-        return response.status
+    if response.status != "periodic":  # 'unbounded', 'not converged' or 'failed' (the march)
+        return "not converged" if response.status == "failed" else response.status
     if response.stuck:
         return "stuck"
     return "stops" if response.stops_per_cycle > 0 else "stop-free"
@@ -64,12 +64,9 @@ def _point(args):
 
     f, r = args
     osc = CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=f, force_amplitude=1.0, omega=r)
-    try:
-        ss = osc.steady_state()
-    except ParameterError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - reported in the map (and warned about by the caller)
-        return "not converged", -1, False, True, 0.0, f"{_FAILED}: {type(exc).__name__}: {exc}"
+    ss = osc.steady_state()
+    if ss.status == "failed":  # the march failed: a status of the result
+        return "not converged", -1, False, True, 0.0, f"{_FAILED}: {ss.message}"
     regime = classify(ss)
     return regime, int(ss.stops_per_cycle), bool(ss.converged), bool(ss.unique), float(ss.periods), ss.message
 

@@ -30,6 +30,8 @@ class TimeResponse:
         start, stored (kinetic + elastic, incl. Jenkins springs) energy, energy dissipated by
         friction and by viscous damping since the start.
     success : bool
+        False when the march failed (no consistent stick/slip status, chattering, a non-finite
+        state): the outputs after the failure are NaN and ``message`` says what happened.
     message : str
     """
 
@@ -45,6 +47,11 @@ class TimeResponse:
     success: bool = True
     message: str = "ok"
     final_state: object = field(default=None, repr=False)
+
+    @property
+    def status(self) -> str:
+        """``'ok'`` or ``'failed'`` (the result contract's word for ``success``)."""
+        return "ok" if self.success else "failed"
 
     def energy_residual(self) -> np.ndarray:
         """``work - (stored - stored[0]) - dissipated``: zero for an exact solution [J]."""
@@ -85,7 +92,9 @@ class PeriodicResponse:
     message : str
         What happened, in words.
     status : str
-        ``'periodic'``, ``'unbounded'`` (grows without bound) or ``'not converged'``.
+        ``'periodic'``, ``'unbounded'`` (grows without bound), ``'not converged'`` or ``'failed'``
+        (the march itself failed: no consistent stick/slip status, chattering, a non-finite
+        state; ``message`` says which). Failures are statuses, not exceptions.
     periods : float
         Number of excitation periods marched (all shooting iterations included).
     state : ndarray
@@ -129,6 +138,11 @@ class PeriodicResponse:
     harmonics: Optional[dict] = field(repr=False, default=None)
     floquet_multipliers: Optional[np.ndarray] = field(repr=False, default=None)
     stable: Optional[bool] = None
+
+    @property
+    def success(self) -> bool:
+        """True when a periodic orbit was found (``converged``; the result contract's name)."""
+        return bool(self.converged)
 
     def set_multipliers(self, multipliers) -> None:
         """Store the Floquet multipliers and the stability verdict they give."""

@@ -434,35 +434,26 @@ def _reference(params, omegas):
 def _steady_state(osc, state):
     """``osc.steady_state`` from ``state`` (or the default guess).
 
-    A solver failure is retried from the default guess (with a warning), and if that fails too
-    the point is reported as not converged (with a warning), so that one bad point does not
-    lose a whole sweep.
+    A failed march (a status of the result) is retried from the default guess (with a
+    warning), and if that fails too the point is reported as not converged (with a warning), so
+    that one bad point does not lose a whole sweep.
     """
-    from .results import PeriodicResponse
-
     starts = [state, None] if state is not None else [None]
     errors = []
+    res = None
     for start in starts:
         x0, v0 = (None, None) if start is None else start
-        try:
-            res = osc.steady_state(x0=x0, v0=v0)
+        res = osc.steady_state(x0=x0, v0=v0)
+        if res.status != "failed":  # the march ran (converged or not)
             if errors:
                 warnings.warn(f"omega = {osc.omega!r}: steady-state solver failed ({errors[0]}); "
                               "succeeded from the default estimate", RuntimeWarning, stacklevel=3)
             return res
-        except ParameterError:
-            raise
-        except Exception as exc:  # noqa: BLE001 - reported in the result and as a warning
-            errors.append(f"{type(exc).__name__}: {exc}" + ("" if start is None else
-                          f" (from x0={start[0]!r}, v0={start[1]!r})"))
-    message = "steady-state solver failed: " + "; ".join(errors)
-    warnings.warn(f"omega = {osc.omega!r}: {message}", RuntimeWarning, stacklevel=3)
-    nan = float("nan")
-    return PeriodicResponse(omega=osc.omega, amplitude=nan, phase=nan, harmonic_amplitude=nan,
-                            stops_per_cycle=0, stuck=False, converged=False, unique=True,
-                            message=message, periods=0.0, status="not converged")
-
-
+        errors.append(res.message + ("" if start is None else f" (from x0={start[0]!r}, v0={start[1]!r})"))
+    res.message = "steady-state solver failed: " + "; ".join(errors)
+    res.status = "not converged"  # the regime of the point
+    warnings.warn(f"omega = {osc.omega!r}: {res.message}", RuntimeWarning, stacklevel=3)
+    return res
 
 
 def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amplitude: float,

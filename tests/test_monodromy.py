@@ -121,3 +121,25 @@ def test_stuck_only_orbit_is_the_linear_solution_without_marching():
     assert np.max(np.abs(pr.x - ref)) <= 1e-12 * np.max(np.abs(x))
     # a joint that would slip somewhere in the period is not taken for stuck
     assert periodic_response(chain(20, 3, slip=0.0004)).periods > 0
+
+
+def test_a_failed_march_is_a_status_not_an_exception(monkeypatch):
+    """periodic_response and simulate report a march that fails (here: made to fail by a
+    marcher whose settling raises, as it does on no consistent stick/slip status) in the result."""
+    from frictionjoint.solvers import response
+    from frictionjoint.solvers.events import Marcher as M
+
+    sysm = chain(5, 2, slip=0.0012)
+
+    def broken(self, state, log=None, trigger=None):
+        if state.t > 0:
+            raise fj.ConvergenceError(f"no consistent stick/slip configuration at t = {state.t!r}")
+        return original(self, state, log, trigger)
+    original = M.settle
+    monkeypatch.setattr(M, "settle", broken)
+    pr = periodic_response(sysm)
+    assert pr.status == "failed" and not pr.success and not pr.converged
+    assert "the march failed" in pr.message and np.all(np.isnan(pr.amplitude))
+    tr = response.simulate(sysm, 50.0, t_eval=[0.0, 49.0])
+    assert not tr.success and tr.status == "failed" and "the march failed" in tr.message
+    assert np.all(np.abs(tr.x[:, 0]) <= 1e-15) and np.all(np.isnan(tr.x[:, 1]))

@@ -101,6 +101,7 @@ def test_classify():
     assert classify(resp(stuck=True)) == "stuck"
     assert classify(resp(converged=False, status="unbounded")) == "unbounded"
     assert classify(resp(converged=False, status="not converged")) == "not converged"
+    assert classify(resp(converged=False, status="failed")) == "not converged"  # a failed march
     assert set(REGIMES) == {"stop-free", "stops", "stuck", "unbounded", "not converged"}
 
 

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..errors import ParameterError, check_real, check_system
+from ..errors import ConvergenceError, ParameterError, check_real, check_system
 from ..system import FrictionSystem
 from ..results import TimeResponse
 from .events import EventLog, Marcher
@@ -325,11 +325,16 @@ def simulate(system, t_end: float, x0=0.0, v0=0.0, w0=None, t0: float = 0.0, t_e
                 acc["fric"] += float(fsl @ np.abs(d_slip @ xe[:, 0] - s_start))
         pos[0] = k1
 
-    m.march(state, t_end, log, on_interval=on_interval)
-    if pos[0] < n_t:  # outputs exactly at t0 == t_end cannot happen; guard anyway
-        raise RuntimeError("internal error: not all output times were reached")
-    res = TimeResponse(t=t_eval, x=out.get("x"), v=out.get("v"),
-                       friction_force=out.get("friction_force"), events=log, final_state=state)
+    success, message = True, "ok"
+    try:
+        m.march(state, t_end, log, on_interval=on_interval)
+    except ConvergenceError as exc:
+        # a failed march is a status of the result: the outputs after the failure are NaN
+        success, message = False, f"the march failed at t = {state.t!r}: {exc}"
+        for key in out:
+            out[key][..., pos[0]:] = np.nan
+    res = TimeResponse(t=t_eval, x=out.get("x"), v=out.get("v"), friction_force=out.get("friction_force"),
+                       events=log, final_state=state, success=success, message=message)
     if energy:
         res.work = out["work"]
         res.stored_energy = out["stored"]

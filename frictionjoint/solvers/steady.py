@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ..errors import ParameterError, check_count, check_system
+from ..errors import ConvergenceError, ParameterError, check_count, check_system
 from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
@@ -22,7 +22,7 @@ from .monodromy import march_jacobian
 from .response import displacement_observables, piece_fourier, piece_peaks
 from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
-__all__ = ["periodic_response"]
+__all__ = ["periodic_response", "failed_response"]
 
 
 class _PeriodMap:
@@ -320,6 +320,23 @@ def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | Non
     if jacobian not in ("exact", "fd"):
         raise ParameterError(f"jacobian must be 'exact' or 'fd', got {jacobian!r}")
     m = marcher if marcher is not None else Marcher(system)
+    try:
+        return _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian)
+    except (ConvergenceError, np.linalg.LinAlgError) as exc:
+        # a failed march (no consistent stick/slip status, chattering, a non-finite state) is a
+        # status of the result, not an exception for the caller to catch
+        return failed_response(system.omega, system.n_dof, f"the march failed: {exc}")
+
+
+def failed_response(omega: float, n_dof: int, message: str) -> PeriodicResponse:
+    """The result of a steady-state search that could not march (status ``'failed'``)."""
+    nan = np.full(n_dof, np.nan)
+    return PeriodicResponse(omega=omega, amplitude=nan, phase=nan.copy(), harmonic_amplitude=nan.copy(),
+                            stops_per_cycle=0, stuck=False, converged=False, unique=True, message=message,
+                            periods=0.0, status="failed")
+
+
+def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian):
     period = 2 * math.pi / system.omega
     st = m.initial_state(x0, v0, w0, t0=0.0)
     linear = _stuck_orbit(system, m, st, tol, n_samples)
