@@ -27,12 +27,9 @@ from .events import EventLog
 from .response import gauss_nodes
 from .sdof import SdofCoulomb, _phi1
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
+from .steady import SECTION_MARGIN
 
 __all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier"]
-
-#: a section at t = 0 needs the first and last pieces of the first period to be slip pieces at
-#: least this fraction of the period long (as periodic_response)
-_SECTION_MARGIN = 0.02
 
 
 class _NoDerivative(Exception):
@@ -93,7 +90,7 @@ def _section(kernel: SdofCoulomb, x0: float, v0: float):
     if not slips:
         return None  # stuck through the first period: the general path decides
     first, last = pieces[0], pieces[-1]
-    margin = _SECTION_MARGIN * period
+    margin = SECTION_MARGIN * period
     if (first[3] != 0 and last[3] != 0 and first[4] - first[0] > margin and last[4] - last[0] > margin
             and len(pieces) > 1 and v0 != 0.0 and not _near_reversal(kernel, 0.0, x0, v0, first[3], margin)):
         return 0.0, np.array([x0, v0]), 1.0

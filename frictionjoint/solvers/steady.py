@@ -22,7 +22,19 @@ from .monodromy import march_jacobian
 from .response import displacement_observables, piece_fourier, piece_peaks
 from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
-__all__ = ["periodic_response", "failed_response"]
+__all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT"]
+
+#: finite-difference step of the period map's Jacobian, relative to the component scale
+FD_STEP = 1e-7
+#: ... and its floor relative to the static deflection excitation / K (the map's rounding is
+#: eps excitation / K; the step stays well above it)
+FD_FLOOR = 1e-9
+#: the section is put at t = 0 only if the pieces on both sides of it are longer than this
+#: fraction of the period and no event function is that close to a zero (else mid-piece)
+SECTION_MARGIN = 0.02
+#: a Jacobian taken where the residual was above this is retaken at the orbit for the
+#: uniqueness test and the Floquet multipliers
+JACOBIAN_AT_ORBIT = 1e-6
 
 
 class _PeriodMap:
@@ -46,7 +58,7 @@ class _PeriodMap:
                                       float(np.max(np.abs(system.mass))), system.omega, tol)
         # finite-difference steps stay well above the map's rounding, eps excitation / K (the
         # static deflections the closed-form pieces carry; see residual_floor)
-        self.fd_floor = 1e-9 * excitation / k_static if excitation > 0 and k_static > 0 else 0.0
+        self.fd_floor = FD_FLOOR * excitation / k_static if excitation > 0 and k_static > 0 else 0.0
         self.w_char = max(system.omega, float(np.max(system.structure.natural_frequencies(), initial=0)))
 
     def state(self, z: np.ndarray) -> MarchState:
@@ -112,7 +124,7 @@ def _jacobian(pmap: _PeriodMap, z, pz, scale):
     jac = np.empty((nz, nz))
     n = pmap.n
     for k in range(nz):
-        dz = max(1e-7 * scale[k], pmap.fd_floor * (pmap.w_char if n <= k < 2 * n else 1.0))
+        dz = max(FD_STEP * scale[k], pmap.fd_floor * (pmap.w_char if n <= k < 2 * n else 1.0))
         if k >= 2 * n:  # Jenkins slider position: perturb towards the inside of the slip limit
             j = pmap.jen[k - 2 * n]
             s = pmap.system.slider_direction[j] @ z[:n]
@@ -213,7 +225,7 @@ def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jaco
     m.march(st, period, on_interval=keep_first)
     fewest = min(p[2] for p in pieces)
     first, last = pieces[0], pieces[-1]
-    margin = 0.02 * period
+    margin = SECTION_MARGIN * period
     if (first[2] == fewest and last[2] == fewest and first[1] > margin
             and last[1] > margin and len(pieces) > 1 and not _near_event(first_itv[0], margin)):
         t_s = 0.0
@@ -351,7 +363,7 @@ def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_sa
     orbit = pmap.last if pmap.last is not None and np.array_equal(pmap.last[0], z) else None
     unique = True
     if converged:
-        if jac is None or jac_rnorm > 1e-6:
+        if jac is None or jac_rnorm > JACOBIAN_AT_ORBIT:
             # the uniqueness test needs the Jacobian at the orbit, not at a far iterate
             pz_orbit = orbit[1] if orbit is not None else pmap(z)
             jac = pmap.jacobian(z, pz_orbit, pmap.scales(z))
