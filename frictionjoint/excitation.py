@@ -105,7 +105,18 @@ class ExternalForce:
         object.__setattr__(self, "values", v)
 
     def value(self, t: float) -> float:
-        """Held value at time ``t`` [N]."""
+        """Held value at time ``t`` [N].
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+
+        Returns
+        -------
+        float
+            ``values[i]`` [N] for ``times[i] <= t < times[i+1]``; 0 outside ``[times[0], times[-1])``.
+        """
         i = np.searchsorted(self.times, t, side="right") - 1
         if i < 0 or i >= self.values.size:
             return 0.0

@@ -2,8 +2,10 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .elements import CoulombSlider
 from .errors import ConvergenceError, check_count, check_nonnegative, check_positive, check_real
@@ -94,8 +96,8 @@ class CoulombOscillator:
                 f"omega={self.omega}, damping={self.damping}, base_amplitude={self.base_amplitude})")
 
     # ------------------------------------------------------------ solvers
-    def simulate(self, t_end: float, x0: float = 0.0, v0: float = 0.0, t_eval=None,
-                 record=("x", "v", "friction_force")) -> TimeResponse:
+    def simulate(self, t_end: float, x0: float = 0.0, v0: float = 0.0, t_eval: ArrayLike | None = None,
+                 record: str | Sequence[str] = ("x", "v", "friction_force")) -> TimeResponse:
         """Exact time response from ``t = 0``.
 
         Parameters
@@ -106,8 +108,9 @@ class CoulombOscillator:
             Initial displacement [m] and velocity [m/s].
         t_eval : (n_t,) array_like, optional
             Output times in ``[0, t_end]``; default 32 per period.
-        record : sequence of str
-            Among ``'x'``, ``'v'``, ``'friction_force'``, ``'energy'``.
+        record : str or sequence of str
+            Among ``'x'``, ``'v'``, ``'friction_force'``, ``'energy'`` (a single name may be given
+            as a str).
 
         Returns
         -------

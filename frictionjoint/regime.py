@@ -20,10 +20,16 @@ import os
 import sys
 import warnings
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .errors import ParameterError, check_grid
+
+if TYPE_CHECKING:  # computing never imports matplotlib
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["RegimeMap", "regime_map", "classify", "REGIMES"]
 
@@ -128,7 +134,23 @@ class RegimeMap:
         return out.astype(str)
 
     def at(self, friction_ratio: float, frequency_ratio: float) -> tuple[str, int]:
-        """``(regime, stops_per_cycle)`` at the grid point nearest to ``(f, r)``."""
+        """``(regime, stops_per_cycle)`` at the grid point nearest to ``(f, r)``.
+
+        Parameters
+        ----------
+        friction_ratio : float
+            ``f = F/P0`` [-]; the nearest of :attr:`friction_ratios` is taken.
+        frequency_ratio : float
+            ``r = w/wn`` [-]; the nearest of :attr:`frequency_ratios` is taken.
+
+        Returns
+        -------
+        regime : str
+            One of :data:`REGIMES`.
+        stops_per_cycle : int
+            Stops of finite duration per cycle; ``-1`` unless ``regime`` is ``'stop-free'`` or
+            ``'stops'``.
+        """
         i = int(np.argmin(np.abs(self.friction_ratios - friction_ratio)))
         j = int(np.argmin(np.abs(self.frequency_ratios - frequency_ratio)))
         return str(self.regime[i, j]), int(self.stops_per_cycle[i, j])
@@ -156,7 +178,7 @@ class RegimeMap:
         lines.append("S permanent stick, U unbounded, ? not converged, * not unique (a family of orbits)")
         return "\n".join(lines)
 
-    def to_csv(self, path) -> None:
+    def to_csv(self, path: str | os.PathLike) -> None:
         """Write one row per grid point: friction_ratio, frequency_ratio, regime, stops, flags.
 
         Parameters
@@ -173,7 +195,7 @@ class RegimeMap:
                             reg, int(self.stops_per_cycle[i, j]), bool(self.converged[i, j]),
                             bool(self.unique[i, j]), repr(float(self.periods[i, j])), self.message[i, j]])
 
-    def plot(self, path=None, ax=None):
+    def plot(self, path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
         """Categorical map of the regimes (see :func:`frictionjoint.plotting.plot_regime_map`).
 
         Parameters
@@ -192,7 +214,8 @@ class RegimeMap:
         return plot_regime_map(self, path=path, ax=ax)
 
 
-def regime_map(friction_ratios, frequency_ratios, progress: bool = False, jobs: int = 1) -> RegimeMap:
+def regime_map(friction_ratios: ArrayLike, frequency_ratios: ArrayLike, progress: bool = False,
+               jobs: int = 1) -> RegimeMap:
     """Hong & Liu's map of the number of stops per cycle over ``(F/P0, r)``.
 
     Every grid point is an independent steady-state computation for ``m = k = P0 = 1``

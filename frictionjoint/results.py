@@ -2,9 +2,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:  # computing never imports matplotlib
+    from matplotlib.axes import Axes
 
 __all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult", "STABILITY_MARGIN"]
 
@@ -60,8 +64,22 @@ class TimeResponse:
         return (self.work - (self.stored_energy - self.stored_energy[0])
                 - self.dissipated_friction - self.dissipated_viscous)
 
-    def plot(self, ax=None, **kwargs):
-        """Plot displacement against time (see :func:`frictionjoint.plotting.plot_time_response`)."""
+    def plot(self, ax: Axes | None = None, **kwargs: Any) -> Axes:
+        """Plot displacement against time (see :func:`frictionjoint.plotting.plot_time_response`).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Draw into these axes (a new figure if omitted).
+        **kwargs
+            Passed to :func:`~frictionjoint.plotting.plot_time_response`: ``path`` (str or
+            os.PathLike, write the figure there), the rest to ``Axes.plot`` for the displacement lines.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes of the displacement.
+        """
         from .plotting import plot_time_response
 
         return plot_time_response(self, ax=ax, **kwargs)
@@ -144,8 +162,17 @@ class PeriodicResponse:
         """True when a periodic orbit was found (``converged``; the result contract's name)."""
         return bool(self.converged)
 
-    def set_multipliers(self, multipliers) -> None:
-        """Store the Floquet multipliers and the stability verdict they give."""
+    def set_multipliers(self, multipliers: ArrayLike) -> None:
+        """Store the Floquet multipliers and the stability verdict they give.
+
+        Sets :attr:`floquet_multipliers` and :attr:`stable` (True when every multiplier has
+        modulus below ``1 - STABILITY_MARGIN``; True for an empty set).
+
+        Parameters
+        ----------
+        multipliers : (n_state,) array_like of complex
+            Eigenvalues of the monodromy matrix (the period map's Jacobian) at the orbit [-].
+        """
         self.floquet_multipliers = np.asarray(multipliers)
         self.stable = bool(np.max(np.abs(self.floquet_multipliers), initial=0.0) < 1.0 - STABILITY_MARGIN)
 

@@ -37,9 +37,10 @@ steady-state dissipation per cycle does not depend on the initial slips.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 import scipy.linalg
 import scipy.optimize
 
@@ -131,9 +132,27 @@ class PeriodicLoad:
                 np.vstack([self.normal, self.normal[:1]]))
 
     @classmethod
-    def from_function(cls, tangential, normal, period: float, n_samples: int) -> "PeriodicLoad":
+    def from_function(cls, tangential: Callable[[float], ArrayLike], normal: Callable[[float], ArrayLike],
+                      period: float, n_samples: int) -> "PeriodicLoad":
         """Sample ``tangential(t)`` and ``normal(t)`` (callables returning ``(n,)`` [N]) at
-        ``n_samples`` equally spaced times ``k period / n_samples``."""
+        ``n_samples`` equally spaced times ``k period / n_samples``.
+
+        Parameters
+        ----------
+        tangential : callable
+            ``tangential(t) -> (n,) array_like``: welded tangential nodal forces ``q_ext`` [N] at
+            time ``t`` [s].
+        normal : callable
+            ``normal(t) -> (n,) array_like``: normal nodal forces ``N`` [N] > 0 at time ``t`` [s].
+        period : float
+            Period [s], > 0.
+        n_samples : int
+            Samples per period, >= 1.
+
+        Returns
+        -------
+        PeriodicLoad
+        """
         period = check_positive("period", period)
         n_samples = _check_count("n_samples", n_samples)
         t = period * np.arange(n_samples) / n_samples
@@ -301,13 +320,49 @@ class QuasiStaticFrictionSystem:
         g = self.friction_coefficient * load.normal
         return _RTOL * np.max(g + np.abs(load.tangential), axis=0)
 
-    def tangential_force(self, load_tangential, slip) -> np.ndarray:
-        """``q = q_ext - K w`` [N], (n,)."""
+    def tangential_force(self, load_tangential: ArrayLike, slip: ArrayLike) -> np.ndarray:
+        """``q = q_ext - K w`` [N], (n,).
+
+        Parameters
+        ----------
+        load_tangential : (n,) array_like
+            Welded tangential nodal forces ``q_ext`` [N] (one sample of
+            :attr:`PeriodicLoad.tangential`).
+        slip : (n,) array_like
+            Tangential slips ``w`` [m].
+
+        Returns
+        -------
+        (n,) ndarray
+            Tangential nodal forces ``q`` [N].
+        """
         return np.asarray(load_tangential, dtype=float) - self.stiffness @ np.asarray(slip, dtype=float)
 
-    def check_slip(self, load: PeriodicLoad, slip, name: str = "slip") -> np.ndarray:
+    def check_slip(self, load: PeriodicLoad, slip: ArrayLike, name: str = "slip") -> np.ndarray:
         """Return ``slip`` (n,) [m] as an array if it satisfies the friction bound at ``t = 0``,
-        else raise :class:`ParameterError` naming ``name`` and the first violating node."""
+        else raise :class:`ParameterError` naming ``name`` and the first violating node.
+
+        Parameters
+        ----------
+        load : PeriodicLoad
+            The load; its first sample (``t = 0``) gives the friction bound, and it must have
+            :attr:`n_nodes` nodes.
+        slip : (n,) array_like
+            Slips ``w`` [m] at ``t = 0``, finite.
+        name : str
+            Name of the argument in the error messages.
+
+        Returns
+        -------
+        (n,) ndarray
+            ``slip`` as a new float array [m].
+
+        Raises
+        ------
+        ParameterError
+            If ``load`` is not a :class:`PeriodicLoad` with :attr:`n_nodes` nodes, ``slip`` is
+            not finite or of shape (n,), or it violates ``|q_i| <= f_i N_i`` at ``t = 0``.
+        """
         self._check_load(load)
         w = _finite_array(name, slip, f"({self.n_nodes},)")
         if w.shape != (self.n_nodes,):
@@ -320,11 +375,23 @@ class QuasiStaticFrictionSystem:
                                  f"{bad[0]} (by {excess[bad[0]]:.3g} N)")
         return w
 
-    def run_cycle(self, load: PeriodicLoad, slip) -> CycleResult:
+    def run_cycle(self, load: PeriodicLoad, slip: ArrayLike) -> CycleResult:
         """March one period of ``load`` exactly from the slips ``slip`` (n,) [m] at ``t = 0``.
 
         ``slip`` must satisfy the friction bound at ``t = 0`` (see :meth:`check_slip`).
         Nothing is mutated: the state is the returned ``slip_end``.
+
+        Parameters
+        ----------
+        load : PeriodicLoad
+            Periodic load with :attr:`n_nodes` nodes.
+        slip : (n,) array_like
+            Slips ``w`` [m] at ``t = 0``, within the friction bound.
+
+        Returns
+        -------
+        CycleResult
+            Slips at the samples, dissipation, work and stored-energy change of the period.
         """
         w = self.check_slip(load, slip)
         times, q_ext, normal = load.closed()
@@ -349,8 +416,23 @@ class QuasiStaticFrictionSystem:
         energy = 0.5 * (q1 @ scipy.linalg.cho_solve(self._cho, q1) - q0 @ scipy.linalg.cho_solve(self._cho, q0))
         return CycleResult(np.array(out), dissipation, variation, work, float(energy), n_events)
 
-    def run(self, load: PeriodicLoad, initial_slip, n_cycles: int) -> list:
-        """``n_cycles`` consecutive periods from ``initial_slip`` (n,) [m]: list of :class:`CycleResult`."""
+    def run(self, load: PeriodicLoad, initial_slip: ArrayLike, n_cycles: int) -> list[CycleResult]:
+        """``n_cycles`` consecutive periods from ``initial_slip`` (n,) [m]: list of :class:`CycleResult`.
+
+        Parameters
+        ----------
+        load : PeriodicLoad
+            Periodic load with :attr:`n_nodes` nodes.
+        initial_slip : (n,) array_like
+            Slips ``w`` [m] at ``t = 0``, within the friction bound.
+        n_cycles : int
+            Number of periods to march, >= 1.
+
+        Returns
+        -------
+        list of CycleResult
+            One per period, in order; each starts from the previous one's ``slip_end``.
+        """
         n_cycles = _check_count("n_cycles", n_cycles)
         w = self.check_slip(load, initial_slip, "initial_slip")
         out = []
@@ -467,7 +549,7 @@ class ShakedownResult:
         return self.status == "shakedown"
 
 
-def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initial_slip=None,
+def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initial_slip: ArrayLike | None = None,
                     n_cycles: int = 200, rtol: float = 1e-12, melan: bool = True) -> ShakedownResult:
     """March periods of ``load`` until the response is periodic, and classify it.
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .errors import ParameterError, check_count, check_nonnegative, check_positive
 
@@ -54,7 +55,8 @@ class LinearStructure:
         Names of the DOFs; ``"x0", "x1", ...`` if omitted.
     """
 
-    def __init__(self, mass, stiffness, damping=None, dof_names: Sequence[str] | None = None):
+    def __init__(self, mass: ArrayLike, stiffness: ArrayLike, damping: ArrayLike | None = None,
+                 dof_names: Sequence[str] | None = None):
         self.mass = _square_matrix("mass", mass, None)
         n = self.mass.shape[0]
         self.stiffness = _square_matrix("stiffness", stiffness, n)
@@ -104,8 +106,19 @@ class LinearStructure:
         """Number of degrees of freedom."""
         return self.mass.shape[0]
 
-    def dof_index(self, dof) -> int:
-        """Index of a DOF given by name or index."""
+    def dof_index(self, dof: int | str) -> int:
+        """Index of a DOF given by name or index.
+
+        Parameters
+        ----------
+        dof : int or str
+            Index or name of the DOF.
+
+        Returns
+        -------
+        int
+            Index of the DOF, in ``[0, n_dof)``.
+        """
         if isinstance(dof, str):
             try:
                 return self.dof_names.index(dof)
@@ -117,8 +130,22 @@ class LinearStructure:
             raise ParameterError(f"dof must be in [0, {self.n_dof - 1}], got {dof}")
         return int(dof)
 
-    def direction(self, dof=None, direction=None) -> np.ndarray:
-        """Unit-free direction vector (n,) of an element attached at ``dof`` or along ``direction``."""
+    def direction(self, dof: int | str | None = None, direction: ArrayLike | None = None) -> np.ndarray:
+        """Unit-free direction vector (n,) of an element attached at ``dof`` or along ``direction``.
+
+        Parameters
+        ----------
+        dof : int or str, optional
+            Index or name of the DOF the element connects to the ground.
+        direction : (n,) array_like, optional
+            Finite non-zero direction vector over the DOFs, instead of ``dof`` (exactly one of the
+            two must be given).
+
+        Returns
+        -------
+        (n,) ndarray
+            The unit vector of ``dof``, or ``direction`` as a float array (not normalised).
+        """
         if (dof is None) == (direction is None):
             raise ParameterError("give exactly one of dof and direction")
         if dof is not None:

@@ -15,17 +15,22 @@ from __future__ import annotations
 import csv
 import functools
 import math
+import os
 import sys
 import warnings
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import TYPE_CHECKING, Callable, Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .errors import (ParameterError, check_count, check_grid, check_nonnegative, check_oscillator,
                      check_positive, check_system)
 from .regime import classify
 from .system import FrictionSystem
+
+if TYPE_CHECKING:  # computing never imports matplotlib
+    from matplotlib.figure import Figure
 
 __all__ = ["FrequencyResponse", "SystemSweep", "oscillator_sweep", "system_sweep", "peak_response",
            "den_hartog_curve", "DIRECTIONS"]
@@ -151,7 +156,24 @@ class FrequencyResponse:
         return ~np.ma.getmaskarray(self.analytic_amplitude)
 
     def select(self, branch: str) -> "FrequencyResponse":
-        """The points of one branch (``'up'`` or ``'down'``) as a new :class:`FrequencyResponse`."""
+        """The points of one branch (``'up'`` or ``'down'``) as a new :class:`FrequencyResponse`.
+
+        Parameters
+        ----------
+        branch : {'up', 'down'}
+            The branch to keep.
+
+        Returns
+        -------
+        FrequencyResponse
+            The points with ``self.branch == branch``, in the order computed (per-point arrays,
+            ``message`` and ``harmonics`` filtered; the other fields shared).
+
+        Raises
+        ------
+        ParameterError
+            If ``branch`` is neither ``'up'`` nor ``'down'``.
+        """
         if branch not in ("up", "down"):
             raise ParameterError(f"branch must be 'up' or 'down', got {branch!r}")
         keep = self.branch == branch
@@ -282,7 +304,7 @@ class FrequencyResponse:
             lines.append("* not unique: one member of a family of periodic orbits")
         return "\n".join(lines)
 
-    def to_csv(self, path) -> None:
+    def to_csv(self, path: str | os.PathLike) -> None:
         """Write one row per point; masked entries are empty cells, floats round-trip exactly.
 
         Leading ``# key = value`` lines record ``natural_frequency``, ``analytic_name`` and the
@@ -317,7 +339,7 @@ class FrequencyResponse:
                             *[repr(float(col[i])) for h in self.harmonics.values() for col in h.values()]])
 
     @classmethod
-    def from_csv(cls, path) -> "FrequencyResponse":
+    def from_csv(cls, path: str | os.PathLike) -> "FrequencyResponse":
         """Read a file written by :meth:`to_csv` (the ``reference`` callable is not restored).
 
         Parameters
@@ -368,7 +390,7 @@ class FrequencyResponse:
             analytic_name=name, parameters=params, harmonics=harmonics,
         )
 
-    def plot(self, path=None, phase: bool = True):
+    def plot(self, path: str | os.PathLike | None = None, phase: bool = True) -> Figure:
         """Amplitude (and phase) against frequency (see :func:`frictionjoint.plotting.plot_frequency_response`).
 
         Parameters
@@ -457,7 +479,7 @@ def _steady_state(osc, state):
 
 
 def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amplitude: float,
-                     omegas, damping: float = 0.0, base_amplitude: float = 0.0,
+                     omegas: ArrayLike, damping: float = 0.0, base_amplitude: float = 0.0,
                      direction: str = "up", progress: bool = False) -> FrequencyResponse:
     """Stepped-sine forced response of the single-DOF Coulomb oscillator.
 
@@ -692,7 +714,7 @@ def _check_build(build) -> None:
         raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
 
 
-def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep:
+def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> SystemSweep:
     """Periodic steady state of ``build(omega)`` at each ``omega`` [rad/s], in the given order,
     each started from the previous orbit (its state at ``t = 0``).
 
@@ -704,6 +726,11 @@ def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep
         Angular frequencies [rad/s], > 0.
     progress : bool
         Show a progress bar.
+
+    Returns
+    -------
+    SystemSweep
+        One row per frequency, in the order of ``omegas``.
     """
     from tqdm import tqdm
 
@@ -731,11 +758,24 @@ def system_sweep(build: Callable, omegas, progress: bool = False) -> SystemSweep
 
 
 def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int = 0, n_grid: int = 25,
-                  xtol: float = 1e-6):
+                  xtol: float = 1e-6) -> tuple[float, float, SystemSweep]:
     """Resonance peak of the first-harmonic amplitude of DOF ``dof`` over ``[omega_min, omega_max]``.
 
     A stepped sweep over ``n_grid`` frequencies brackets the largest amplitude, then a bounded
     scalar search (Brent) refines it to ``xtol`` relative in ``omega``.
+
+    Parameters
+    ----------
+    build : callable
+        ``build(omega) -> FrictionSystem`` with harmonic excitation at ``omega`` [rad/s].
+    omega_min, omega_max : float
+        Frequency interval [rad/s], ``0 < omega_min < omega_max``.
+    dof : int
+        Index of the DOF whose first-harmonic amplitude is maximised, in ``[0, n_dof)``.
+    n_grid : int
+        Equally spaced frequencies of the bracketing sweep, >= 3.
+    xtol : float
+        Tolerance of the search relative in ``omega`` [-], in ``(0, 1)``.
 
     Returns
     -------

@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .errors import ParameterError, check_positive
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
@@ -119,7 +120,19 @@ class FrictionSystem:
         return self.slip_force.size
 
     def external_force(self, t: float) -> np.ndarray:
-        """Held external force vector (n_dof,) [N] at time ``t``, with the elements' constant force."""
+        """Held external force vector (n_dof,) [N] at time ``t``, with the elements' constant force.
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+
+        Returns
+        -------
+        (n_dof,) ndarray
+            Sum of the held :class:`ExternalForce` values at ``t`` and the elements' constant force
+            (e.g. a dovetail root's centrifugal load) [N].
+        """
         f = self.constant_force.copy()
         for i, e in self.external:
             f[i] += e.value(t)
@@ -131,8 +144,20 @@ class FrictionSystem:
             return np.empty(0)
         return np.unique(np.concatenate([e.times for _, e in self.external]))
 
-    def harmonic_force(self, t) -> np.ndarray:
-        """Equivalent harmonic force (n_dof, ...) [N] at time(s) ``t``."""
+    def harmonic_force(self, t: ArrayLike) -> np.ndarray:
+        """Equivalent harmonic force (n_dof, ...) [N] at time(s) ``t``.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time or times [s].
+
+        Returns
+        -------
+        (n_dof, ...) ndarray
+            ``force_cos cos(omega t) + force_sin sin(omega t)`` [N] of the harmonic forces and base
+            motions; the trailing axes are those of ``t``.
+        """
         t = np.asarray(t, dtype=float)
         return (np.multiply.outer(self.force_cos, np.cos(self.omega * t))
                 + np.multiply.outer(self.force_sin, np.sin(self.omega * t)))

@@ -42,10 +42,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import math
+from typing import Any, Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_positive, check_real
+from ..structure import LinearStructure
 from .base import Attachment, Slider
 from .driven import DrivenSliders
 from .jenkins import Jenkins
@@ -101,9 +104,10 @@ class DovetailRoot:
         Sliders per microslip flank, >= 1.
     """
 
-    def __init__(self, centrifugal_force, flank_angle, friction_coefficient, normal_stiffness,
-                 tangential_stiffness=None, tangential_dof=None, radial_dof=None, flank_contact=None,
-                 n_sliders: int = 16):
+    def __init__(self, centrifugal_force: float, flank_angle: float, friction_coefficient: float,
+                 normal_stiffness: float, tangential_stiffness: float | None = None,
+                 tangential_dof: str | int | None = None, radial_dof: str | int | None = None,
+                 flank_contact: Callable[[float], Any] | None = None, n_sliders: int = 16):
         self.centrifugal_force = check_positive("centrifugal_force", centrifugal_force)
         g = check_real("flank_angle", flank_angle)
         if not 0.0 <= g < 0.5 * math.pi:
@@ -157,9 +161,27 @@ class DovetailRoot:
         self.tangents = np.array([[-c, s], [c, s]])
 
     @classmethod
-    def from_rotor(cls, rotor_speed, blade_mass, radius, **kwargs):
+    def from_rotor(cls, rotor_speed: float, blade_mass: float, radius: float, **kwargs: Any) -> DovetailRoot:
         """Root with ``Fc = blade_mass * rotor_speed**2 * radius`` (rotor speed [rad/s], blade mass
-        [kg], radius of the blade's centre of mass [m]); other arguments as the constructor."""
+        [kg], radius of the blade's centre of mass [m]); other arguments as the constructor.
+
+        Parameters
+        ----------
+        rotor_speed : float
+            Rotor angular speed [rad/s], > 0.
+        blade_mass : float
+            Blade mass [kg], > 0.
+        radius : float
+            Radius of the blade's centre of mass [m], > 0.
+        **kwargs
+            The other constructor arguments (``flank_angle``, ``friction_coefficient``,
+            ``normal_stiffness``, ...), by keyword.
+
+        Returns
+        -------
+        DovetailRoot
+            The root with ``centrifugal_force = blade_mass * rotor_speed**2 * radius`` [N].
+        """
         w = check_positive("rotor_speed", rotor_speed)
         m = check_positive("blade_mass", blade_mass)
         r = check_positive("radius", radius)
@@ -177,13 +199,40 @@ class DovetailRoot:
         return DovetailStatic(n0, mu * n0, n0 / (kn * c), "slipping")
 
     @staticmethod
-    def frictionless_normal_force(centrifugal_force, flank_angle) -> float:
-        """``N = Fc/(2 cos g)`` [N] per flank without friction."""
+    def frictionless_normal_force(centrifugal_force: float, flank_angle: float) -> float:
+        """``N = Fc/(2 cos g)`` [N] per flank without friction.
+
+        Parameters
+        ----------
+        centrifugal_force : float
+            ``Fc`` [N], > 0.
+        flank_angle : float
+            ``gamma`` [rad], angle between the flank normal and the radial axis.
+
+        Returns
+        -------
+        float
+            Normal force ``N`` of one flank [N].
+        """
         return check_positive("centrifugal_force", centrifugal_force) / (
             2.0 * math.cos(check_real("flank_angle", flank_angle)))
 
-    def root_force(self, normal_forces, friction_forces) -> np.ndarray:
-        """Force ``sum_i (N_i n_i - T_i t_i)`` [N] of the flanks on the blade, ``(X, Y)``."""
+    def root_force(self, normal_forces: ArrayLike, friction_forces: ArrayLike) -> np.ndarray:
+        """Force ``sum_i (N_i n_i - T_i t_i)`` [N] of the flanks on the blade, ``(X, Y)``.
+
+        Parameters
+        ----------
+        normal_forces : (2,) array_like
+            Normal forces ``N_i`` of the right and left flanks [N].
+        friction_forces : (2,) array_like
+            Friction forces ``T_i`` of the right and left flanks [N], positive radially inward on
+            the blade (sign convention of :mod:`~frictionjoint.elements.dovetail`).
+
+        Returns
+        -------
+        (2,) ndarray
+            Force of the flanks on the blade ``(X, Y)`` [N].
+        """
         n = np.asarray(normal_forces, dtype=float)
         t = np.asarray(friction_forces, dtype=float)
         return n @ self.normals - t @ self.tangents
@@ -214,11 +263,26 @@ class DovetailRoot:
         return (self.normal_stiffness * self.normals.T @ self.normals
                 + self.tangential_stiffness * self.tangents.T @ self.tangents)
 
-    def equivalent_jenkins(self, dof=None, direction=None) -> tuple[Jenkins, float]:
+    def equivalent_jenkins(self, dof: str | int | None = None,
+                           direction: ArrayLike | None = None) -> tuple[Jenkins, float]:
         """Equivalent element for purely tangential root motion (frozen ``N0``).
 
         Returns ``(Jenkins(2 kt cos^2 g, 2 mu N0 cos g), 2 kn sin^2 g)``: the Jenkins element and
         the stiffness [N/m] of the linear spring in parallel with it (flat flanks only).
+
+        Parameters
+        ----------
+        dof : str or int, optional
+            DOF the returned Jenkins element connects to the ground (passed to :class:`Jenkins`).
+        direction : (n_dof,) array_like, optional
+            Direction vector instead of ``dof`` (passed to :class:`Jenkins`).
+
+        Returns
+        -------
+        jenkins : Jenkins
+            Stiffness ``2 kt cos^2 g`` [N/m], slip force ``2 mu N0 cos g`` [N].
+        spring_stiffness : float
+            Stiffness ``2 kn sin^2 g`` [N/m] of the linear spring in parallel.
         """
         if self._table is not None:
             raise ParameterError("equivalent_jenkins needs flat flanks (flank_contact is None)")
@@ -237,9 +301,22 @@ class DovetailRoot:
                 a[row, structure.dof_index(dof)] = 1.0
         return a
 
-    def attach(self, structure) -> Attachment:
+    def attach(self, structure: LinearStructure) -> Attachment:
         """Sliders along each flank tangent, normal springs and the centrifugal force, projected
-        onto the structure's root DOFs (coordinates measured from the static state)."""
+        onto the structure's root DOFs (coordinates measured from the static state).
+
+        Parameters
+        ----------
+        structure : LinearStructure
+            Structure holding ``tangential_dof`` and ``radial_dof``.
+
+        Returns
+        -------
+        Attachment
+            Slider directions ``(k, n_dof)``, the ``k`` flank sliders and their static preloads [N],
+            the normal springs' stiffness ``(n_dof, n_dof)`` [N/m] and the constant force
+            ``(n_dof,)`` [N] (centrifugal force and normal preloads).
+        """
         a = self._root_map(structure)
         table = self.flank_sliders()
         directions, sliders, preload = [], [], []
@@ -260,7 +337,18 @@ class DovetailRoot:
                           np.array(preload), kn, force)
 
     def driven(self, normal_load_variation: bool = False) -> "DrivenDovetail":
-        """Displacement-driven flanks starting in the static state (:class:`DrivenDovetail`)."""
+        """Displacement-driven flanks starting in the static state (:class:`DrivenDovetail`).
+
+        Parameters
+        ----------
+        normal_load_variation : bool
+            If true (flat flanks only), the normal loads follow the root motion with lift-off;
+            otherwise the slip limits use the frozen static normal load ``N0``.
+
+        Returns
+        -------
+        DrivenDovetail
+        """
         return DrivenDovetail(self, normal_load_variation)
 
     def __repr__(self) -> str:

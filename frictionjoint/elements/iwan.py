@@ -2,8 +2,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_nonnegative, check_positive, check_real
 from .base import Slider
@@ -69,7 +71,8 @@ class Iwan:
     dof: object = None
     direction: object = None
 
-    def __init__(self, sliders, dof=None, direction=None):
+    def __init__(self, sliders: Iterable[tuple[float, float]], dof: str | int | None = None,
+                 direction: ArrayLike | None = None):
         table = []
         try:
             pairs = list(sliders)
@@ -88,7 +91,8 @@ class Iwan:
         object.__setattr__(self, "direction", direction)
 
     @classmethod
-    def segalman(cls, slip_force, stiffness, chi, beta, n_sliders=50, dof=None, direction=None):
+    def segalman(cls, slip_force: float, stiffness: float, chi: float, beta: float, n_sliders: int = 50,
+                 dof: str | int | None = None, direction: ArrayLike | None = None) -> Iwan:
         """Discrete Segalman 4-parameter Iwan element.
 
         Density of slider slip displacements (Segalman 2005, "A four-parameter Iwan model
@@ -115,6 +119,15 @@ class Iwan:
             Stiffness of the delta at ``phi_max`` relative to the power-law part, >= 0.
         n_sliders : int
             Number of sliders for the power-law part, >= 1.
+        dof : str or int, optional
+            DOF the element connects to the ground.
+        direction : (n_dof,) array_like, optional
+            Direction vector instead of ``dof``.
+
+        Returns
+        -------
+        Iwan
+            ``n_sliders`` sliders, plus one for the delta at ``phi_max`` when ``beta > 0``.
         """
         chi, phi_max, r, s = segalman_density(slip_force, stiffness, chi, beta)
         if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
@@ -142,10 +155,20 @@ class Iwan:
         f = np.array([p[1] for p in self.sliders_table])
         return k, f, f / k
 
-    def backbone(self, u):
+    def backbone(self, u: ArrayLike) -> float | np.ndarray:
         """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd).
 
         ``F(u) = sum_i min(k_i |u|, f_i) sgn(u)``: piecewise linear.
+
+        Parameters
+        ----------
+        u : float or array_like
+            Displacement [m], finite.
+
+        Returns
+        -------
+        float or ndarray
+            Backbone force [N], a float for a scalar ``u``, else an array of the shape of ``u``.
         """
         k, f, _ = self._table()
         u = np.asarray(u, dtype=float)
@@ -155,7 +178,18 @@ class Iwan:
         return float(out) if out.ndim == 0 else out
 
     def displacement(self, force: float) -> float:
-        """Displacement [m] where the backbone reaches ``force`` [N], ``|force| < slip_force`` (exact)."""
+        """Displacement [m] where the backbone reaches ``force`` [N], ``|force| < slip_force`` (exact).
+
+        Parameters
+        ----------
+        force : float
+            Backbone force [N], ``|force| < slip_force``.
+
+        Returns
+        -------
+        float
+            Displacement [m] on the backbone, with the sign of ``force``.
+        """
         k, f, phi = self._table()
         q = abs(float(force))
         if not (np.isfinite(q) and q < self.slip_force):
@@ -173,13 +207,35 @@ class Iwan:
         return float(np.copysign(u, force))
 
     def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
-        """Energy [J] per cycle of ``u`` between ``±u*``: ``sum_{phi_i < u*} 4 f_i (u* - phi_i)``."""
+        """Energy [J] per cycle of ``u`` between ``±u*``: ``sum_{phi_i < u*} 4 f_i (u* - phi_i)``.
+
+        Parameters
+        ----------
+        displacement_amplitude : float
+            Displacement amplitude ``u*`` [m], >= 0.
+
+        Returns
+        -------
+        float
+            Energy dissipated per cycle [J].
+        """
         a = check_nonnegative("displacement_amplitude", displacement_amplitude)
         _, f, phi = self._table()
         return float(np.sum(4.0 * f * np.maximum(a - phi, 0.0)))
 
     def dissipation_per_cycle(self, force_amplitude: float) -> float:
-        """Energy [J] per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``."""
+        """Energy [J] per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``.
+
+        Parameters
+        ----------
+        force_amplitude : float
+            Force amplitude ``Q*`` [N], ``0 <= Q* < slip_force``.
+
+        Returns
+        -------
+        float
+            Energy dissipated per cycle [J].
+        """
         q = check_nonnegative("force_amplitude", force_amplitude)
         return self.dissipation_per_displacement_cycle(self.displacement(q))
 

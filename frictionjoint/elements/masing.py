@@ -13,9 +13,10 @@ amplitude ``u*`` is ``D = 8 int_0^u* F du - 4 u* F(u*)``.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Callable, Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 import scipy.integrate
 import scipy.optimize
 
@@ -67,7 +68,7 @@ class ContinuousIwan:
 
     def __init__(self, backbone: Callable, stiffness: float, slip_force: float, slip_displacement: float,
                  inverse: Callable | None = None, primitive: Callable | None = None,
-                 density: Callable | None = None, point_sliders=()):
+                 density: Callable | None = None, point_sliders: Iterable[tuple[float, float]] = ()):
         for name, fun in (("backbone", backbone), ("inverse", inverse), ("primitive", primitive),
                           ("density", density)):
             if not callable(fun) and (name == "backbone" or fun is not None):
@@ -126,12 +127,35 @@ class ContinuousIwan:
         return cls(backbone, kt, float(slip_force), phi_max, primitive=primitive, density=density,
                    point_sliders=((s, phi_max),) if s > 0 else ())
 
-    def backbone(self, u):
-        """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd)."""
+    def backbone(self, u: ArrayLike) -> float | np.ndarray:
+        """Force [N] on monotonic loading from the unstressed state to displacement ``u`` [m] (odd).
+
+        Parameters
+        ----------
+        u : float or array_like
+            Displacement [m], finite; beyond ``slip_displacement`` the force stays at ``slip_force``.
+
+        Returns
+        -------
+        float or ndarray
+            Backbone force [N], a float for a scalar ``u``, else an array of the shape of ``u``.
+        """
         return odd_backbone(lambda a: self._backbone(np.minimum(a, self.slip_displacement)), u)
 
     def displacement(self, force: float) -> float:
-        """Displacement amplitude [m] at which the backbone reaches ``force`` [N], ``|force| < slip_force``."""
+        """Displacement amplitude [m] at which the backbone reaches ``force`` [N], ``|force| < slip_force``.
+
+        Parameters
+        ----------
+        force : float
+            Backbone force [N], ``|force| < slip_force``.
+
+        Returns
+        -------
+        float
+            Displacement [m] on the backbone, with the sign of ``force`` (closed-form ``inverse`` if
+            given, else Brent's method).
+        """
         q = abs(float(force))
         if not (math.isfinite(q) and q < self.slip_force):
             raise ParameterError(f"force must be in (-{self.slip_force:g}, {self.slip_force:g}) N "
@@ -154,7 +178,19 @@ class ContinuousIwan:
         return float(val)
 
     def dissipation_per_displacement_cycle(self, displacement_amplitude: float) -> float:
-        """Energy [J] dissipated per cycle of ``u`` between ``±u*`` (Masing: ``8 int F - 4 u* F(u*)``)."""
+        """Energy [J] dissipated per cycle of ``u`` between ``±u*`` (Masing: ``8 int F - 4 u* F(u*)``).
+
+        Parameters
+        ----------
+        displacement_amplitude : float
+            Displacement amplitude ``u*`` [m], >= 0.
+
+        Returns
+        -------
+        float
+            Energy dissipated per cycle [J] (from ``density`` and ``point_sliders`` if a density is
+            given, else from Masing's rule).
+        """
         a = check_nonnegative("displacement_amplitude", displacement_amplitude)
         if self._density is not None:
             top = min(a, self.slip_displacement)
@@ -165,7 +201,18 @@ class ContinuousIwan:
             + 8.0 * self.slip_force * max(a - self.slip_displacement, 0.0) - 4.0 * a * self.backbone(a)
 
     def dissipation_per_cycle(self, force_amplitude: float) -> float:
-        """Energy [J] dissipated per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``."""
+        """Energy [J] dissipated per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``.
+
+        Parameters
+        ----------
+        force_amplitude : float
+            Force amplitude ``Q*`` [N], ``0 <= Q* < slip_force``.
+
+        Returns
+        -------
+        float
+            Energy dissipated per cycle [J].
+        """
         q = check_nonnegative("force_amplitude", force_amplitude)
         return self.dissipation_per_displacement_cycle(self.displacement(q))
 

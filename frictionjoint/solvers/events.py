@@ -17,8 +17,10 @@ stop) without any small step, and zero-duration stops cannot chatter.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
@@ -52,7 +54,21 @@ class EventLog:
         self.slider: list[int] = []
         self.kind: list[str] = []
 
-    def append(self, t, element, slider, kind):
+    def append(self, t: float, element: int, slider: int, kind: str) -> None:
+        """Record one event.
+
+        Parameters
+        ----------
+        t : float
+            Event time [s].
+        element : int
+            Index of the element that owns the slider.
+        slider : int
+            Index of the slider (among the system's ``n_sliders``).
+        kind : str
+            One of :data:`EVENT_KINDS`: ``'stick'``, ``'slip'``, ``'normal stop'`` or
+            ``'abnormal stop'``.
+        """
         self.time.append(float(t))
         self.element.append(int(element))
         self.slider.append(int(slider))
@@ -65,7 +81,22 @@ class EventLog:
         return iter(zip(self.time, self.element, self.slider, self.kind))
 
     def count(self, kind: str, t_start: float = -math.inf, t_stop: float = math.inf) -> int:
-        """Number of events of ``kind`` with ``t_start <= time < t_stop``."""
+        """Number of events of ``kind`` with ``t_start <= time < t_stop``.
+
+        Parameters
+        ----------
+        kind : str
+            Event kind, one of :data:`EVENT_KINDS`.
+        t_start : float, optional
+            Start of the time window [s] (included); default: no lower bound.
+        t_stop : float, optional
+            End of the time window [s] (excluded); default: no upper bound.
+
+        Returns
+        -------
+        int
+            The number of such events.
+        """
         return sum(1 for t, k in zip(self.time, self.kind) if k == kind and t_start <= t < t_stop)
 
     def __repr__(self) -> str:
@@ -121,9 +152,14 @@ class Marcher:
     """Marches a :class:`~frictionjoint.system.FrictionSystem` exactly from event to event.
 
     Configurations are decomposed lazily, the first time they are visited, and cached.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The system to march.
     """
 
-    def __init__(self, system):
+    def __init__(self, system: FrictionSystem) -> None:
         self.system = check_system("system", system, FrictionSystem)
         self._configs: dict[bytes, ConfigData] = {}
         self._patterns: dict[bytes, _Pattern] = {}
@@ -140,10 +176,17 @@ class Marcher:
         #: event search of modal pieces compiled (:mod:`.search`) or in NumPy (same algorithm)
         self.jit = search.ENABLED
 
-    def set_held_force(self, force) -> None:
+    def set_held_force(self, force: ArrayLike | None) -> None:
         """Hold an extra force vector (n_dof,) [N] from now on (zero-order-hold input, e.g. an
         FMU input over a communication step); ``None`` removes it. Call :meth:`settle` (or
-        :meth:`march`, which settles at its start) afterwards: holding forces may have jumped."""
+        :meth:`march`, which settles at its start) afterwards: holding forces may have jumped.
+
+        Parameters
+        ----------
+        force : float or (n_dof,) array_like or None
+            Extra force [N] added to the system's external force (a scalar is applied to every
+            DOF); must be finite. ``None`` removes the held force.
+        """
         if force is None:
             self.held_force = None
             return
@@ -154,6 +197,19 @@ class Marcher:
 
     # ---------------------------------------------------------------- set-up
     def config(self, status: np.ndarray) -> ConfigData:
+        """Decomposition of the configuration of ``status`` (built on first use, then cached).
+
+        Parameters
+        ----------
+        status : (n_sliders,) int ndarray
+            Stick/slip status: 0 stuck, +1/-1 slipping in the positive/negative direction (only
+            which sliders stick matters).
+
+        Returns
+        -------
+        ConfigData
+            The decomposition of the configuration in which the sliders of status 0 stick.
+        """
         stuck = status == 0
         key = stuck.tobytes()
         cfg = self._configs.get(key)
@@ -250,12 +306,33 @@ class Marcher:
         """Number of configurations decomposed so far."""
         return len(self._configs)
 
-    def initial_state(self, x0, v0, w0=None, t0: float = 0.0, log: EventLog | None = None) -> MarchState:
+    def initial_state(self, x0: ArrayLike, v0: ArrayLike, w0: ArrayLike | None = None, t0: float = 0.0,
+                      log: EventLog | None = None) -> MarchState:
         """Consistent state at ``t0`` from displacement, velocity and slider positions.
 
         ``w0`` defaults to ``s = d . x0`` minus the slider's preload over its stiffness (unstressed
         Jenkins springs unless an element declares a static preload). Sliders moving at ``t0``
         slip in their direction of motion; the others are settled by the stick/slip rules.
+
+        Parameters
+        ----------
+        x0 : float or (n_dof,) array_like
+            Initial displacement [m].
+        v0 : float or (n_dof,) array_like
+            Initial velocity [m/s].
+        w0 : float or (n_sliders,) array_like, optional
+            Initial slider positions [m] along each slider's direction; every Jenkins spring force
+            ``stiffness (d . x0 - w0)`` must be within its slip force. Rigid sliders' entries are
+            replaced by ``d . x0``.
+        t0 : float
+            Start time [s].
+        log : EventLog, optional
+            Receives the status changes made by the initial settling.
+
+        Returns
+        -------
+        MarchState
+            The state at ``t0``, its status settled and consistent with it.
         """
         sysm = self.system
         n = sysm.n_dof
@@ -317,7 +394,20 @@ class Marcher:
         return pat.red_cy, c0, pat.red_cc, pat.red_cs
 
     def force_observables(self, itv: Interval) -> Observables:
-        """Slider forces ``T`` (restoring convention) on an interval, one row per slider."""
+        """Slider forces ``T`` (restoring convention) on an interval, one row per slider.
+
+        Parameters
+        ----------
+        itv : Interval
+            A closed-form piece (from :meth:`interval`, :meth:`settle` or :meth:`march`).
+
+        Returns
+        -------
+        Observables
+            One row per slider [N]: ``status * slip_force`` for a slipping slider, the spring force
+            ``k (d . x - w)`` for a stuck Jenkins slider, the holding force for a stuck rigid one
+            (evaluate them on the piece with :meth:`Interval.reduce`).
+        """
         cfg, state = itv.config, itv
         sysm = self.system
         n = sysm.n_dof
@@ -337,8 +427,23 @@ class Marcher:
                 ax[i] = lr @ cfg.stiffness; av[i] = lr @ sysm.damping; af[i] = -lr
         return Observables(ax, av, af, a0)
 
-    def interval(self, state: MarchState, f_ext=None):
-        """Closed-form :class:`Interval` from ``state`` and its event functions."""
+    def interval(self, state: MarchState, f_ext: np.ndarray | None = None) -> Interval:
+        """Closed-form :class:`Interval` from ``state`` and its event functions.
+
+        Parameters
+        ----------
+        state : MarchState
+            Start of the piece (its status is taken as it is, not settled).
+        f_ext : (n_dof,) ndarray, optional
+            External force held over the piece [N] (the system's held external force plus the
+            force set by :meth:`set_held_force`); default: evaluated at ``state.t``.
+
+        Returns
+        -------
+        Interval
+            The exact motion from ``state.t`` in the configuration of ``state.status``, with its
+            status, slider positions ``w`` and event functions attached.
+        """
         pat = self._pattern(state.status)
         if f_ext is None:
             f_ext = self._f_ext(state.t)
@@ -401,10 +506,29 @@ class Marcher:
         if self._rigid_idx.size:
             state.w[self._rigid_idx] = self._rigid_dir @ state.x
 
-    def settle(self, state: MarchState, log: EventLog | None = None, trigger=None) -> Interval:
+    def settle(self, state: MarchState, log: EventLog | None = None,
+               trigger: tuple[int, str] | None = None) -> Interval:
         """Settle the stick/slip status at ``state.t`` (Hong & Liu's rules); return the interval.
 
         ``trigger`` is the ``(slider, kind)`` of the event that brought the march here, if any.
+
+        Parameters
+        ----------
+        state : MarchState
+            Settled in place: its status is changed until consistent, and the state is projected
+            on it (stuck velocities, slider positions).
+        log : EventLog, optional
+            Receives the status changes (and an abnormal stop: a slider whose velocity reached
+            zero, ``trigger`` kind ``'v'``, that slips on in the same direction).
+        trigger : (int, str) tuple, optional
+            ``(slider, kind)`` of the event that brought the march here: kind ``'v'`` (a slipping
+            slider's velocity reached zero) or ``'+'``/``'-'`` (a stuck slider's force reached its
+            positive/negative slip limit). None at the start of a march or at a time with no event.
+
+        Returns
+        -------
+        Interval
+            The closed-form piece from ``state.t`` in the settled configuration.
         """
         sysm = self.system
         old = state.status.copy()
@@ -491,13 +615,28 @@ class Marcher:
                 log.append(state.t, owner[i], i, "abnormal stop")
 
     # ----------------------------------------------------------- event search
-    def find_event(self, itv: Interval, horizon: float):
+    def find_event(self, itv: Interval, horizon: float) -> tuple[float, int] | None:
         """First event in ``(0, horizon]`` of the interval: ``(tau, j)`` or ``None``.
 
         The search of :mod:`.search` (compiled for modal pieces, NumPy otherwise). The velocity
         scale has a fading memory: halved per interval, raised by the velocity rows seen, so that
         the tolerances follow a response that decays by many orders of magnitude instead of
-        staying tied to the largest velocity ever seen."""
+        staying tied to the largest velocity ever seen.
+
+        Parameters
+        ----------
+        itv : Interval
+            The closed-form piece to search (from :meth:`interval` or :meth:`settle`).
+        horizon : float
+            Length of the search window [s], in local time of ``itv``.
+
+        Returns
+        -------
+        (float, int) tuple or None
+            ``(tau, j)``: the local time [s] of the first event and its row ``j`` in
+            ``itv.events[1]`` (the ``(slider, kind)`` of the event function); None if no event
+            function reaches zero in ``(0, horizon]``.
+        """
         red, meta = itv.events
         if red is None or horizon <= 0:
             return None
@@ -529,7 +668,17 @@ class Marcher:
 
     # ----------------------------------------------------------------- march
     def advance(self, itv: Interval, tau: float, state: MarchState) -> None:
-        """Move ``state`` to local time ``tau`` of ``itv`` (same configuration)."""
+        """Move ``state`` to local time ``tau`` of ``itv`` (same configuration).
+
+        Parameters
+        ----------
+        itv : Interval
+            The closed-form piece ``state`` is on.
+        tau : float
+            Local time [s] from ``itv.t0``.
+        state : MarchState
+            Moved in place (``t``, ``x``, ``v``; projected on its status).
+        """
         x, v = itv.state(tau)
         state.t = itv.t0 + tau
         state.x = x[:, 0]
@@ -537,11 +686,34 @@ class Marcher:
         self._project(state)
 
     def march(self, state: MarchState, t_end: float, log: EventLog | None = None,
-              on_interval=None, itv: Interval | None = None) -> Interval:
+              on_interval: Callable[[Interval, float], object] | None = None,
+              itv: Interval | None = None) -> Interval:
         """March ``state`` (in place) to ``t_end``; return the interval valid at ``t_end``.
 
         ``on_interval(itv, tau_end)`` is called for every closed-form piece, so callers evaluate
         exactly what they need on it (outputs, energy, Fourier integrals) and nothing else.
+
+        Parameters
+        ----------
+        state : MarchState
+            Start state, marched in place (settled first unless ``itv`` is given).
+        t_end : float
+            End time [s].
+        log : EventLog, optional
+            Receives the events of the march.
+        on_interval : callable, optional
+            ``on_interval(itv, tau_end)``, called for every closed-form piece: the
+            :class:`Interval` and its local end time ``tau_end`` [s] (the piece covers
+            ``[itv.t0, itv.t0 + tau_end]`` and ends at an event, a switching time of the held
+            external forces, or ``t_end``).
+        itv : Interval, optional
+            An interval valid at ``state.t`` (e.g. returned by a previous :meth:`march` or
+            :meth:`settle`), reused instead of settling again if its ``t0`` equals ``state.t``.
+
+        Returns
+        -------
+        Interval
+            The closed-form piece valid at ``t_end`` (settled there).
         """
         if itv is None or itv.t0 != state.t:
             itv = self.settle(state, log)

@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ConvergenceError, ParameterError, check_real, check_system
 from ..system import FrictionSystem
@@ -205,8 +207,10 @@ def _check_record(record):
     return record
 
 
-def simulate(system, t_end: float, x0=0.0, v0=0.0, w0=None, t0: float = 0.0, t_eval=None,
-             record=("x", "v", "friction_force"), marcher: Marcher | None = None) -> TimeResponse:
+def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
+             w0: ArrayLike | None = None, t0: float = 0.0, t_eval: ArrayLike | None = None,
+             record: str | Sequence[str] = ("x", "v", "friction_force"),
+             marcher: Marcher | None = None) -> TimeResponse:
     """Exact time response of a :class:`~frictionjoint.system.FrictionSystem`.
 
     Parameters

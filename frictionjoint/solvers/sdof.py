@@ -681,7 +681,18 @@ class SdofCoulomb:
 
     def transition(self, tau: float):
         """Transition matrix of the slipping dynamics over ``tau`` [s]: ``d(x, v)(t0 + tau) /
-        d(x, v)(t0)`` of a slip piece (the homogeneous part of :meth:`_at`), rows ``(x, v)``."""
+        d(x, v)(t0)`` of a slip piece (the homogeneous part of :meth:`_at`), rows ``(x, v)``.
+
+        Parameters
+        ----------
+        tau : float
+            Time elapsed in the slip piece [s].
+
+        Returns
+        -------
+        ((float, float), (float, float))
+            The 2x2 transition matrix as nested tuples, rows ``(x, v)``, columns ``(x0, v0)``.
+        """
         es, esd = self._hom(tau)
         a = self._a
         return ((esd + a * es, es), (-self._wn2 * es, esd - a * es))

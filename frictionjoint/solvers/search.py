@@ -28,10 +28,12 @@ import math
 import numpy as np
 import scipy.optimize
 
-try:
-    import numba
-except ImportError:  # pragma: no cover - numba is a dependency of the installed library
-    numba = None
+numba = None
+if __name__.startswith("frictionjoint."):  # not in an FMU's bundled copy: not even imported there
+    try:
+        import numba
+    except ImportError:  # pragma: no cover - numba is a dependency of the installed library
+        numba = None
 
 __all__ = ["first_event", "numpy_first_event", "RTOL", "ENABLED", "CHUNK"]
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ConvergenceError, ParameterError, check_count, check_system
 from ..system import FrictionSystem
@@ -291,7 +292,8 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
     return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all[0], z0[0], log
 
 
-def periodic_response(system, x0=0.0, v0=0.0, w0=None, *, marcher: Marcher | None = None,
+def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
+                      w0: ArrayLike | None = None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
                       n_samples: int = 0, jacobian: str = "exact") -> PeriodicResponse:
     """Periodic steady state of a harmonically excited :class:`FrictionSystem`.
