@@ -3,7 +3,7 @@
 Baselines: the event-driven scipy solve_ivp brute force of tests/bruteforce.py (DOP853, rtol 1e-12,
 marched period by period to a fixed point), i.e. what a careful user would write; and what most
 users write first, tanh-regularised friction in LSODA (eps = 1e-4 wn P0/k, rtol 1e-9, 60 periods,
-peak of the last; frictionjoint.benchmark.regularised_amplitude). Errors are relative to Den
+peak of the last; benchmarks/harness.py regularised_amplitude). Errors are relative to Den
 Hartog's closed form (frictionjoint.analytic). Usage:
 
     python benchmarks/steady_state.py [--repeat N]
@@ -22,7 +22,7 @@ import bruteforce as bf  # noqa: E402
 
 import frictionjoint as fj  # noqa: E402
 from frictionjoint.analytic import den_hartog  # noqa: E402
-from frictionjoint.benchmark import Case, make_problem, regularised_amplitude  # noqa: E402
+from harness import Case, make_problem, regularised_amplitude  # noqa: E402
 
 
 def best_time(fn, repeat):

@@ -1,7 +1,7 @@
 """Run time against error for the Coulomb oscillator: the exact marchers (the general n-DOF marcher
 and the dedicated single-DOF kernel), steady_state, the FMU sweep, the describing function and the
 scipy baselines (tanh-regularised RK45/LSODA/Radau, event-driven DOP853), all in this process. The
-task, the protocol and the fairness rules are in the docstring of frictionjoint/benchmark.py; this
+task, the protocol and the fairness rules are in the docstring of benchmarks/harness.py; this
 script only runs it (as `frictionjoint bench` does).
 
 Prints the table and the headline ratios (the fastest exact row against the scipy baselines at

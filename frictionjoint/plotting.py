@@ -381,8 +381,8 @@ def plot_work_precision(wp, path=None, floor: float = 1e-17):
 
     Parameters
     ----------
-    wp : frictionjoint.benchmark.WorkPrecision
-        Result of :func:`frictionjoint.benchmark.run_benchmark`.
+    wp : WorkPrecision (benchmarks/harness.py)
+        Result of ``run_benchmark`` of the benchmark harness (``benchmarks/harness.py``).
     path : str or os.PathLike, optional
         Write the figure there.
     floor : float

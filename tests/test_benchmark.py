@@ -1,4 +1,4 @@
-"""Tests of frictionjoint.benchmark and `frictionjoint bench`: the pieces of the quick variant on one
+"""Tests of the benchmark harness (benchmarks/harness.py) and `frictionjoint bench`: the pieces of the quick variant on one
 case (r = 0.8, F/P0 = 0.3). Errors only -- timings belong to the benchmark, not to tests.
 
 The quick `bench` command runs once (in-process, its cases narrowed to the one case, the FMU built
@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-import frictionjoint.benchmark as bm
+from benchmarks import harness as bm  # the harness of the source tree (pytest pythonpath: ".")
 from frictionjoint.cli import main
 
 # tolerances, stated once

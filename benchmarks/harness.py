@@ -77,11 +77,11 @@ import scipy
 import scipy.optimize
 from scipy.integrate import solve_ivp
 
-from .analytic import den_hartog_response, harmonic_balance_amplitude
-from .errors import ParameterError
-from .oscillator import CoulombOscillator
-from .solvers.events import Marcher
-from .solvers.sdof import SdofCoulomb
+from frictionjoint.analytic import den_hartog_response, harmonic_balance_amplitude
+from frictionjoint.errors import ParameterError
+from frictionjoint.oscillator import CoulombOscillator
+from frictionjoint.solvers.events import Marcher
+from frictionjoint.solvers.sdof import SdofCoulomb
 
 __all__ = ["Case", "Problem", "Row", "WorkPrecision", "CASES", "PERIODS", "COLUMNS",
            "make_problem", "marcher_amplitude", "sdof_amplitude", "steady_state_amplitude",
@@ -321,7 +321,7 @@ def fmu_sweep_amplitude(problem: Problem, fmu, n_samples: int = 256) -> float:
     float
         Amplitude [m] (``nan`` if not converged).
     """
-    from .sweep import sweep
+    from frictionjoint.sweep import sweep
 
     params = dict(mass=problem.mass, stiffness=problem.stiffness, slip_force=problem.slip_force,
                   force_amplitude=problem.force_amplitude)
@@ -657,7 +657,7 @@ class WorkPrecision:
         refs = "; ".join(f"{c.label}: {p.reference_name}, A_ref = {p.reference!r}"
                          for c, p in self.problems.items())
         return [
-            "work-precision benchmark of frictionjoint (frictionjoint/benchmark.py, `frictionjoint bench`)",
+            "work-precision benchmark of frictionjoint (benchmarks/harness.py, `frictionjoint bench`)",
             "task: amplitude max|x| of the periodic steady state of m x'' + k x + F sgn(x') = P0 cos(w t), "
             "m = k = P0 = 1; relative_error = |A/A_ref - 1|",
             f"marching methods start on the reference orbit at t = 0, integrate {self.periods} periods, "
@@ -697,7 +697,7 @@ class WorkPrecision:
         -------
         matplotlib.figure.Figure
         """
-        from .plotting import plot_work_precision
+        from frictionjoint.plotting import plot_work_precision
 
         return plot_work_precision(self, path)
 
@@ -793,7 +793,7 @@ def run_benchmark(quick: bool = False, cases=None, repeat: Optional[int] = None,
         raise ParameterError(f"repeat must be an integer >= 1, got {repeat!r}")
     tmp = None
     if isinstance(fmu, str) and fmu == "build":
-        from .fmi.build import build_fmus
+        from frictionjoint.fmi.build import build_fmus
 
         tmp = tempfile.TemporaryDirectory(prefix="fj-bench-")
         fmu = str(build_fmus(tmp.name, names=["CoulombOscillator"])[0])

@@ -1,0 +1,1 @@
+"""Benchmarks of the source tree: the work-precision harness (harness.py) and the run-time scripts."""
