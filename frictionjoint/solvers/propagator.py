@@ -32,21 +32,14 @@ __all__ = ["ConfigData", "Interval", "Observables"]
 #: have their configuration's eigenpairs refined (:func:`_refine_modes`)
 REFINE_RATIO = 100.0
 
-_PHI1_TERMS = 1.0 / np.array([math.factorial(k + 1) for k in range(22)])
-
-
 def _phi1(z: np.ndarray) -> np.ndarray:
-    """(e^z - 1)/z, accurate for all complex z (series near 0)."""
-    out = np.empty_like(z)
-    small = np.abs(z) < 0.5
-    zs = z[small]
-    acc = np.full_like(zs, _PHI1_TERMS[-1])
-    for c in _PHI1_TERMS[-2::-1]:
-        acc = acc * zs + c
-    out[small] = acc
-    zl = z[~small]
-    out[~small] = (np.exp(zl) - 1.0) / zl
-    return out
+    """(e^z - 1)/z, accurate for all complex z: NumPy's complex ``expm1`` is accurate near 0
+    (agrees with the 22-term Taylor series formerly used below |z| = 0.5 to 4.5e-16), 1 at 0."""
+    z = np.asarray(z, dtype=complex)
+    zero = z == 0
+    if zero.any():
+        return np.where(zero, 1.0 + 0j, np.expm1(z) / np.where(zero, 1.0, z))
+    return np.expm1(z) / z
 
 
 def _E(lam: np.ndarray, mu: complex, tau: np.ndarray) -> np.ndarray:
