@@ -105,11 +105,11 @@ class OscillatorRun:
         self.t = check_real("start_time", start_time)
         self.x = check_real("x0", p["x0"])
         self.v = check_real("v0", p["v0"])
+        self.force = 0.0
+        self.hold(force)
         self.orbit_found, self.monodromy = False, np.zeros((2, 2))
         if p["start_on_orbit"]:
             self._start_on_orbit()
-        self.force = 0.0
-        self.hold(force)
         self.v_scale = abs(self.v)
         self.event_count = self.stop_count = 0
         self.status = 1 if self.v > 0 else (-1 if self.v < 0 else self._settle(0))
@@ -131,12 +131,13 @@ class OscillatorRun:
         """Replace ``(x, v)`` by the periodic steady state at the start time: shooting on the
         kernel's exact period map from ``(x0, v0)`` as the guess at ``t = 0``, nothing evaluated on
         the orbit but its state (the library's ``steady_state`` where the kernel cannot answer)."""
-        orbit = sdof_orbit(self._kernel, self.x, self.v, tol=1e-12, max_newton=25, max_periods=2000)
+        shift = self._shift  # the orbit of the kernel coordinates x~ = x - F_h / k
+        orbit = sdof_orbit(self._kernel, self.x - shift, self.v, tol=1e-12, max_newton=25, max_periods=2000)
         if orbit is not None:
             pmap, outcome, jac, _ = orbit
             t_s, (x, v) = pmap.t_s, (float(a) for a in outcome.z)
         else:
-            res = self.osc.steady_state(self.x, self.v)
+            res = self.osc.steady_state(self.x - shift, self.v)
             if not res.converged:
                 return
             t_s, x, v = res.section_time, float(res.state[0]), float(res.state[1])
@@ -149,7 +150,7 @@ class OscillatorRun:
         if dt > 0.0:
             end = self._kernel.march(t_s, x, v, t_s + dt)
             x, v = end.x, end.v
-        self.x, self.v = x, v
+        self.x, self.v = x + shift, v
         self.orbit_found = True
         if jac is not None:
             self.monodromy = np.array(jac, dtype=float)

@@ -2,6 +2,7 @@
 the closed-form single-DOF kernel: checked against the general n-DOF marcher (the reference) on the
 same system, and a snapshot is the complete state, so a restored run continues bit for bit."""
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -110,3 +111,16 @@ def test_start_on_orbit(start_time):
     assert run.output("peak_x") == pytest.approx(ss.amplitude, rel=1e-12)
     off = OscillatorRun(dict(p, start_on_orbit=False))
     assert not off.output("orbit_found") and off.output("monodromy_xx") == 0.0
+
+
+def test_start_on_orbit_under_a_held_force():
+    """A held force F_h only moves the rest position: the orbit started on is the unforced one
+    shifted by F_h / k, and one period later the run is back on it."""
+    p = dict(slip_force=0.3, force_amplitude=1.0, omega=0.8, stiffness=2.0, start_on_orbit=True)
+    free = OscillatorRun(p)
+    held = OscillatorRun(p, force=0.5)
+    assert held.output("orbit_found")
+    assert abs(held.output("x") - (free.output("x") + 0.25)) <= 1e-12
+    x0, v0 = held.output("x"), held.output("v")
+    held.advance(2 * math.pi / 0.8)
+    assert abs(held.output("x") - x0) <= 1e-12 and abs(held.output("v") - v0) <= 1e-12
