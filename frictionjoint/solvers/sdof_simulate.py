@@ -16,13 +16,9 @@ import numpy as np
 
 from ..results import TimeResponse
 from .events import EventLog, MarchState
-from .sdof import SdofCoulomb
+from .sdof import SdofCoulomb, event_kind
 
 __all__ = ["sdof_simulate"]
-
-
-def _kind(before: int, after: int) -> str:
-    return "slip" if before == 0 else "stick" if after == 0 else "normal stop" if after == -before else "abnormal stop"
 
 
 def sdof_simulate(kernel: SdofCoulomb, t_end: float, x0: float, v0: float, t_eval: np.ndarray,
@@ -60,9 +56,9 @@ def sdof_simulate(kernel: SdofCoulomb, t_end: float, x0: float, v0: float, t_eva
         if v0 == 0.0 and pieces and pieces[0][3] != 0:
             log.append(0.0, 0, 0, "slip")  # settled from rest into slip at the start
         for before, after in zip(pieces[:-1], pieces[1:]):
-            log.append(before[4], 0, 0, _kind(before[3], after[3]))
+            log.append(before[4], 0, 0, event_kind(before[3], after[3]))
         if pieces and res.status != pieces[-1][3]:
-            log.append(res.t, 0, 0, _kind(pieces[-1][3], res.status))  # an event at t_end itself
+            log.append(res.t, 0, 0, event_kind(pieces[-1][3], res.status))  # an event at t_end itself
     n_t = t_eval.size
     out = {name: np.empty(n_t) for name in record}
     starts = np.array([p[0] for p in pieces]) if pieces else np.zeros(1)

@@ -25,11 +25,11 @@ from ..errors import ConvergenceError
 from ..results import PeriodicResponse
 from .events import EventLog
 from .response import gauss_nodes
-from .sdof import SdofCoulomb, _phi1
+from .sdof import SdofCoulomb, _phi1, event_kind
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 from .steady import SECTION_MARGIN
 
-__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier"]
+__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral"]
 
 
 class _NoDerivative(Exception):
@@ -158,25 +158,32 @@ def sdof_orbit(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_new
     return pmap, outcome, jac, periods + pmap.calls
 
 
-def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float, nu: float):
-    """``int_ta^tb x(t) e^{i nu t} dt`` over a piece of the kernel in closed form, or None (near
-    resonance, critically or over-damped: Gauss quadrature instead).
+def exp_integral(mu: complex, ta: float, tb: float) -> complex:
+    """``int_ta^tb e^{mu t} dt = e^{mu ta} T phi1(mu T)``, ``T = tb - ta`` (exact at ``mu = 0``)."""
+    return cmath.exp(mu * ta) * (tb - ta) * _phi1(mu * (tb - ta))
 
-    A stuck piece holds ``x = xa``; a slip piece is ``A cos wt + B sin wt + xc + Re(C e^{lam tau})``
-    (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), and ``int_ta^tb e^{mu t} dt =
-    e^{mu ta} T phi1(mu T)``."""
-    big_t = tb - ta
 
-    def j(mu):
-        return cmath.exp(mu * ta) * big_t * _phi1(mu * big_t)
+def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: float, tb: float,
+                       nu: float) -> complex:
+    """``int_ta^tb x(t) e^{i nu t} dt`` over a piece of the kernel.
+
+    In closed form: a stuck piece holds ``x = xa``; a slip piece is ``A cos wt + B sin wt + xc +
+    Re(C e^{lam tau})`` (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), each term an
+    exponential (:func:`exp_integral`). Near resonance, critically or over-damped (another form of
+    the piece): Gauss-Legendre on the piece at its fastest rate (exact to rounding)."""
+    if tb <= ta:
+        return 0j
     if s == 0 and kernel.slip_force > 0:
-        return xa * j(1j * nu)
+        return xa * exp_integral(1j * nu, ta, tb)
     if kernel._near or kernel._q <= 0.0:
-        return None
+        nodes, weights = gauss_nodes(ta, tb, max(kernel.omega, kernel._rate_slip))
+        xs = np.array([kernel.evaluate(s, ta, xa, va, t)[0] for t in nodes])
+        return complex(xs @ (weights * np.cos(nu * nodes)), xs @ (weights * np.sin(nu * nodes)))
+    big_t = tb - ta
     t0, xh0, vh0, _, xc = kernel._start(ta, xa, va, s)
     w, a, r = kernel.omega, kernel._a, kernel._root
-    jp, jm = j(1j * (nu + w)), j(1j * (nu - w))
-    out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * j(1j * nu)
+    jp, jm = exp_integral(1j * (nu + w), ta, tb), exp_integral(1j * (nu - w), ta, tb)
+    out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * exp_integral(1j * nu, ta, tb)
     c = complex(xh0, -(a * xh0 + vh0) / r)
     lam = complex(-a, r)
     e0 = cmath.exp(1j * nu * ta)
@@ -190,28 +197,18 @@ def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_sam
     ev = kernel.evaluate
     log = EventLog()
     amp, a1, b1, diss = abs(float(z[0])), 0.0, 0.0, 0.0
-    rate = max(w, pmap.w_char)
     z0 = None
     for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
         amp = max(amp, abs(xb))
-        exact = sdof_piece_fourier(kernel, s, ta, xa, va, tb, w) if tb > ta else 0j
-        if exact is not None:
-            a1 += exact.real
-            b1 += exact.imag
-        else:
-            nodes, weights = gauss_nodes(ta, tb, rate if s != 0 else 0.0)
-            xs = np.array([ev(s, ta, xa, va, t)[0] for t in nodes])
-            a1 += float(xs @ (weights * np.cos(w * nodes)))
-            b1 += float(xs @ (weights * np.sin(w * nodes)))
+        c1 = sdof_piece_fourier(kernel, s, ta, xa, va, tb, w)
+        a1 += c1.real
+        b1 += c1.imag
         if s != 0:
             diss += kernel.slip_force * abs(xb - xa)
         if z0 is None and t_s > 0 and ta <= period <= tb:
             z0 = np.array(ev(s, ta, xa, va, period))
         if i + 1 < len(pieces):
-            after = pieces[i + 1][3]
-            kind = ("slip" if s == 0 else "stick" if after == 0 else "normal stop" if after == -s
-                    else "abnormal stop")
-            log.append(tb, 0, 0, kind)
+            log.append(tb, 0, 0, event_kind(s, pieces[i + 1][3]))
     a1 *= 2 / period
     b1 *= 2 / period
     unique = not has_unit_eigenvalue(jac, pmap.scales(z))

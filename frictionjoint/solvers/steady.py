@@ -2,11 +2,13 @@
 
 The period map ``P`` takes the state ``z = [x, v, w]`` at a section time ``t_s`` to the state one
 excitation period later, marched exactly (:class:`~frictionjoint.solvers.events.Marcher`); its
-Jacobian is taken by finite differences. The section time is put in the middle of the longest
-slipping piece of the first period, where the map is smooth. The fixed point is found by the one
-shooting algorithm of :mod:`frictionjoint.solvers.shooting` (Newton, marching fallback, growth,
-uniqueness); the final period is then evaluated on its closed-form pieces (exact peaks, first
-harmonics by Gauss quadrature per piece, stops, dissipation).
+Jacobian is the exact monodromy matrix of the march (:mod:`.monodromy`; finite differences on
+request). The section time is put in the middle of the longest slipping piece of the first
+period, where the map is smooth. The fixed point is found by the one shooting algorithm of
+:mod:`frictionjoint.solvers.shooting` (Newton, marching fallback, growth, uniqueness); the final
+period is then evaluated on its closed-form pieces (exact peaks, first harmonics in closed form,
+stops, dissipation). A system whose sliders all stick for good is not marched: its orbit is the
+linear one of the stuck configuration.
 """
 from __future__ import annotations
 
@@ -49,6 +51,7 @@ class _PeriodMap:
         self.jen = np.flatnonzero(~system.rigid)
         self.calls = 0
         self.last = None
+        self._embedding = None
         self.exact_jacobian = jacobian == "exact"
         if jacobian == "fd":
             self.jacobian = self.fd_jacobian
@@ -98,9 +101,20 @@ class _PeriodMap:
         from its closed-form pieces and saltation matrices (:mod:`.monodromy`)."""
         if self.last is None or not np.array_equal(self.last[0], z):
             self(z)
-        full = march_jacobian(self.m, self.last[2])
-        n = self.n
-        return full[np.r_[0:2 * n, 2 * n + self.jen]] @ _embedding(self)
+        return self.reduce(march_jacobian(self.m, self.last[2]))
+
+    def reduce(self, full: np.ndarray) -> np.ndarray:
+        """A Jacobian in full coordinates ``[x, v, w of all sliders]`` as the map's Jacobian in ``z
+        = [x, v, w of the Jenkins sliders]`` (rigid sliders' ``w = d . x``)."""
+        if self._embedding is None:
+            sysm, n = self.system, self.n
+            embed = np.zeros((2 * n + sysm.n_sliders, 2 * n + self.jen.size))
+            embed[:2 * n, :2 * n] = np.eye(2 * n)
+            embed[2 * n + self.jen, 2 * n + np.arange(self.jen.size)] = 1.0
+            rigid = np.flatnonzero(sysm.rigid)
+            embed[2 * n + rigid, :n] = sysm.slider_direction[rigid]
+            self._embedding = embed
+        return full[np.r_[0:2 * self.n, 2 * self.n + self.jen]] @ self._embedding
 
     def fd_jacobian(self, z, pz, scale) -> np.ndarray:
         """Finite-difference Jacobian of the map at ``z`` (the check of :meth:`jacobian`)."""
@@ -181,8 +195,7 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
     jen = ~system.rigid
     z = np.concatenate([orbit.x, orbit.v, orbit.w[jen]])
     pmap = _PeriodMap(system, marcher, 0.0, pmap_tol)
-    full = march_jacobian(marcher, [(itv, period)])
-    jac = full[np.r_[0:2 * system.n_dof, 2 * system.n_dof + np.flatnonzero(jen)]] @ _embedding(pmap)
+    jac = pmap.reduce(march_jacobian(marcher, [(itv, period)]))
     unique = not has_unit_eigenvalue(jac, pmap.scales(z))
     t_s = x_s = None
     if n_samples:
@@ -196,19 +209,6 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
         t=t_s, x=x_s)
     res.set_multipliers(np.linalg.eigvals(jac))
     return res
-
-
-def _embedding(pmap: "_PeriodMap") -> np.ndarray:
-    """``z = [x, v, w of the Jenkins sliders]`` -> ``[x, v, w of all sliders]`` (rigid: ``w = d . x``)."""
-    sysm = pmap.system
-    n = pmap.n
-    nfull = 2 * n + sysm.n_sliders
-    embed = np.zeros((nfull, 2 * n + pmap.jen.size))
-    embed[:2 * n, :2 * n] = np.eye(2 * n)
-    embed[2 * n + pmap.jen, 2 * n + np.arange(pmap.jen.size)] = 1.0
-    rigid = np.flatnonzero(sysm.rigid)
-    embed[2 * n + rigid, :n] = sysm.slider_direction[rigid]
-    return embed
 
 
 def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jacobian: str):
