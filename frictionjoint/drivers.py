@@ -211,17 +211,17 @@ def _orbit_start(driver, p, pmap, state, outputs, tol):
     one communication step of a period must return to the start state to ``100 tol`` (scaled as
     the shooting residual). None where the driver cannot, or the check fails (shooting through
     the driver then)."""
-    names = set(driver.outputs)
-    if not (set(_ORBIT_OUTPUTS) <= names and set(_INTEGRAL_OUTPUTS) <= names
-            and set(outputs) <= set(_EXACT_OUTPUTS)):
+    if not (_exact_applies(driver, outputs) and set(_ORBIT_OUTPUTS) <= set(driver.outputs)):
         return None
     guess = {} if state is None else dict(x0=float(state[0]), v0=float(state[1]))
-    final = _exact_period(driver, dict(p, start_on_orbit=True, **guess), None, pmap.period, outputs)
-    if final is None:
-        return None
-    harmonics, peak, stops, stuck_all, start, end = final
+    driver.start(dict(p, start_on_orbit=True, harmonics=True, **guess))
+    start = dict(zip(_ORBIT_OUTPUTS + ("stuck",), driver.get(_ORBIT_OUTPUTS + ("stuck",))))
     if not start["orbit_found"]:
         return None
+    final = _period_integrals(driver, p, pmap.period, outputs, start["stuck"], end_state=True)
+    if final is None:
+        return None
+    harmonics, peak, stops, stuck_all, end = final
     z = np.array([start["x"], start["v"]])
     pz = np.array([end["x"], end["v"]])
     rnorm = float(np.max(np.abs(pz - z) / pmap.scales(z)))
@@ -248,29 +248,29 @@ _INTEGRAL_OUTPUTS = ("peak_x", "stop_count", "x_cos_integral", "x_sin_integral",
                      "friction_force_sin_integral", "event_count", "stuck")
 
 
+def _exact_applies(driver, outputs) -> bool:
+    """The driver integrates the requested outputs' harmonics exactly (see :func:`_exact_period`)."""
+    return set(outputs) <= set(_EXACT_OUTPUTS) and set(_INTEGRAL_OUTPUTS) <= set(driver.outputs)
+
+
 def _exact_period(driver, p, z, period, outputs):
     """The orbit's period from the exact Fourier integrals and peak of the stepping object (one
-    communication step), or None where they do not apply (an older FMU, an output without them,
-    an orbit stuck all along: its holding force has no exact peak here). ``z = None``: the driver
-    starts on the orbit itself (``start_on_orbit`` in ``p``); then the start and end values of
-    :data:`_ORBIT_OUTPUTS` are returned too."""
-    if not (set(outputs) <= set(_EXACT_OUTPUTS) and set(_INTEGRAL_OUTPUTS) <= set(driver.outputs)):
+    communication step from ``z``), or None where they do not apply (an older FMU, an output
+    without them, an orbit stuck all along: its holding force has no exact peak here)."""
+    if not _exact_applies(driver, outputs):
         return None
-    start = end = None
-    if z is None:
-        driver.start(dict(p, harmonics=True))
-        start = dict(zip(_ORBIT_OUTPUTS + ("stuck",), driver.get(_ORBIT_OUTPUTS + ("stuck",))))
-        if not start["orbit_found"]:
-            return None, None, None, None, start, None
-        stuck0 = start["stuck"]
-    else:
-        driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
-        stuck0 = bool(driver.get(["stuck"])[0])
+    driver.start(dict(p, x0=float(z[0]), v0=float(z[1]), harmonics=True))
+    return _period_integrals(driver, p, period, outputs, bool(driver.get(["stuck"])[0]))
+
+
+def _period_integrals(driver, p, period, outputs, stuck0: bool, end_state: bool = False):
+    """One communication step of a period from a started driver (``harmonics`` on):
+    ``(harmonics, peak of |x|, stops, stuck all along)`` from its exact integrals, and with
+    ``end_state`` the ``x``, ``v`` at the end too; None for an orbit stuck all along when the
+    friction force is asked for."""
     driver.advance(period)
-    names = _INTEGRAL_OUTPUTS + (("x", "v") if z is None else ())
+    names = _INTEGRAL_OUTPUTS + (("x", "v") if end_state else ())
     vals = dict(zip(names, driver.get(names)))
-    if z is None:
-        end = {"x": vals["x"], "v": vals["v"]}
     stuck_all = stuck0 and vals["event_count"] == 0
     if stuck_all and "friction_force" in outputs:
         return None
@@ -280,9 +280,8 @@ def _exact_period(driver, p, z, period, outputs):
         # |friction force| <= F, = F while slipping: its peak is F once the orbit slips
         peak = vals["peak_x"] if n == "x" else float(p.get("slip_force", 0.0))
         harmonics[n] = {"amplitude": float(math.hypot(a1, b1)), "phase": float(math.atan2(b1, a1)), "peak": peak}
-    if z is None:
-        return harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all, start, end
-    return harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all
+    out = (harmonics, vals["peak_x"], int(vals["stop_count"]), stuck_all)
+    return out + ({"x": vals["x"], "v": vals["v"]},) if end_state else out
 
 
 def _sampled_period(driver, p, z, period, outputs, n_samples):
