@@ -122,7 +122,8 @@ class CoulombOscillator:
         _, t_end, t_eval, record = check_run(self.omega, 0.0, t_end, t_eval, record)
         if "energy" not in record:
             # the closed-form kernel; the general marcher (the reference) keeps the energy
-            # accounting and the states where the kernel's rules find no consistent status
+            # accounting, and answers should the kernel's rules ever find no consistent status
+            # (no such case is known since they break stick/slip cycles as Marcher.settle does)
             from .solvers.sdof_simulate import sdof_simulate
 
             try:

@@ -10,7 +10,7 @@ import pytest
 import frictionjoint as fj
 from frictionjoint.solvers.events import EventLog, Marcher
 from frictionjoint.solvers.propagator import Observables
-from frictionjoint.solvers.response import displacement_observables, piece_fourier, piece_peaks
+from frictionjoint.solvers.response import displacement_observables, piece_fourier, piece_peaks, simulate
 from frictionjoint.stepping import OscillatorRun
 
 
@@ -124,3 +124,21 @@ def test_start_on_orbit_under_a_held_force():
     x0, v0 = held.output("x"), held.output("v")
     held.advance(2 * math.pi / 0.8)
     assert abs(held.output("x") - x0) <= 1e-12 and abs(held.output("v") - v0) <= 1e-12
+
+
+@pytest.mark.parametrize("m, k", [(1.0, 1.0), (1e-3, 1e3), (1e3, 1e-3)])
+def test_quasi_static_turning_point_marches(m, k):
+    """r = 1e-3, F/P0 = 1e-6 from Den Hartog's turning point, where the holding force is within
+    rounding of F at every period's end: the kernel's stick/slip rules used to cycle there and
+    raise 'no consistent stick/slip status' (they now stay stuck on such a cycle, as
+    Marcher.settle does). States agree with the general marcher to 1e-14 of the amplitude."""
+    w = 1e-3 * math.sqrt(k / m)
+    osc = fj.CoulombOscillator(mass=m, stiffness=k, slip_force=1e-6, force_amplitude=1.0, omega=w)
+    x0, v0 = osc.initial_guess()
+    run = OscillatorRun(dict(mass=m, stiffness=k, slip_force=1e-6, force_amplitude=1.0, omega=w, x0=x0, v0=v0))
+    t = osc.period * np.arange(1, 13) / 4
+    ref = simulate(osc.system, t[-1], x0, v0, t_eval=t, record=("x", "v"))
+    scale = float(np.max(np.abs(ref.x)))
+    for i, tk in enumerate(t):
+        run.advance(tk)
+        assert abs(run.output("x") - ref.x[0, i]) <= 1e-14 * scale

@@ -346,7 +346,9 @@ class SdofCoulomb:
         hd = -p0 * w * sw
         hdd = -p0 * w * w * cw
         s, forced = int(status), False
+        visited = set()
         for _ in range(8):
+            visited.add(s)
             fscale = self._fscale(t, x, s)
             if s != 0:
                 rate = self._rate_slip
@@ -361,7 +363,7 @@ class SdofCoulomb:
             rate = self._rate_stick
             tol = 1e-12 * max(f, fscale)
             dtol = 10.0 * max(tol, 1e-300) * rate
-            best, new = math.inf, 0
+            best, new, g_new = math.inf, 0, 0.0
             for sign, g, dg, ddg in ((1, f - h, -hd, -hdd), (-1, f + h, hd, hdd)):
                 if abs(g) <= tol:
                     if dg < -dtol:
@@ -375,8 +377,13 @@ class SdofCoulomb:
                 else:
                     continue
                 if score < best:
-                    best, new = score, sign
+                    best, new, g_new = score, sign, g
             if new == 0:
+                return 0
+            if new in visited and g_new >= -tol:
+                # a cycle stick -> slip -> stick at one instant (Marcher.settle's rule): the
+                # holding force is within rounding of F and only the curvatures disagree; stay
+                # stuck, the next event is found where the force leaves its zero band
                 return 0
             s, forced = new, True
         raise ConvergenceError(f"no consistent stick/slip status at t = {t!r}")
