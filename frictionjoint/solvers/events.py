@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
 from .propagator import ConfigData, Interval, Observables
-from . import search
+from . import consistency, search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
@@ -145,7 +145,7 @@ class _Pattern:
     __slots__ = ("cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
                  "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
                  "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
-                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p")
+                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "kern")
 
 
 class Marcher:
@@ -234,6 +234,7 @@ class Marcher:
         pat = _Pattern()
         pat.cfg = cfg
         pat.modal_p = None
+        pat.kern = None
         # event functions, as in the reference construction (one row per slipping slider, two per
         # stuck slider); a0 = a0c + a0k * w[widx]
         rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
@@ -300,6 +301,35 @@ class Marcher:
         pat.slip_j_dir = d[slip_j]
         pat.slip_j_off = status[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
         return pat
+
+    def _kernel(self, pat: _Pattern) -> tuple:
+        """The constant arrays of :func:`.consistency.check` for a status (built on first use)."""
+        sysm = self.system
+        cfg = pat.cfg
+        m = cfg.m
+        n = sysm.n_dof
+        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS}
+        obs = pat.obs
+        cy = pat.red_cy
+        f = np.asarray
+        pat.kern = (
+            f(sysm.stiffness, float), f(cfg.stiffness, float),
+            np.zeros(n) if pat.f_slip is None else f(pat.f_slip, float),
+            np.ascontiguousarray(pat.jst_dt, float), f(pat.jst_k, float),
+            np.flatnonzero(pat.jst).astype(np.intp),
+            np.ascontiguousarray(cfg.N.T), np.ascontiguousarray(cfg.mr_inv_nt),
+            np.ascontiguousarray(cfg.A[m:, :m]), np.ascontiguousarray(cfg.A[m:, m:]),
+            np.ascontiguousarray(cfg.bc[m:]), np.ascontiguousarray(cfg.bs[m:]),
+            np.ascontiguousarray(cy[:, :m]), np.ascontiguousarray(cy[:, m:]),
+            np.ascontiguousarray(obs.ax), np.ascontiguousarray(obs.af), np.ascontiguousarray(pat.ax_abs),
+            f(pat.a0c, float), f(pat.a0k, float), f(pat.widx, np.intp),
+            f(pat.red_cc, float), f(pat.red_cs, float), f(pat.row_fs, float),
+            np.array([kinds[k] for _, k in pat.meta], np.intp), f(pat.row_slider, np.intp),
+            np.array([pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
+                      bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], bool),
+            np.array([self._fscale_fixed, self._mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
+                      sysm.omega]))
+        return pat.kern
 
     @property
     def n_configurations(self) -> int:
@@ -460,11 +490,23 @@ class Marcher:
             rhs -= jd @ (pat.jst_k * (jd.T @ state.x))
             rhs += jd @ (pat.jst_k * state.w[pat.jst])
         itv = Interval(self.system, pat.cfg, state.t, state.x, state.v, f_const, rhs)
+        return self._attach(itv, state, f_ext, pat)
+
+    def _attach(self, itv: Interval, state: MarchState, f_ext: np.ndarray, pat: _Pattern,
+                c0: np.ndarray | None = None) -> Interval:
+        """Give a new interval its status, slider positions and event functions (``c0``: their
+        constants, computed from the interval when not given)."""
         itv.f_ext = f_ext
         itv.status = state.status.copy()
         itv.w = w = state.w.copy()
         itv.pattern = pat
-        itv.events = (self._reduced_events(pat, itv, w) if pat.obs is not None else None, pat.meta)
+        if pat.obs is None:
+            red = None
+        elif c0 is None:
+            red = self._reduced_events(pat, itv, w)
+        else:
+            red = pat.red_cy, c0, pat.red_cc, pat.red_cs
+        itv.events = (red, pat.meta)
         return itv
 
     def _tolerances(self, itv) -> list:
@@ -534,6 +576,11 @@ class Marcher:
         old = state.status.copy()
         max_iter = 4 * sysm.n_sliders + 4
         f_ext = self._f_ext(state.t)
+        if self.jit:
+            itv = self._settle_compiled(state, f_ext, max_iter)
+            if log is not None:
+                self._log(state, old, log, trigger)
+            return itv
         # sliders just set slipping because their stick force exceeded the limit: the net force
         # has the slip direction (Hong & Liu), so their velocity event is judged by the sign of
         # its derivative alone (a tolerance band on it could send them back to stick, forever,
@@ -601,6 +648,42 @@ class Marcher:
         if log is not None:
             self._log(state, old, log, trigger)
         return itv
+
+    def _settle_compiled(self, state: MarchState, f_ext: np.ndarray, max_iter: int) -> Interval:
+        """The settling loop of :meth:`settle`, each status tested by :func:`.consistency.check`
+        (one compiled call; the interval is built once, for the consistent status)."""
+        forced = np.zeros(self.system.n_sliders, bool)
+        visited = set()
+        for _ in range(max_iter):
+            visited.add(state.status.tobytes())
+            pat = self._pattern(state.status)
+            if pat.obs is None:
+                return self.interval(state, f_ext)
+            kern = pat.kern if pat.kern is not None else self._kernel(pat)
+            j, gj, tolj, atzero, tol, f_const, kx0, y0, b0, c0 = consistency.check(
+                kern, state.x, state.v, state.w, f_ext, state.t, self.v_scale, forced)
+            if j >= 0:
+                i, kind = pat.meta[j]
+                if kind == "v":
+                    state.status[i] = 0
+                    forced[i] = False
+                    self._project(state)
+                    continue
+                # the stick -> slip -> stick cycle at one instant of settle: stay stuck
+                new_status = state.status.copy()
+                new_status[i] = 1 if kind == "+" else -1
+                if not (new_status.tobytes() in visited and gj >= -tolj):
+                    state.status[i] = new_status[i]
+                    forced[i] = True
+                    self._project(state)
+                    continue
+            itv = Interval.from_parts(self.system, pat.cfg, state.t, state.x, f_const, kx0, y0, b0)
+            self._attach(itv, state, f_ext, pat, c0)
+            itv.atzero = atzero
+            itv._tol = (self.v_scale, tol)
+            return itv
+        raise ConvergenceError(
+            f"no consistent stick/slip configuration at t = {state.t!r} after {max_iter} changes")
 
     def _log(self, state, old, log, trigger):
         owner = self.system.slider_owner

@@ -43,8 +43,17 @@ def _phi1(z: np.ndarray) -> np.ndarray:
 
 
 def _E(lam: np.ndarray, mu: complex, tau: np.ndarray) -> np.ndarray:
-    """E(lam, mu, tau) for lam (p, 1), tau (1, k): exact integral of e^{lam (tau-s)} e^{mu s}."""
-    return tau * np.exp(lam * tau) * _phi1((mu - lam) * tau)
+    """E(lam, mu, tau) for lam (p, 1), tau (1, k): exact integral of e^{lam (tau-s)} e^{mu s}.
+
+    ``tau e^{lam tau} phi1((mu - lam) tau)``, or the same ``tau e^{mu tau} phi1((lam - mu) tau)``
+    where ``Re(mu - lam) > 0``: the first form overflows to ``0 * inf`` there (a stiff decaying
+    mode, ``e^{lam tau}`` underflowing, over a long piece)."""
+    z = (mu - lam) * tau
+    up = z.real > 0
+    if not up.any():
+        return tau * np.exp(lam * tau) * _phi1(z)
+    return tau * np.where(up, np.exp(mu * tau) * _phi1(np.where(up, -z, 0.0)),
+                          np.exp(lam * tau) * _phi1(np.where(up, 0.0, z)))
 
 
 def _refine_modes(lam, v, mr, cr, kr, dr, kt, iterations: int = 3):
@@ -259,6 +268,25 @@ class Interval:
         self._bvec = (b0, config.bc, config.bs)
         self._y0 = y0
         self._ready = False
+
+    @classmethod
+    def from_parts(cls, system, config: ConfigData, t0: float, x0: np.ndarray, f_const: np.ndarray,
+                   kx0: np.ndarray, y0: np.ndarray, b0: np.ndarray) -> "Interval":
+        """The interval of the constructor, from its start parts computed elsewhere (the compiled
+        consistency test of :mod:`.consistency`): ``K_c x0``, the reduced start state ``y0 = [0,
+        N^T v0]`` and constant forcing ``b0 = [0, M_r^-1 N^T (f_const - K_c x0)]`` (spring form)."""
+        self = cls.__new__(cls)
+        self.system = system
+        self.config = config
+        self.t0 = float(t0)
+        self.x0 = x0
+        self.f_const = f_const
+        self.omega = system.omega
+        self.kx0 = kx0
+        self._bvec = (b0, config.bc, config.bs)
+        self._y0 = y0
+        self._ready = False
+        return self
 
     def _prepare(self):
         """Modal coefficients (or the augmented matrix), computed on first use only."""

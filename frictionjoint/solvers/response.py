@@ -110,9 +110,11 @@ def _roots(itv, rows, lo, hi, order: int, tau_end: float, scale) -> np.ndarray:
             t_new = t - f / df
         inside = (t_new > lo) & (t_new < hi)
         t_new = np.where(inside, t_new, 0.5 * (lo + hi))
-        done = ((np.abs(t_new - t) <= 4 * np.finfo(float).eps * np.abs(t) + 1e-16 * tau_end)
-                | (np.abs(f) <= 1e-15 * scale))
-        t = np.where(f == 0, t, t_new)
+        # a root whose |f| is at its floor stays where it is: the next step, below rounding of t,
+        # may fail the bracket test and bisect away from it
+        small = np.abs(f) <= 1e-15 * scale
+        done = (np.abs(t_new - t) <= 4 * np.finfo(float).eps * np.abs(t) + 1e-16 * tau_end) | small
+        t = np.where(small | (f == 0), t, t_new)
         if np.all(done):
             break
     return t

@@ -1,0 +1,181 @@
+"""Hong & Liu's consistency test of one stick/slip status at one state, compiled (numba).
+
+The marcher settles the status at an event by testing a status, changing the most violated slider,
+and testing again (:meth:`.Marcher.settle`). Each test needs the event functions of the status and
+their first two time derivatives at the state, ``g = cy y + ax x + af F + a0`` with ``y = [0, N^T
+v]`` and ``y', y''`` from the configuration's first-order matrix ``A``, and their zero bands. In
+NumPy that is some thirty small array operations per test, each a few microseconds of call
+overhead for a few nanoseconds of arithmetic; :func:`check` does one test in one compiled call, and
+hands back what the closed-form piece of a consistent status starts from (``y0``, ``b0``, the
+constant load, the event functions' constants and the zero bands), so the marcher builds the
+:class:`.Interval` without computing them again.
+
+The arithmetic is the one of :meth:`.Marcher.interval` and :meth:`.Interval.start_values`: the
+stuck Jenkins springs' force in spring form (``k (d.x - w)`` terms, not ``K_c x - k w d``), the
+same zero bands (force rows ``1e-12`` of the load scale, velocity rows ``1e-11`` of the velocity
+scale), the same scoring (most violated first, by its band). It runs where the event search runs
+compiled (:data:`.search.ENABLED`); elsewhere the marcher's NumPy path is used.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .search import ENABLED, _jit
+
+__all__ = ["check", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
+
+#: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit
+KIND_V, KIND_PLUS, KIND_MINUS = 0, 1, 2
+
+
+@_jit
+def _matvec(a, x):
+    r, c = a.shape
+    out = np.zeros(r)
+    for i in range(r):
+        s = 0.0
+        for k in range(c):
+            s += a[i, k] * x[k]
+        out[i] = s
+    return out
+
+
+@_jit
+def check(kern, x, v, w, f_ext, t0, v_scale, forced):
+    """Consistency test of a status (its constant arrays ``kern``, see ``Marcher._build_pattern``).
+
+    Parameters
+    ----------
+    kern : tuple
+        The status's constant arrays: ``K, K_c, f_slip, jst_dt, jst_k, jst_idx, N^T, M_r^-1 N^T,
+        A21, A22, bc, bs, cy_q, cy_v, ax, af, ax_abs, a0c, a0k, widx, cc, cs, row_fs, row_kind,
+        row_slider, flags, scales`` (``flags``: has_slip, has_jst, has_af, has_w, harmonic;
+        ``scales``: fixed load scale, mass scale, rate, omega).
+    x, v : (n,) ndarray
+        State.
+    w : (n_sliders,) ndarray
+        Slider positions.
+    f_ext : (n,) ndarray
+        Held external force at ``t0``.
+    t0 : float
+        Time [s].
+    v_scale : float
+        The marcher's velocity scale.
+    forced : (n_sliders,) bool ndarray
+        Sliders set slipping by this settling because their force exceeded the limit.
+
+    Returns
+    -------
+    j : int
+        Most violated row, -1 if the status is consistent.
+    gj, tolj : float
+        Its value and zero band.
+    atzero : (rows,) bool ndarray
+        Rows within their zero band.
+    tol : (rows,) ndarray
+        Zero bands.
+    f_const, kx0, y0, b0, c0 : ndarray
+        The piece's constant load, ``K_c x``, start state and constant forcing in reduced
+        coordinates, and the event functions' constants.
+    """
+    (k_sys, k_c, f_slip, jst_dt, jst_k, jst_idx, nt, mint, a21, a22, bcv, bsv, cyq, cyv, ax, af,
+     ax_abs, a0c, a0k, widx, cc, cs, row_fs, row_kind, row_slider, flags, scales) = kern
+    has_slip, has_jst, has_af, has_w, harmonic = flags[0], flags[1], flags[2], flags[3], flags[4]
+    fscale_fixed, mass_scale, rate, om = scales[0], scales[1], scales[2], scales[3]
+    n = x.size
+    m = nt.shape[0]
+    nr = a0c.size
+    # constant load of the piece and the reduced forcing (as Marcher.interval)
+    f_const = f_ext.copy()
+    if has_slip:
+        f_const -= f_slip
+    nj = jst_k.size
+    kw = np.empty(nj)
+    for q in range(nj):
+        kw[q] = jst_k[q] * w[jst_idx[q]]
+    if has_jst:
+        f_const += _matvec(jst_dt, kw)
+    kx0 = _matvec(k_c, x)
+    if has_jst:
+        rhs = f_ext - _matvec(k_sys, x)
+        if has_slip:
+            rhs -= f_slip
+        dx = np.empty(nj)
+        for q in range(nj):
+            s = 0.0
+            for k in range(n):
+                s += jst_dt[k, q] * x[k]
+            dx[q] = jst_k[q] * s
+        rhs -= _matvec(jst_dt, dx)
+        rhs += _matvec(jst_dt, kw)
+    else:
+        rhs = f_const - kx0
+    u = _matvec(nt, v)
+    r = _matvec(mint, rhs)
+    y0 = np.zeros(2 * m)
+    b0 = np.zeros(2 * m)
+    y0[m:] = u
+    b0[m:] = r
+    # event functions' constants
+    c0 = _matvec(ax, x)
+    if has_af:
+        c0 += _matvec(af, f_const)
+    for q in range(nr):
+        c0[q] += a0c[q] + a0k[q] * w[widx[q]] if has_w else a0c[q]
+    co = math.cos(om * t0)
+    si = math.sin(om * t0)
+    # start values: y1 = A y0 + b0 + bc co + bs si, y2 = A y1 + w (bs co - bc si)
+    y1v = _matvec(a22, u) + r + bcv * co + bsv * si
+    y2v = _matvec(a21, u) + _matvec(a22, y1v) + om * (bsv * co - bcv * si)
+    g = _matvec(cyv, u) + c0
+    dg = _matvec(cyq, u) + _matvec(cyv, y1v)
+    ddg = _matvec(cyq, y1v) + _matvec(cyv, y2v)
+    if harmonic:
+        for q in range(nr):
+            g[q] += cc[q] * co + cs[q] * si
+            dg[q] += om * (cs[q] * co - cc[q] * si)
+            ddg[q] -= om * om * (cc[q] * co + cs[q] * si)
+    # zero bands (Marcher._tolerances)
+    fscale = fscale_fixed
+    for k in range(n):
+        fscale = max(fscale, abs(f_const[k]), abs(kx0[k]))
+    if nr:
+        ab = _matvec(ax_abs, np.abs(x))
+        for q in range(nr):
+            fscale = max(fscale, abs(ab[q]))
+    v_floor = fscale / (mass_scale * rate)
+    tv = 1e-11 * max(v_scale, v_floor)
+    tol = np.empty(nr)
+    for q in range(nr):
+        tol[q] = tv if row_kind[q] == KIND_V else 1e-12 * max(row_fs[q], fscale)
+    # Hong & Liu: the most violated row, normalised by its band (first of equals)
+    atzero = np.zeros(nr, np.bool_)
+    best = math.inf
+    j = -1
+    for q in range(nr):
+        gr = g[q]
+        dgr = dg[q]
+        tr = tol[q]
+        tr_ = max(tr, 1e-300)
+        if abs(gr) <= tr:
+            atzero[q] = True
+            dtol = 10.0 * tr_ * rate
+            if dgr < -dtol:
+                score = dgr / dtol
+            elif (abs(dgr) <= dtol and ddg[q] < 0
+                  and not (row_kind[q] == KIND_V and forced[row_slider[q]] and dgr > 0)):
+                score = -1.0
+            else:
+                continue
+        else:
+            if not gr < 0:
+                continue
+            score = gr / tr_
+        if j < 0 or score < best:
+            best = score
+            j = q
+    gj = g[j] if j >= 0 else 0.0
+    tolj = tol[j] if j >= 0 else 0.0
+    return j, gj, tolj, atzero, tol, f_const, kx0, y0, b0, c0
