@@ -1,7 +1,14 @@
-"""Closed-form pieces (frictionjoint.solvers.propagator): the near-resonant integral E."""
+"""Closed-form pieces (frictionjoint.solvers.propagator): the near-resonant integral E and the
+compiled coefficients and states of plain modal pieces."""
+import math
+
 import numpy as np
+import pytest
 import scipy.integrate
 
+import frictionjoint as fj
+from frictionjoint.solvers import piece_kernels, propagator
+from frictionjoint.solvers.events import EventLog, Marcher
 from frictionjoint.solvers.propagator import _E
 
 
@@ -27,3 +34,39 @@ def test_near_resonant_integral_matches_quadrature_and_stays_finite():
                        + 1j * scipy.integrate.quad(part, 0.0, t, args=(np.imag,), epsabs=0, epsrel=1e-13,
                                                    limit=400)[0])
             assert abs(got[i, k] - ref) <= 1e-12 * abs(ref), (l, t, got[i, k], ref)
+
+
+def test_compiled_piece_kernels_match_numpy():
+    """Coefficients and end states of plain modal pieces (solvers.piece_kernels, numba) against the
+    NumPy arithmetic of Interval._prepare / Interval.state, over the pieces of a march."""
+    if not piece_kernels.ENABLED:
+        pytest.skip("numba not available")
+    n = 6
+    w1 = 2 * math.sin(math.pi / (2 * (2 * n + 1)))
+    sysm = fj.FrictionSystem(fj.LinearStructure.chain(n, damping=0.02 * w1),
+                             [fj.Jenkins(0.5 * w1 ** 2, 0.002, dof=5), fj.CoulombSlider(0.001, dof=4)],
+                             omega=0.9 * w1, excitation=[fj.HarmonicForce(n - 1, 0.01)])
+    m = Marcher(sysm)
+    pieces = []
+    m.march(m.initial_state(np.zeros(n), np.zeros(n)), 4 * 2 * math.pi / sysm.omega, EventLog(),
+            on_interval=lambda itv, tau: pieces.append((itv, tau)))
+    checked = 0
+    for itv, tau in pieces:
+        if not itv.modal_search():
+            continue
+        ref = propagator.Interval.from_parts(sysm, itv.config, itv.t0, itv.x0, itv.f_const, itv.kx0,
+                                             itv._y0, itv._bvec[0])
+        piece_kernels.ENABLED = False
+        try:
+            ref._prepare()
+        finally:
+            piece_kernels.ENABLED = True
+        for a, b in zip([itv._a, *itv._b], [ref._a, *ref._b]):
+            assert np.max(np.abs(a - b)) <= 1e-14 * np.max(np.abs(b))
+        x, v = piece_kernels.state(itv.config.V, itv.config.N, itv.x0, itv.config.lam, itv._a, *itv._b,
+                                   sysm.omega, tau)
+        xr, vr = ref.state(tau)
+        assert np.max(np.abs(x - xr[:, 0])) <= 1e-14 * np.max(np.abs(xr))
+        assert np.max(np.abs(v - vr[:, 0])) <= 1e-14 * np.max(np.abs(xr)) * itv.config.max_rate
+        checked += 1
+    assert checked > 10

@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
 from .propagator import ConfigData, Interval, Observables
-from . import consistency, search
+from . import consistency, piece_kernels, search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
@@ -762,10 +762,16 @@ class Marcher:
         state : MarchState
             Moved in place (``t``, ``x``, ``v``; projected on its status).
         """
-        x, v = itv.state(tau)
         state.t = itv.t0 + tau
-        state.x = x[:, 0]
-        state.v = v[:, 0]
+        if self.jit and itv.modal_search():
+            cfg = itv.config
+            b0, bp, bm = itv._b
+            state.x, state.v = piece_kernels.state(cfg.V, cfg.N, itv.x0, cfg.lam, itv._a, b0, bp, bm,
+                                                   itv.omega, float(tau))
+        else:
+            x, v = itv.state(tau)
+            state.x = x[:, 0]
+            state.v = v[:, 0]
         self._project(state)
 
     def march(self, state: MarchState, t_end: float, log: EventLog | None = None,

@@ -8,7 +8,11 @@ The event functions of a piece in modal form are exp-polynomials,
 and the first ``tau`` in ``(0, horizon]`` at which one of them leaves its zero band is the next
 event. Both paths do the same: the closed-form bound that skips a piece no function can reach zero
 on, sampling with derivatives on a grid finer than the fastest mode (16 points per period),
-crossings and tangential dips, and the root by Brent's method. :func:`first_event` does it in one
+crossings and tangential dips, and the root by Brent's method. The compiled path also steps over
+longer stretches where a Taylor bound proves every function stays above its band (``g + g' s -
+M s^2/2``, ``M`` a bound of ``|g''|`` over the piece, :func:`_safe_step`): the fast modes of a
+multi-DOF structure set the grid, yet carry little of the motion, so far from an event a step of
+many grid points is safe. :func:`first_event` does it in one
 compiled call: the search is a few hundred scalar evaluations of a sum over the modes, each of which
 costs a NumPy call (microseconds) in Python and nanoseconds here. :func:`numpy_first_event` serves
 the pieces without a plain modal form (defective or near-resonant configurations) and runs where
@@ -301,6 +305,51 @@ def _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows,
 
 
 @_jit
+def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon):
+    """Per row: a bound ``M`` of ``|g''|`` over ``[0, horizon]`` (free modes ``sum |pa_i| |lam_i|^2
+    max(1, e^{Re lam_i horizon})``, forced part ``w^2 (|kp| + |km| + |(cc, cs)|)``) and the level
+    ``tol + 1e-12 (|k0| + spread)`` the function must stay above for a step to be skipped (its zero
+    band plus the rounding of terms of the function's size)."""
+    nr, nm = pa.shape
+    curv = np.empty(nr)
+    level = np.empty(nr)
+    for r in range(nr):
+        m2 = 0.0
+        spread = 0.0
+        for i in range(nm):
+            grow = math.exp(max(lam[i].real, 0.0) * horizon)
+            m2 += abs(pla[r, i]) * abs(lam[i]) * grow
+            spread += abs(pa[r, i]) * grow
+        forced = abs(kp[r]) + abs(km[r])
+        if harmonic:
+            forced += math.hypot(cc[r], cs[r])
+        curv[r] = m2 + w * w * forced
+        level[r] = tol[r] + 1e-12 * (abs(k0[r]) + spread + forced)
+    return curv, level
+
+
+@_jit
+def _safe_step(g, dg, col, curv, level):
+    """Longest step from the sample in column ``col`` over which every row provably stays above
+    its level: ``g + g' s - M s^2 / 2 > level`` (0 if a row is at or below it)."""
+    best = math.inf
+    for r in range(g.shape[0]):
+        gr = g[r, col] - level[r]
+        if not gr > 0:
+            return 0.0
+        d = dg[r, col]
+        m = curv[r]
+        if m > 0:
+            s = gr / (0.5 * (math.sqrt(d * d + 2.0 * m * gr) - d)) if d < 0 else (d + math.sqrt(d * d + 2.0 * m * gr)) / m
+        elif d < 0:
+            s = gr / -d
+        else:
+            continue
+        best = min(best, s)
+    return 0.999 * best
+
+
+@_jit
 def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
     """First event of a modal piece in ``(0, horizon]``.
 
@@ -350,11 +399,14 @@ def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, ho
             g[r, 0] = 0.0
         if vrows[r]:
             vmax = max(vmax, abs(g[r, 0]))
-    n_steps = max(1, math.ceil(horizon / h))
+    curv, level = _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon)
     t_prev = 0.0
     prev, cur = 0, 1
-    for k in range(1, n_steps + 1):
-        t = min(h * k, horizon)
+    k = 0
+    while t_prev < horizon:
+        k += 1
+        # a step longer than h where no function can reach its band (Taylor bound, see _safe_step)
+        t = min(t_prev + max(h, _safe_step(g, dg, prev, curv, level)), horizon)
         _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, g, dg, cur)
         best_tau = math.inf
         best_row = -1

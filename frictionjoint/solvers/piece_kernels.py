@@ -1,0 +1,95 @@
+"""Compiled (numba) parts of a plain modal closed-form piece: its coefficients and its state.
+
+A piece in a configuration with a modal decomposition and no (near-)resonant mode/forcing pair is
+
+    eta(tau) = e^{lam tau} a + b0 + bp e^{i w tau} + bm e^{-i w tau},    y = Re(V eta),
+
+with ``b0 = beta0 / (-lam)``, ``bp = gp / (i w - lam)``, ``bm = gm / (-i w - lam)`` and ``a = eta0 -
+b0 - bp - bm`` (:meth:`.Interval._prepare`). The marcher builds one piece and evaluates its end state
+once per event; in NumPy each is a dozen small-array calls of a few microseconds of overhead each,
+here one call. The arithmetic is that of :meth:`.Interval._prepare` and :meth:`.Interval.state`.
+Used where the event search is compiled (:data:`.search.ENABLED`).
+"""
+from __future__ import annotations
+
+import cmath
+
+import numpy as np
+
+from .search import ENABLED, _jit
+
+__all__ = ["coefficients", "state", "ENABLED"]
+
+
+@_jit
+def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
+    """Rows ``eta0, beta0, gp, gm, a, b0, bp, bm`` (8, modes) of a plain modal piece.
+
+    Parameters
+    ----------
+    wi : (modes, modes) complex ndarray
+        Inverse of the eigenvector matrix.
+    lam : (modes,) complex ndarray
+        Eigenvalues.
+    y0, b0 : (modes,) ndarray
+        Reduced start state and constant forcing.
+    hp, hm : (modes,) complex ndarray
+        Half the modal harmonic loads (``ConfigData.modal_forcing``).
+    w, t0 : float
+        Forcing frequency [rad/s] and start time [s].
+    """
+    p = lam.size
+    out = np.empty((8, p), np.complex128)
+    ph = cmath.exp(1j * w * t0)
+    phc = ph.conjugate()
+    for i in range(p):
+        e = 0j
+        b = 0j
+        for k in range(p):
+            e += wi[i, k] * y0[k]
+            b += wi[i, k] * b0[k]
+        gp = hp[i] * ph
+        gm = hm[i] * phc
+        c0 = b / (0.0 - lam[i])
+        cp = gp / (1j * w - lam[i])
+        cm = gm / (-1j * w - lam[i])
+        out[0, i] = e
+        out[1, i] = b
+        out[2, i] = gp
+        out[3, i] = gm
+        out[4, i] = ((e - c0) - cp) - cm
+        out[5, i] = c0
+        out[6, i] = cp
+        out[7, i] = cm
+    return out
+
+
+@_jit
+def state(v, nb, x0, lam, a, b0, bp, bm, w, tau):
+    """Structural displacement and velocity (n_dof,) of a plain modal piece at local time ``tau``:
+    ``x = x0 + N Re(V eta)[:m]``, ``v = N Re(V eta)[m:]``."""
+    p = lam.size
+    m = p // 2
+    eta = np.empty(p, np.complex128)
+    eip = cmath.exp(1j * w * tau)
+    eim = eip.conjugate()
+    for i in range(p):
+        eta[i] = cmath.exp(lam[i] * tau) * a[i] + b0[i] + bp[i] * eip + bm[i] * eim
+    y = np.empty(p)
+    for r in range(p):
+        s = 0j
+        for i in range(p):
+            s += v[r, i] * eta[i]
+        y[r] = s.real
+    n = x0.size
+    x = x0.copy()
+    vel = np.zeros(n)
+    for r in range(n):
+        sx = 0.0
+        sv = 0.0
+        for k in range(m):
+            sx += nb[r, k] * y[k]
+            sv += nb[r, k] * y[m + k]
+        x[r] += sx
+        vel[r] = sv
+    return x, vel
