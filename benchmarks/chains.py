@@ -9,7 +9,9 @@ Baseline, in the same process: the algorithm before the fast paths, reproduced b
 same code -- the period map's Jacobian by finite differences (``jacobian='fd'``), the NumPy event
 search (``Marcher.jit = False``), eigenpairs always refined, and stuck-only systems marched.
 The two runs must find the same orbit (``amp diff``: largest relative difference of the per-DOF
-amplitudes). Usage::
+amplitudes). The marcher's cost per event is timed over 10 periods on the orbit, compiled
+(consistency test, piece coefficients and states, event search with skipped stretches) and in
+NumPy (the same algorithm with a fixed sampling grid), with their ratio. Usage::
 
     python benchmarks/chains.py [--quick]
 """
@@ -25,7 +27,7 @@ from contextlib import contextmanager
 import numpy as np
 
 import frictionjoint as fj
-from frictionjoint.solvers import propagator, steady
+from frictionjoint.solvers import piece_kernels, propagator, steady
 from frictionjoint.solvers.events import EventLog, Marcher
 from frictionjoint.solvers.steady import periodic_response
 
@@ -57,9 +59,21 @@ def baseline():
     steady._stuck_orbit = lambda *args, **kwargs: None
     Marcher.__init__ = numpy_marcher
     try:
-        yield
+        with numpy_pieces():
+            yield
     finally:
         propagator.REFINE_RATIO, steady._stuck_orbit, Marcher.__init__ = saved
+
+
+@contextmanager
+def numpy_pieces():
+    """Plain modal pieces' coefficients in NumPy (``piece_kernels`` off), as before the fast paths."""
+    saved = piece_kernels.ENABLED
+    piece_kernels.ENABLED = False
+    try:
+        yield
+    finally:
+        piece_kernels.ENABLED = saved
 
 
 def best(fn, repeat):
@@ -75,6 +89,13 @@ def per_event(system, res, jit: bool, periods: int = 10) -> float:
     """Marcher cost per event [s] over ``periods`` periods on the orbit (configurations cached)."""
     m = Marcher(system)
     m.jit = jit
+    if not jit:
+        with numpy_pieces():
+            return _per_event(m, system, res, periods)
+    return _per_event(m, system, res, periods)
+
+
+def _per_event(m, system, res, periods):
     t_s = res.section_time
     period = 2 * math.pi / system.omega
     n = system.n_dof
@@ -105,7 +126,7 @@ def main(argv=None):
     print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python "
           f"{platform.python_version()}; times: best of 3 (new), 1 run (baseline)")
     print(f"{'n':>3} {'joints':>6} {'new [ms]':>9} {'periods':>8} {'base [ms]':>10} {'periods':>8} "
-          f"{'ratio':>7} {'amp diff':>9} {'ev/period':>9} {'ms/event jit':>12} {'numpy':>7}")
+          f"{'ratio':>7} {'amp diff':>9} {'ev/period':>9} {'ms/event jit':>12} {'numpy':>7} {'ratio':>6}")
     sizes = (2, 5, 20) if args.quick else (2, 5, 10, 20, 50)
     done = set()
     for n in sizes:
@@ -126,9 +147,10 @@ def main(argv=None):
                 base = f"{'-':>10} {'-':>8} {'-':>7} {'-':>9}"  # baseline > 1 min per case
             events = len(res.events)
             if events:
-                cost = f"{per_event(system, res, True) * 1e3:12.3f} {per_event(system, res, False) * 1e3:7.3f}"
+                fast, slow = per_event(system, res, True), per_event(system, res, False)
+                cost = f"{fast * 1e3:12.3f} {slow * 1e3:7.3f} {slow / fast:6.1f}"
             else:
-                cost = f"{'-':>12} {'-':>7}"
+                cost = f"{'-':>12} {'-':>7} {'-':>6}"
             print(f"{n:3d} {label:>6} {t_new * 1e3:9.1f} {res.periods:8.1f} {base} {events:9d} {cost}",
                   flush=True)
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from .search import ENABLED, _jit
 
-__all__ = ["check", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
+__all__ = ["check", "unpack", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit
 KIND_V, KIND_PLUS, KIND_MINUS = 0, 1, 2
@@ -74,11 +74,10 @@ def check(kern, x, v, w, f_ext, t0, v_scale, forced):
         Its value and zero band.
     atzero : (rows,) bool ndarray
         Rows within their zero band.
-    tol : (rows,) ndarray
-        Zero bands.
-    f_const, kx0, y0, b0, c0 : ndarray
-        The piece's constant load, ``K_c x``, start state and constant forcing in reduced
-        coordinates, and the event functions' constants.
+    buf : ndarray
+        ``tol, f_const, kx0, c0, y0, b0`` one after the other (:func:`unpack`): the zero bands, the
+        piece's constant load, ``K_c x``, the event functions' constants, and the start state and
+        constant forcing in reduced coordinates.
     """
     (k_sys, k_c, f_slip, jst_dt, jst_k, jst_idx, nt, mint, a21, a22, bcv, bsv, cyq, cyv, ax, af,
      ax_abs, a0c, a0k, widx, cc, cs, row_fs, row_kind, row_slider, flags, scales) = kern
@@ -178,4 +177,15 @@ def check(kern, x, v, w, f_ext, t0, v_scale, forced):
             j = q
     gj = g[j] if j >= 0 else 0.0
     tolj = tol[j] if j >= 0 else 0.0
-    return j, gj, tolj, atzero, tol, f_const, kx0, y0, b0, c0
+    # one buffer for the float arrays (each array handed back to Python costs a boxing)
+    buf = np.concatenate((tol, f_const, kx0, c0, y0, b0))
+    return j, gj, tolj, atzero, buf
+
+
+def unpack(buf: np.ndarray, rows: int, n: int) -> tuple:
+    """``tol, f_const, kx0, c0, y0, b0`` (views) of the buffer returned by :func:`check`."""
+    a = rows + n
+    b = a + n
+    c = b + rows
+    m2 = (buf.size - c) // 2
+    return buf[:rows], buf[rows:a], buf[a:b], buf[b:c], buf[c:c + m2], buf[c + m2:]

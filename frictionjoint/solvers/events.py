@@ -660,8 +660,8 @@ class Marcher:
             if pat.obs is None:
                 return self.interval(state, f_ext)
             kern = pat.kern if pat.kern is not None else self._kernel(pat)
-            j, gj, tolj, atzero, tol, f_const, kx0, y0, b0, c0 = consistency.check(
-                kern, state.x, state.v, state.w, f_ext, state.t, self.v_scale, forced)
+            j, gj, tolj, atzero, buf = consistency.check(kern, state.x, state.v, state.w, f_ext, state.t,
+                                                         self.v_scale, forced)
             if j >= 0:
                 i, kind = pat.meta[j]
                 if kind == "v":
@@ -677,6 +677,7 @@ class Marcher:
                     forced[i] = True
                     self._project(state)
                     continue
+            tol, f_const, kx0, c0, y0, b0 = consistency.unpack(buf, pat.n_rows, self.system.n_dof)
             itv = Interval.from_parts(self.system, pat.cfg, state.t, state.x, f_const, kx0, y0, b0)
             self._attach(itv, state, f_ext, pat, c0)
             itv.atzero = atzero
@@ -687,11 +688,12 @@ class Marcher:
 
     def _log(self, state, old, log, trigger):
         owner = self.system.slider_owner
-        new = state.status
-        for i in np.flatnonzero(old != new):
-            a, b = old[i], new[i]
-            kind = "stick" if b == 0 else ("slip" if a == 0 else "normal stop")
-            log.append(state.t, owner[i], i, kind)
+        old = old.tolist()
+        new = state.status.tolist()
+        for i, (a, b) in enumerate(zip(old, new)):
+            if a != b:
+                kind = "stick" if b == 0 else ("slip" if a == 0 else "normal stop")
+                log.append(state.t, owner[i], i, kind)
         if trigger is not None:
             i, k = trigger
             if k == "v" and old[i] == new[i] != 0:
@@ -809,9 +811,10 @@ class Marcher:
         zero_steps = 0
         while state.t < t_end:
             t_stop = t_end
-            nb = self._breaks[self._breaks > state.t]
-            if nb.size and nb[0] < t_stop:
-                t_stop = float(nb[0])
+            if self._breaks.size:
+                nb = self._breaks[self._breaks > state.t]
+                if nb.size and nb[0] < t_stop:
+                    t_stop = float(nb[0])
             horizon = t_stop - state.t
             ev = self.find_event(itv, horizon)
             if ev is None:
@@ -829,7 +832,7 @@ class Marcher:
             zero_steps = zero_steps + 1 if tau <= 0 else 0
             if zero_steps > 4 * self.system.n_sliders + 8:
                 raise ConvergenceError(f"events do not advance time at t = {state.t!r} (chattering)")
-            if not (np.all(np.isfinite(state.x)) and np.all(np.isfinite(state.v))):
+            if not (np.isfinite(state.x).all() and np.isfinite(state.v).all()):
                 raise ConvergenceError(f"non-finite state at t = {state.t!r}")
             itv = self.settle(state, log, trigger)
         return itv

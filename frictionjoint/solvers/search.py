@@ -47,7 +47,9 @@ ENABLED = numba is not None and __name__.startswith("frictionjoint.")
 
 
 def _jit(fun):
-    return numba.njit(cache=True)(fun) if ENABLED else fun
+    # error_model "numpy": a division by zero gives inf or nan as in C (the Brent steps mirror
+    # scipy's brentq.c, whose guards reject such a step), instead of raising
+    return numba.njit(cache=True, error_model="numpy")(fun) if ENABLED else fun
 
 
 #: relative tolerance of the root (as the Python path's brentq)
@@ -340,7 +342,10 @@ def _safe_step(g, dg, col, curv, level):
         d = dg[r, col]
         m = curv[r]
         if m > 0:
-            s = gr / (0.5 * (math.sqrt(d * d + 2.0 * m * gr) - d)) if d < 0 else (d + math.sqrt(d * d + 2.0 * m * gr)) / m
+            # the root of m s^2 / 2 - d s - gr in the form without cancellation (the denominator
+            # is >= |d| > 0 for d < 0: no underflow to zero)
+            root = math.sqrt(d * d + 2.0 * m * gr)
+            s = 2.0 * gr / (root - d) if d < 0 else (d + root) / m
         elif d < 0:
             s = gr / -d
         else:
