@@ -316,13 +316,15 @@ def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon):
     nr, nm = pa.shape
     curv = np.empty(nr)
     level = np.empty(nr)
+    grow = np.empty(nm)
+    for i in range(nm):
+        grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
     for r in range(nr):
         m2 = 0.0
         spread = 0.0
         for i in range(nm):
-            grow = math.exp(max(lam[i].real, 0.0) * horizon)
-            m2 += abs(pla[r, i]) * abs(lam[i]) * grow
-            spread += abs(pa[r, i]) * grow
+            m2 += abs(pla[r, i]) * abs(lam[i]) * grow[i]
+            spread += abs(pa[r, i]) * grow[i]
         forced = abs(kp[r]) + abs(km[r])
         if harmonic:
             forced += math.hypot(cc[r], cs[r])
