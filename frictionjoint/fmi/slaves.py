@@ -10,11 +10,13 @@ state get/set and pickled for serialisation.
 from __future__ import annotations
 
 import copy
-import functools
 import json
 import math
 import os
 import pickle
+
+from collections import OrderedDict
+from typing import NamedTuple, Optional
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
@@ -41,14 +43,43 @@ STRUCTURE_RESOURCE = "structure.json"
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
 
+class _Declaration(NamedTuple):
+    """One FMU variable as a slave declares it; ``method``/``args``: how an output is read
+    (``getattr(slave, method)(*args)``), None for a parameter or input (the attribute ``name``)."""
+
+    name: str
+    kind: type
+    causality: Fmi2Causality
+    variability: Fmi2Variability
+    description: str
+    start: object = None
+    method: Optional[str] = None
+    args: tuple = ()
+
+
+#: (slave class, declarations) -> pythonfmu variables, built once (see _Slave.vars)
+_VARIABLES: dict = {}
+
+
 class _Slave(BalancedSlave):
     """Common declarations, validation at initialisation, pickled state (the defects of
-    pythonfmu's native wrapper are balanced by :class:`~frictionjoint.fmi.wrapper.BalancedSlave`)."""
+    pythonfmu's native wrapper are balanced by :class:`~frictionjoint.fmi.wrapper.BalancedSlave`).
+
+    pythonfmu's wrapper constructs the slave anew at every ``fmi2Reset`` (``PySlaveInstance.cpp``,
+    ``Reset`` -> ``initialize``), so a host that resets per run (a sweep: one reset per frequency)
+    pays the construction each time. pythonfmu's own declarations (``register_variable``: one
+    variable object and two closures over the instance per variable) cost ~5 us per variable
+    and make every instance a reference cycle; here a slave only records its declarations
+    (:class:`_Declaration`) and sets their start values, the pythonfmu variables (for the model
+    description) are built once per class and declaration list, and ``get_*``/``set_*`` read and
+    write the attributes through the declarations.
+    """
 
     author = "frictionjoint developers"
     description = ""
 
     def __init__(self, **kwargs):
+        self._declared = []
         super().__init__(**kwargs)
         self.start_time = 0.0
         self._ready = False
@@ -56,20 +87,84 @@ class _Slave(BalancedSlave):
     # -- declarations ------------------------------------------------------
     def _parameter(self, name, start, description, kind=float):
         setattr(self, name, kind(start))
-        self.register_variable(_TYPES[kind](
-            name, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-            initial=Fmi2Initial.exact, description=description, start=kind(start)))
+        self._declared.append(_Declaration(name, kind, Fmi2Causality.parameter, Fmi2Variability.fixed,
+                                           description, kind(start)))
 
     def _input(self, name, start, description):
         setattr(self, name, float(start))
-        self.register_variable(Real(name, causality=Fmi2Causality.input,
-                                    variability=Fmi2Variability.continuous, description=description,
-                                    start=float(start)))
+        self._declared.append(_Declaration(name, float, Fmi2Causality.input, Fmi2Variability.continuous,
+                                           description, float(start)))
 
-    def _output(self, name, description, kind=float, getter=None):
+    def _output(self, name, description, kind=float, method="_out", args=None):
+        """An output read as ``self.<method>(*args)`` (``args`` defaults to ``(name,)``)."""
         variability = Fmi2Variability.continuous if kind is float else Fmi2Variability.discrete
-        self.register_variable(_TYPES[kind](name, causality=Fmi2Causality.output, variability=variability,
-                                            description=description, getter=getter))
+        self._declared.append(_Declaration(name, kind, Fmi2Causality.output, variability, description,
+                                           method=method, args=(name,) if args is None else tuple(args)))
+
+    @property
+    def vars(self):
+        """pythonfmu's ``value reference -> variable`` map (read when the model description is
+        written), built once per class and declaration list."""
+        key = (type(self), tuple(self._declared))
+        table = _VARIABLES.get(key)
+        if table is None:
+            table = OrderedDict()
+            for vr, d in enumerate(self._declared):
+                extra = {} if d.causality is Fmi2Causality.output else dict(initial=Fmi2Initial.exact,
+                                                                            start=d.start)
+                var = _TYPES[d.kind](d.name, causality=d.causality, variability=d.variability,
+                                     description=d.description, **extra)
+                var.value_reference = vr
+                table[vr] = var
+            _VARIABLES[key] = table
+        return table
+
+    @vars.setter
+    def vars(self, value):
+        # Fmi2Slave.__init__ assigns an empty map: the declarations are the variables
+        if value:
+            raise AttributeError("a frictionjoint slave declares its variables with _parameter/_input/_output")
+
+    def _declaration(self, vr, kind):
+        try:
+            d = self._declared[vr]
+        except (IndexError, TypeError):
+            raise KeyError(f"no variable with valueReference={vr!r}") from None
+        if d.kind is not kind:
+            raise TypeError(f"Variable with valueReference={vr} is not of type {_TYPES[kind].__name__}!")
+        return d
+
+    def _get_values(self, vrs, kind):
+        out = []
+        for vr in vrs:
+            d = self._declaration(vr, kind)
+            out.append(kind(getattr(self, d.name) if d.method is None else getattr(self, d.method)(*d.args)))
+        return out
+
+    def _set_values(self, vrs, values, kind):
+        for vr, value in zip(vrs, values):
+            d = self._declaration(vr, kind)
+            if d.method is not None:
+                raise TypeError(f"Variable {d.name} (valueReference={vr}) is an output: it cannot be set")
+            setattr(self, d.name, value)
+
+    def get_real(self, vrs):
+        return self._get_values(vrs, float)
+
+    def get_integer(self, vrs):
+        return self._get_values(vrs, int)
+
+    def get_boolean(self, vrs):
+        return self._get_values(vrs, bool)
+
+    def set_real(self, vrs, values):
+        self._set_values(vrs, values, float)
+
+    def set_integer(self, vrs, values):
+        self._set_values(vrs, values, int)
+
+    def set_boolean(self, vrs, values):
+        self._set_values(vrs, values, bool)
 
     # -- FMI calls ---------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
@@ -129,7 +224,7 @@ class CoulombOscillatorSlave(_Slave):
             self._parameter(name, default, text, kind=type(default))
         self._input("force", 0.0, "external force on the mass, added to the harmonic one, held over a step [N]")
         for name, (kind, text) in OSCILLATOR_OUTPUTS.items():
-            self._output(name, text, kind=kind, getter=functools.partial(self._out, name))
+            self._output(name, text, kind=kind)
         self._run = None
 
     def _initialise(self):
@@ -164,14 +259,17 @@ class _DrivenSlave(_Slave):
 
     def _declare_io(self):
         self._input("u", 0.0, "relative displacement across the joint, held over a step [m]")
-        self._output("force", "joint force, restoring convention [N]", getter=lambda: self._get("force"))
+        self._output("force", "joint force, restoring convention [N]", method="_get")
         self._output("tangent_stiffness", "stiffness of the sliders that stick (0 while all slip) [N/m]",
-                     getter=lambda: self._get("tangent_stiffness"))
-        self._output("slipping", "true while the joint slips", kind=bool, getter=lambda: self._get("slipping"))
+                     method="_get")
+        self._output("slipping", "true while the joint slips", kind=bool, method="_get")
         self._output("dissipated_energy", "energy dissipated since the start [J]",
-                     getter=lambda: self._get("dissipated_energy"))
+                     method="_get")
         self._output("displacement", "the input u at which force and tangent_stiffness are evaluated [m] "
-                     "(for a master that couples through the tangent stiffness)", getter=lambda: float(self.u))
+                     "(for a master that couples through the tangent stiffness)", method="_displacement", args=())
+
+    def _displacement(self):
+        return float(self.u)
 
     def _get(self, name):
         if not self._ready:
@@ -329,7 +427,7 @@ class DovetailRootSlave(_Slave):
         self._input("u_tangential", 0.0, "tangential root displacement from the static state [m]")
         self._input("u_radial", 0.0, "radial root displacement from the static state, outward [m]")
         for name, (kind, text) in DOVETAIL_OUTPUTS.items():
-            self._output(name, text, kind=kind, getter=functools.partial(self._out, name))
+            self._output(name, text, kind=kind)
         self._root = None
 
     def _initialise(self):
@@ -434,8 +532,8 @@ class LinearStructureSlave(_Slave):
             self._input(f"joint_displacement_{dof}", 0.0, f"displacement at which joint_force_{dof} was "
                         "evaluated [m]")
         for dof in d.outputs:
-            self._output(f"x_{dof}", f"displacement of {dof} [m]", getter=functools.partial(self._state, 0, dof))
-            self._output(f"v_{dof}", f"velocity of {dof} [m/s]", getter=functools.partial(self._state, 1, dof))
+            self._output(f"x_{dof}", f"displacement of {dof} [m]", method="_state", args=(0, dof))
+            self._output(f"v_{dof}", f"velocity of {dof} [m/s]", method="_state", args=(1, dof))
         self._body = None
 
     def _state(self, which, dof):
