@@ -63,7 +63,8 @@ def test_skipped_steps_keep_every_function_above_its_band():
         b0, bp, bm = itv._b
         coef = search._coefficients(p, itv._a, b0, bp, bm, c0, cfg.lam, cc, cs)
         tol = np.asarray(m._tolerances(itv), dtype=float)
-        curv, level = search._curvature(*coef[:5], cfg.lam, cc, cs, sysm.omega, itv.t0, coef[5], tol, tau)
+        pa, pla, k0, kp, km, harmonic = coef
+        curv, level = search._curvature(pa, pla, cfg.lam, k0, kp, km, cc, cs, sysm.omega, itv.t0, harmonic, tol, tau)
         sample = itv.sampler(itv.events[0])
         for t in np.linspace(0.0, tau, 9)[:-1]:
             g, dg = sample(np.array([t]))

@@ -24,7 +24,7 @@ import numpy as np
 
 from .search import ENABLED, _jit
 
-__all__ = ["check", "unpack", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
+__all__ = ["check", "pack", "unpack", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit
 KIND_V, KIND_PLUS, KIND_MINUS = 0, 1, 2
@@ -42,21 +42,86 @@ def _matvec(a, x):
     return out
 
 
+#: the float and int arrays of a status, in the order :func:`pack` takes them and :func:`check` reads them
+FLOATS = ("K", "K_c", "f_slip", "jst_dt", "jst_k", "N^T", "M_r^-1 N^T", "A21", "A22", "bc", "bs", "cy_q", "cy_v",
+          "ax", "af", "ax_abs", "a0c", "a0k", "cc", "cs", "row_fs", "scales", "slip_j_dir", "slip_j_off",
+          "rigid_dir")
+INTS = ("jst_idx", "widx", "row_kind", "row_slider", "flags", "slip_j", "rigid_idx")
+
+
+def pack(floats, ints) -> tuple:
+    """The status's constant arrays as two flat arrays ``(fk, ik)`` for :func:`check`.
+
+    Numba checks the type of every argument at every call: a tuple of 27 arrays cost ~4.5 us per
+    call (two calls per event), two arrays ~0.2 us. ``ik`` starts with a header: for each float
+    array its offset in ``fk`` and its shape as two numbers (1-D arrays: ``(size, 1)``), then for
+    each int array its offset in ``ik`` and its size; the int arrays follow.
+    """
+    if len(floats) != len(FLOATS) or len(ints) != len(INTS):
+        raise ValueError(f"pack takes {len(FLOATS)} float and {len(INTS)} int arrays")
+    floats = [np.asarray(a, dtype=float) for a in floats]
+    ints = [np.asarray(a, dtype=np.intp).ravel() for a in ints]
+    head = 3 * len(floats) + 2 * len(ints)
+    hdr, off = [], 0
+    for a in floats:
+        r, c = (a.shape[0], a.shape[1]) if a.ndim == 2 else (a.size, 1)
+        hdr += [off, r, c]
+        off += a.size
+    ioff = head
+    for a in ints:
+        hdr += [ioff, a.size]
+        ioff += a.size
+    fk = np.concatenate([a.ravel() for a in floats]) if off else np.zeros(0)
+    ik = np.concatenate([np.array(hdr, np.intp)] + ints)
+    return np.ascontiguousarray(fk), ik
+
+
 @_jit
-def check(kern, x, v, w, f_ext, t0, v_scale, forced):
+def _f2(fk, ik, i):
+    off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
+    return fk[off:off + r * c].reshape((r, c))
+
+
+@_jit
+def _f1(fk, ik, i):
+    off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
+    return fk[off:off + r * c]
+
+
+@_jit
+def _i1(ik, i):
+    h = 3 * len(FLOATS) + 2 * i
+    off, size = ik[h], ik[h + 1]
+    return ik[off:off + size]
+
+
+@_jit
+def _positions(w, x, d, off, idx):
+    """``w[idx[q]] = d[q] . x - off[q]`` in place (``off`` empty: no offsets)."""
+    n = x.size
+    for q in range(idx.size):
+        s = 0.0
+        for k in range(n):
+            s += d[q, k] * x[k]
+        w[idx[q]] = s - off[q] if off.size else s
+
+
+@_jit
+def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced):
     """Consistency test of a status (its constant arrays ``kern``, see ``Marcher._build_pattern``).
 
     Parameters
     ----------
-    kern : tuple
-        The status's constant arrays: ``K, K_c, f_slip, jst_dt, jst_k, jst_idx, N^T, M_r^-1 N^T,
-        A21, A22, bc, bs, cy_q, cy_v, ax, af, ax_abs, a0c, a0k, widx, cc, cs, row_fs, row_kind,
-        row_slider, flags, scales`` (``flags``: has_slip, has_jst, has_af, has_w, harmonic;
-        ``scales``: fixed load scale, mass scale, rate, omega).
+    fk, ik : ndarray
+        The status's constant arrays packed by :func:`pack` (see ``Marcher._kernel``): the float
+        arrays :data:`FLOATS` (``scales``: fixed load scale, mass scale, rate, omega) and the int
+        arrays :data:`INTS` (``flags``: has_slip, has_jst, has_af, has_w, harmonic).
     x, v : (n,) ndarray
         State.
     w : (n_sliders,) ndarray
-        Slider positions.
+        Slider positions, projected on the status in place (as ``Marcher._project``: slipping
+        Jenkins sliders and rigid ones follow ``x``); the velocity's projection (stuck rigid
+        sliders) is the caller's.
     f_ext : (n,) ndarray
         Held external force at ``t0``.
     t0 : float
@@ -79,11 +144,20 @@ def check(kern, x, v, w, f_ext, t0, v_scale, forced):
         piece's constant load, ``K_c x``, the event functions' constants, and the start state and
         constant forcing in reduced coordinates.
     """
-    (k_sys, k_c, f_slip, jst_dt, jst_k, jst_idx, nt, mint, a21, a22, bcv, bsv, cyq, cyv, ax, af,
-     ax_abs, a0c, a0k, widx, cc, cs, row_fs, row_kind, row_slider, flags, scales) = kern
+    k_sys, k_c, f_slip, jst_dt, jst_k = _f2(fk, ik, 0), _f2(fk, ik, 1), _f1(fk, ik, 2), _f2(fk, ik, 3), _f1(fk, ik, 4)
+    nt, mint, a21, a22 = _f2(fk, ik, 5), _f2(fk, ik, 6), _f2(fk, ik, 7), _f2(fk, ik, 8)
+    bcv, bsv, cyq, cyv = _f1(fk, ik, 9), _f1(fk, ik, 10), _f2(fk, ik, 11), _f2(fk, ik, 12)
+    ax, af, ax_abs = _f2(fk, ik, 13), _f2(fk, ik, 14), _f2(fk, ik, 15)
+    a0c, a0k, cc, cs, row_fs, scales = (_f1(fk, ik, 16), _f1(fk, ik, 17), _f1(fk, ik, 18), _f1(fk, ik, 19),
+                                        _f1(fk, ik, 20), _f1(fk, ik, 21))
+    jst_idx, widx, row_kind, row_slider, flags = _i1(ik, 0), _i1(ik, 1), _i1(ik, 2), _i1(ik, 3), _i1(ik, 4)
+    n = x.size
+    # the slider positions projected on the status first (Marcher._project): slipping Jenkins
+    # sliders w = d.x - F/k sign, rigid ones w = d.x
+    _positions(w, x, _f2(fk, ik, 22), _f1(fk, ik, 23), _i1(ik, 5))
+    _positions(w, x, _f2(fk, ik, 24), np.zeros(0), _i1(ik, 6))
     has_slip, has_jst, has_af, has_w, harmonic = flags[0], flags[1], flags[2], flags[3], flags[4]
     fscale_fixed, mass_scale, rate, om = scales[0], scales[1], scales[2], scales[3]
-    n = x.size
     m = nt.shape[0]
     nr = a0c.size
     # constant load of the piece and the reduced forcing (as Marcher.interval)

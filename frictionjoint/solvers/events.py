@@ -145,7 +145,7 @@ class _Pattern:
     __slots__ = ("cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
                  "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
                  "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
-                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "kern")
+                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern")
 
 
 class Marcher:
@@ -233,7 +233,7 @@ class Marcher:
         cfg = self.config(status)
         pat = _Pattern()
         pat.cfg = cfg
-        pat.modal_p = None
+        pat.modal_p = pat.modal_abs_p = None
         pat.kern = None
         # event functions, as in the reference construction (one row per slipping slider, two per
         # stuck slider); a0 = a0c + a0k * w[widx]
@@ -303,7 +303,8 @@ class Marcher:
         return pat
 
     def _kernel(self, pat: _Pattern) -> tuple:
-        """The constant arrays of :func:`.consistency.check` for a status (built on first use)."""
+        """The constant arrays of :func:`.consistency.check` for a status, packed
+        (:func:`.consistency.pack`; built on first use)."""
         sysm = self.system
         cfg = pat.cfg
         m = cfg.m
@@ -311,24 +312,16 @@ class Marcher:
         kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS}
         obs = pat.obs
         cy = pat.red_cy
-        f = np.asarray
-        pat.kern = (
-            f(sysm.stiffness, float), f(cfg.stiffness, float),
-            np.zeros(n) if pat.f_slip is None else f(pat.f_slip, float),
-            np.ascontiguousarray(pat.jst_dt, float), f(pat.jst_k, float),
-            np.flatnonzero(pat.jst).astype(np.intp),
-            np.ascontiguousarray(cfg.N.T), np.ascontiguousarray(cfg.mr_inv_nt),
-            np.ascontiguousarray(cfg.A[m:, :m]), np.ascontiguousarray(cfg.A[m:, m:]),
-            np.ascontiguousarray(cfg.bc[m:]), np.ascontiguousarray(cfg.bs[m:]),
-            np.ascontiguousarray(cy[:, :m]), np.ascontiguousarray(cy[:, m:]),
-            np.ascontiguousarray(obs.ax), np.ascontiguousarray(obs.af), np.ascontiguousarray(pat.ax_abs),
-            f(pat.a0c, float), f(pat.a0k, float), f(pat.widx, np.intp),
-            f(pat.red_cc, float), f(pat.red_cs, float), f(pat.row_fs, float),
-            np.array([kinds[k] for _, k in pat.meta], np.intp), f(pat.row_slider, np.intp),
-            np.array([pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
-                      bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], bool),
-            np.array([self._fscale_fixed, self._mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
-                      sysm.omega]))
+        pat.kern = consistency.pack(
+            (sysm.stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
+             pat.jst_k, cfg.N.T, cfg.mr_inv_nt, cfg.A[m:, :m], cfg.A[m:, m:], cfg.bc[m:], cfg.bs[m:],
+             cy[:, :m], cy[:, m:], obs.ax, obs.af, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
+             pat.row_fs, [self._fscale_fixed, self._mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
+                          sysm.omega], pat.slip_j_dir, pat.slip_j_off, self._rigid_dir),
+            (np.flatnonzero(pat.jst), pat.widx, [kinds[k] for _, k in pat.meta], pat.row_slider,
+             [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
+              bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], np.flatnonzero(pat.slip_j),
+             self._rigid_idx))
         return pat.kern
 
     @property
@@ -658,24 +651,26 @@ class Marcher:
             visited.add(state.status.tobytes())
             pat = self._pattern(state.status)
             if pat.obs is None:
+                self._project(state)
                 return self.interval(state, f_ext)
-            kern = pat.kern if pat.kern is not None else self._kernel(pat)
-            j, gj, tolj, atzero, buf = consistency.check(kern, state.x, state.v, state.w, f_ext, state.t,
+            if pat.has_rigid_stuck:  # the state projected on the status (Marcher._project): v here,
+                cfg = pat.cfg       # the slider positions in check
+                state.v = cfg.N @ (cfg.N.T @ state.v)
+            fk, ik = pat.kern if pat.kern is not None else self._kernel(pat)
+            j, gj, tolj, atzero, buf = consistency.check(fk, ik, state.x, state.v, state.w, f_ext, state.t,
                                                          self.v_scale, forced)
             if j >= 0:
                 i, kind = pat.meta[j]
                 if kind == "v":
                     state.status[i] = 0
                     forced[i] = False
-                    self._project(state)
-                    continue
+                    continue  # the next check projects the state on the new status
                 # the stick -> slip -> stick cycle at one instant of settle: stay stuck
                 new_status = state.status.copy()
                 new_status[i] = 1 if kind == "+" else -1
                 if not (new_status.tobytes() in visited and gj >= -tolj):
                     state.status[i] = new_status[i]
                     forced[i] = True
-                    self._project(state)
                     continue
             tol, f_const, kx0, c0, y0, b0 = consistency.unpack(buf, pat.n_rows, self.system.n_dof)
             itv = Interval.from_parts(self.system, pat.cfg, state.t, state.x, f_const, kx0, y0, b0)
@@ -737,13 +732,14 @@ class Marcher:
         if self.jit and itv.modal_search():
             cy, c0, cc, cs = red
             cfg = itv.config
-            p = pat.modal_p
-            if p is None:
-                p = pat.modal_p = cy @ cfg.V
+            if pat.modal_p is None:
+                pat.modal_p = cy @ cfg.V
+                pat.modal_abs_p = search.magnitudes(pat.modal_p)
             b0, bp, bm = itv._b
-            found, tau, row, vmax = search.first_event(p, itv._a, b0, bp, bm, c0, cfg.lam, cc, cs,
-                                                       self.system.omega, itv.t0, np.asarray(tol, dtype=float),
-                                                       atzero, pat.vrows, float(horizon), h)
+            found, tau, row, vmax = search.first_event(pat.modal_p, pat.modal_abs_p, itv._a, b0, bp, bm, c0,
+                                                       cfg.lam, cc, cs, self.system.omega, itv.t0,
+                                                       np.asarray(tol, dtype=float), atzero, pat.vrows,
+                                                       float(horizon), h)
         else:
             found, tau, row, vmax = search.numpy_first_event(itv, red, tol, atzero, pat.vrows, horizon, h)
         self.v_scale *= 0.5
@@ -764,6 +760,11 @@ class Marcher:
         state : MarchState
             Moved in place (``t``, ``x``, ``v``; projected on its status).
         """
+        self._move(itv, tau, state)
+        self._project(state)
+
+    def _move(self, itv: Interval, tau: float, state: MarchState) -> None:
+        """:meth:`advance` without the projection (the compiled settling projects)."""
         state.t = itv.t0 + tau
         if self.jit and itv.modal_search():
             cfg = itv.config
@@ -774,7 +775,6 @@ class Marcher:
             x, v = itv.state(tau)
             state.x = x[:, 0]
             state.v = v[:, 0]
-        self._project(state)
 
     def march(self, state: MarchState, t_end: float, log: EventLog | None = None,
               on_interval: Callable[[Interval, float], object] | None = None,
@@ -826,7 +826,10 @@ class Marcher:
                 itv.end_row = j  # the event that ends the piece (saltation of the march's Jacobian)
             if on_interval is not None:
                 on_interval(itv, tau)
-            self.advance(itv, tau, state)
+            if self.jit:  # settle projects the state on its status (consistency.check)
+                self._move(itv, tau, state)
+            else:
+                self.advance(itv, tau, state)
             if trigger is None:
                 state.t = t_stop
             zero_steps = zero_steps + 1 if tau <= 0 else 0

@@ -277,14 +277,35 @@ def _coefficients(p, a, b0, bp, bm, c0, lam, cc, cs):
 
 
 @_jit
-def _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows, horizon):
+def magnitudes(z):
+    """``|z|`` of a complex matrix, elementwise (the event functions' ``|p|``, cached per status)."""
+    out = np.empty(z.shape)
+    for r in range(z.shape[0]):
+        for i in range(z.shape[1]):
+            out[r, i] = abs(z[r, i])
+    return out
+
+
+@_jit
+def _growth(lam, horizon):
+    """``max(1, e^{Re lam_i horizon})`` per mode."""
+    grow = np.empty(lam.size)
+    for i in range(lam.size):
+        grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
+    return grow
+
+
+@_jit
+def _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows):
     """True when no function can reach its zero band over ``[0, horizon]`` (closed-form bound
     about k0, see ``Interval.bounds``: forced part |Z|, free modes sum |pa_i| max(1, e^{Re lam_i
-    horizon}), and the rounding of terms of these sizes), with the velocity rows' upper bound."""
-    nr, nm = p.shape
-    grow = np.empty(nm)
+    horizon}), and the rounding of terms of these sizes), with the velocity rows' upper bound.
+    ``apa = |pa|``, ``abs_p = |p|`` and ``grow`` (:func:`_growth`) are computed once per piece
+    (status) and shared with :func:`_curvature_bound`."""
+    nr, nm = apa.shape
+    ab0 = np.empty(nm)
     for i in range(nm):
-        grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
+        ab0[i] = abs(b0[i])
     e0 = cmath.exp(1j * w * t0)
     skip = True
     spread = np.empty(nr)
@@ -293,8 +314,8 @@ def _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows,
         free = 0.0
         pb = 0.0
         for i in range(nm):
-            free += abs(pa[r, i]) * grow[i]
-            pb += abs(p[r, i]) * abs(b0[i])
+            free += apa[r, i] * grow[i]
+            pb += abs_p[r, i] * ab0[i]
         sr = abs(z) + free
         spread[r] = sr + 1e-12 * (abs(k0[r]) + sr + pb)
         if atzero[r] or not (k0[r] - spread[r] > tol[r]):
@@ -313,18 +334,25 @@ def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon):
     max(1, e^{Re lam_i horizon})``, forced part ``w^2 (|kp| + |km| + |(cc, cs)|)``) and the level
     ``tol + 1e-12 (|k0| + spread)`` the function must stay above for a step to be skipped (its zero
     band plus the rounding of terms of the function's size)."""
-    nr, nm = pa.shape
+    return _curvature_bound(magnitudes(pa), pla, lam, _growth(lam, horizon), k0, kp, km, cc, cs, w,
+                            harmonic, tol)
+
+
+@_jit
+def _curvature_bound(apa, pla, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol):
+    """:func:`_curvature` from ``apa = |pa|`` and ``grow`` (:func:`_growth`)."""
+    nr, nm = apa.shape
     curv = np.empty(nr)
     level = np.empty(nr)
-    grow = np.empty(nm)
+    alam = np.empty(nm)
     for i in range(nm):
-        grow[i] = math.exp(max(lam[i].real, 0.0) * horizon)
+        alam[i] = abs(lam[i]) * grow[i]
     for r in range(nr):
         m2 = 0.0
         spread = 0.0
         for i in range(nm):
-            m2 += abs(pla[r, i]) * abs(lam[i]) * grow[i]
-            spread += abs(pa[r, i]) * grow[i]
+            m2 += abs(pla[r, i]) * alam[i]
+            spread += apa[r, i] * grow[i]
         forced = abs(kp[r]) + abs(km[r])
         if harmonic:
             forced += math.hypot(cc[r], cs[r])
@@ -358,13 +386,15 @@ def _safe_step(g, dg, col, curv, level):
 
 
 @_jit
-def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
+def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
     """First event of a modal piece in ``(0, horizon]``.
 
     Parameters
     ----------
     p : (rows, modes) complex ndarray
         Event functions in modal coordinates (``C_y V``).
+    abs_p : (rows, modes) ndarray
+        ``|p|`` (:func:`magnitudes`; constant per status, computed once by the caller).
     a, b0, bp, bm : (modes,) complex ndarray
         The piece's modal solution ``eta = e^{lam tau} a + b0 + bp e^{i w tau} + bm e^{-i w tau}``.
     c0, cc, cs : (rows,) ndarray
@@ -393,8 +423,10 @@ def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, ho
     pa, pla, k0, kp, km, harmonic = _coefficients(p, a, b0, bp, bm, c0, lam, cc, cs)
     nr = k0.size
     vmax = 0.0
+    apa = magnitudes(pa)
+    grow = _growth(lam, horizon)
     if horizon > 4 * h:
-        skip, vmax = _bounded_away(p, pa, b0, lam, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows, horizon)
+        skip, vmax = _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows)
         if skip:
             return False, 0.0, -1, vmax
     # two sample columns (previous, current), filled one sample at a time: the search stops at
@@ -407,7 +439,7 @@ def first_event(p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, ho
             g[r, 0] = 0.0
         if vrows[r]:
             vmax = max(vmax, abs(g[r, 0]))
-    curv, level = _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon)
+    curv, level = _curvature_bound(apa, pla, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol)
     t_prev = 0.0
     prev, cur = 0, 1
     k = 0
