@@ -685,11 +685,13 @@ class WorkPrecision:
                              repr(float(p.reference)), r.method, r.setting, repr(float(r.amplitude)),
                              f"{r.error:.3e}", f"{r.time:.6e}", f"{r.ratio:.4g}", r.repeats, r.status])
 
-    def plot(self, path=None):
+    def plot(self, ax=None, path=None):
         """Work-precision plot (error against time, log-log), one panel per case.
 
         Parameters
         ----------
+        ax : sequence of matplotlib Axes, optional
+            One axes per case, instead of a new figure. A path given here is taken as ``path``.
         path : str or os.PathLike, optional
             Write the figure there.
 
@@ -697,9 +699,10 @@ class WorkPrecision:
         -------
         matplotlib.figure.Figure
         """
-        from frictionjoint.plotting import plot_work_precision
+        from frictionjoint.plotting import plot_target, plot_work_precision
 
-        return plot_work_precision(self, path)
+        ax, path = plot_target(ax, path)
+        return plot_work_precision(self, path, ax=ax)
 
 
 # --------------------------------------------------------------------------- running

@@ -24,7 +24,7 @@ def main(path="forced_response.png", points=60):
     response = oscillator_sweep(mass, stiffness, slip_force, force_amplitude, omegas,
                                 direction="both", progress=True)
     print(response.table())
-    response.plot(path)
+    response.plot(path=path)
     print(f"wrote {path}")
     return response
 

@@ -62,6 +62,7 @@ __all__ = [
     "den_hartog",
     "den_hartog_boundary",
     "den_hartog_response",
+    "den_hartog_curve",
     "wall_base_mapping",
     "coulomb_describing_function",
     "harmonic_balance_amplitude",
@@ -602,6 +603,40 @@ def den_hartog_response(
         stiffness=k,
         dimensionless=sol,
     )
+
+
+def den_hartog_curve(omegas, mass: float, stiffness: float, slip_force: float,
+                     force_amplitude: float, base_amplitude: float = 0.0):
+    """Den Hartog's amplitude and phase at many frequencies, masked where it is not the motion.
+
+    Parameters
+    ----------
+    omegas : (n,) array_like
+        Angular frequencies [rad/s], > 0.
+    mass, stiffness, slip_force, force_amplitude, base_amplitude : float
+        As in :class:`frictionjoint.CoulombOscillator` [kg, N/m, N, N, m].
+
+    Returns
+    -------
+    amplitude : (n,) masked ndarray
+        Max ``|x|`` [m].
+    phase : (n,) masked ndarray
+        First-harmonic lag behind ``cos(omega t)`` [rad].
+    regime : (n,) ndarray of str
+        Regime word of :func:`frictionjoint.analytic.den_hartog`.
+    """
+    amps, phases, regimes = [], [], []
+    for w in np.atleast_1d(np.asarray(omegas, dtype=float)):
+        dh = den_hartog_response(mass, stiffness, slip_force, force_amplitude, float(w),
+                                 base_amplitude)
+        ok = dh.applicable and math.isfinite(dh.amplitude)
+        amps.append(dh.amplitude if ok else math.nan)
+        phases.append(dh.phase if ok else math.nan)
+        regimes.append(dh.regime)
+    amps, phases = np.array(amps), np.array(phases)
+    return (np.ma.MaskedArray(np.where(np.isfinite(amps), amps, 0.0), mask=~np.isfinite(amps)),
+            np.ma.MaskedArray(np.where(np.isfinite(phases), phases, 0.0), mask=~np.isfinite(phases)),
+            np.array(regimes, dtype=str))
 
 
 def _wrap_or_nan(angle: float) -> float:

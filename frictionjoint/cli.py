@@ -328,7 +328,7 @@ def _write(result, args) -> int:
         result.to_csv(args.csv)
         print(f"wrote {args.csv}")
     if args.out:
-        result.plot(args.out)
+        result.plot(path=args.out)
         print(f"wrote {args.out}")
     return 0
 
@@ -407,7 +407,7 @@ def _bench(args, parser) -> int:
     csv_path = os.path.join(args.out, "work_precision.csv")
     png_path = os.path.join(args.out, "work_precision.png")
     wp.to_csv(csv_path)
-    wp.plot(png_path)
+    wp.plot(path=png_path)
     print(f"wrote {csv_path}\nwrote {png_path}")
     return 0
 

@@ -6,10 +6,12 @@ interactive session's own backend; pass ``ax`` to draw into an existing figure i
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 __all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
-           "new_figure"]
+           "new_figure", "plot_target"]
 
 _DPI = 130
 
@@ -32,6 +34,28 @@ def new_figure(figsize=(8.0, 6.0)):
     fig = Figure(figsize=figsize, layout="constrained")
     FigureCanvasAgg(fig)
     return fig
+
+
+def plot_target(ax, path):
+    """``(ax, path)`` of a result's ``plot(ax=None, path=None)``: a path passed as the first
+    argument (the results' former ``plot(path)``) is taken as ``path``.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes, tuple of Axes, str, os.PathLike or None
+        What was passed as ``ax``.
+    path : str, os.PathLike or None
+        What was passed as ``path``.
+
+    Returns
+    -------
+    (ax, path) : tuple
+    """
+    if isinstance(ax, (str, os.PathLike)):
+        if path is not None:
+            raise TypeError(f"plot(ax=None, path=None): ax is a path ({ax!r}) and path is given too")
+        return None, ax
+    return ax, path
 
 
 def _save(fig, path):
@@ -67,7 +91,7 @@ _REGIME_STYLE = {
 }
 
 
-def plot_frequency_response(fr, path=None, phase: bool = True):
+def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     """Amplitude (and phase) of a forced-response sweep against frequency.
 
     Up and down branches as markers, the analytic (Den Hartog) curve as a dense line where it
@@ -82,6 +106,9 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
         Write the figure there (format from the extension).
     phase : bool
         Add a phase panel [deg] below the amplitude.
+    ax : matplotlib Axes or (Axes, Axes), optional
+        Draw into these axes (with ``phase``: the amplitude and the phase axes) instead of a new
+        figure.
 
     Returns
     -------
@@ -94,10 +121,14 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
     xvals = ratio if ratio is not None else fr.omega
     xlabel = (r"frequency ratio $r = \omega/\omega_n$" if ratio is not None
               else r"excitation frequency $\omega$ [rad/s]")
-    fig = new_figure((8.0, 7.0 if phase else 4.8))
-    if phase:
+    if ax is not None:
+        ax_a, ax_p = (ax if phase else (ax, None))
+        fig = ax_a.figure
+    elif phase:
+        fig = new_figure((8.0, 7.0))
         ax_a, ax_p = fig.subplots(2, 1, sharex=True, height_ratios=[1.6, 1.0])
     else:
+        fig = new_figure((8.0, 4.8))
         ax_a, ax_p = fig.subplots(1, 1), None
     axes = [ax_a] + ([ax_p] if ax_p is not None else [])
     handles = []
@@ -106,13 +137,16 @@ def plot_frequency_response(fr, path=None, phase: bool = True):
     amp_ok = fr.amplitude[ok & (fr.amplitude > 0)]
     amp_ref = np.empty(0)
     # analytic reference: dense curve, gaps where it is not the motion
-    if fr.reference is not None and len(fr):
+    dense = np.empty(0)
+    if len(fr):
         lo, hi = float(fr.omega.min()), float(fr.omega.max())
         dense = np.linspace(lo, hi, 600)
         wn = fr.natural_frequency
         if wn is not None and lo < wn < hi:  # resolve the resonance itself
             dense = np.unique(np.concatenate([dense, [wn]]))
-        d_amp, d_ph = fr.reference(dense)
+    curve = fr.analytic_curve(dense) if dense.size else None
+    if curve is not None:
+        d_amp, d_ph = curve
         amp_line = np.ma.filled(d_amp.astype(float), np.nan)
         amp_ref = amp_line[np.isfinite(amp_line) & (amp_line > 0)]
         ph_line = np.ma.filled(d_ph.astype(float), np.nan)
@@ -376,7 +410,7 @@ _METHOD_STYLE = {
 }
 
 
-def plot_work_precision(wp, path=None, floor: float = 1e-17):
+def plot_work_precision(wp, path=None, floor: float = 1e-17, ax=None):
     """Work-precision diagram: relative error against wall time, log-log, one panel per case.
 
     Parameters
@@ -387,14 +421,22 @@ def plot_work_precision(wp, path=None, floor: float = 1e-17):
         Write the figure there.
     floor : float
         Errors below this (exact zeros) are drawn at it [-].
+    ax : sequence of matplotlib Axes, optional
+        One axes per case, instead of a new figure.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     cases = list(wp.problems)
-    fig = new_figure((4.6 * len(cases), 4.8))
-    axes = np.atleast_1d(fig.subplots(1, len(cases), sharey=True))
+    if ax is not None:
+        axes = np.atleast_1d(np.asarray(ax, dtype=object))
+        if axes.size != len(cases):
+            raise ValueError(f"ax must hold one Axes per case ({len(cases)}), got {axes.size}")
+        fig = axes[0].figure
+    else:
+        fig = new_figure((4.6 * len(cases), 4.8))
+        axes = np.atleast_1d(fig.subplots(1, len(cases), sharey=True))
     handles = {}
     for ax, case in zip(axes, cases):
         rows = [r for r in wp.case_rows(case) if r.ok]

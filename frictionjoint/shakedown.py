@@ -37,7 +37,7 @@ steady-state dissipation per cycle does not depend on the initial slips.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -45,6 +45,7 @@ import scipy.linalg
 import scipy.optimize
 
 from .errors import ConvergenceError, ParameterError, check_positive
+from .results.shakedown import CycleResult, MelanResult, ShakedownResult
 
 __all__ = [
     "PeriodicLoad",
@@ -157,39 +158,6 @@ class PeriodicLoad:
         n_samples = _check_count("n_samples", n_samples)
         t = period * np.arange(n_samples) / n_samples
         return cls(t, [tangential(x) for x in t], [normal(x) for x in t], period)
-
-
-@dataclass
-class CycleResult:
-    """One period of the exact quasi-static march.
-
-    Attributes
-    ----------
-    slip_at_samples : (m+1, n) ndarray
-        Slips ``w`` [m] at the sample times and at the end of the period.
-    dissipation : float
-        Energy dissipated by friction over the period [J].
-    slip_variation : (n,) ndarray
-        ``int |w_i'| dt`` over the period [m] (0: node ``i`` did not slip).
-    work : float
-        Work of the load, ``int q . K^-1 q_ext' dt`` [J].
-    stored_energy_change : float
-        Change of ``q . K^-1 q / 2`` over the period [J]; ``work = stored_energy_change + dissipation``.
-    n_events : int
-        Pieces of constant slip rates marched.
-    """
-
-    slip_at_samples: np.ndarray
-    dissipation: float
-    slip_variation: np.ndarray
-    work: float
-    stored_energy_change: float
-    n_events: int
-
-    @property
-    def slip_end(self) -> np.ndarray:
-        """Slips [m] at the end of the period, (n,)."""
-        return self.slip_at_samples[-1]
 
 
 def _lcp(m: np.ndarray, r: np.ndarray, tol: float):
@@ -442,31 +410,6 @@ class QuasiStaticFrictionSystem:
         return out
 
 
-@dataclass
-class MelanResult:
-    """Frictional Melan check: is there a residual slip that keeps the load inside the friction cone?
-
-    Attributes
-    ----------
-    safe : bool
-        ``margin >= 0``: a residual slip ``w_r`` exists with ``|q_ext(t) - K w_r| <= g(t)`` for all
-        ``t``. For ``B = 0``, ``margin > 0`` means shakedown from every initial state (Klarbring et al.
-        2007); ``margin < 0`` means cyclic slip from every initial state.
-    margin : float
-        Largest ``mu <= 1`` with ``|q_ext(t) - K w_r| <= (1 - mu) g(t)`` for all ``t`` [-].
-    residual_slip : (n,) ndarray
-        The ``w_r`` [m] attaining ``margin``.
-    success : bool
-    message : str
-    """
-
-    safe: bool
-    margin: float
-    residual_slip: np.ndarray
-    success: bool = True
-    message: str = "ok"
-
-
 def melan_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad) -> MelanResult:
     """Frictional Melan theorem: the largest uniform safety margin of a residual slip state.
 
@@ -503,50 +446,6 @@ def melan_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad) -> MelanR
     z, mu = res.x[:n], float(res.x[-1])
     w_r = scipy.linalg.cho_solve(system._cho, z)
     return MelanResult(bool(mu >= -_RTOL), mu, w_r)
-
-
-@dataclass
-class ShakedownResult:
-    """Outcome of :func:`shakedown_check`.
-
-    Attributes
-    ----------
-    status : str
-        ``'shakedown'`` (a whole period without slip: slip has stopped for good),
-        ``'cyclic slip'`` (the state repeats after a period and the period dissipates energy) or
-        ``'transient'`` (neither within ``n_cycles``).
-    shakedown : bool
-        ``status == 'shakedown'``.
-    dissipation : (n_run,) ndarray
-        Energy dissipated in each period marched [J].
-    slip_increment : (n_run,) ndarray
-        ``max_i |w_i(end) - w_i(start)|`` of each period [m].
-    steady_dissipation : float
-        Dissipation per period in the steady state [J] (0 after shakedown; ``nan`` if transient).
-    steady_cycle : int
-        Index of the first period of the steady state (-1 if transient).
-    final_slip : (n,) ndarray
-        Slips [m] at the end of the last period.
-    last_cycle : CycleResult
-    melan : MelanResult or None
-    success : bool
-    message : str
-    """
-
-    status: str
-    dissipation: np.ndarray
-    slip_increment: np.ndarray
-    steady_dissipation: float
-    steady_cycle: int
-    final_slip: np.ndarray
-    last_cycle: CycleResult
-    melan: Optional[MelanResult] = None
-    success: bool = True
-    message: str = "ok"
-
-    @property
-    def shakedown(self) -> bool:
-        return self.status == "shakedown"
 
 
 def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initial_slip: ArrayLike | None = None,

@@ -73,7 +73,7 @@ def test_plot_all_categories(tmp_path):
     unique = np.array([[False, True, True, True], [True, False, True, True]])
     rm = RegimeMap(np.array([0.1, 0.2]), np.array([0.5, 1.0, 1.5, 2.0]), regime, stops,
                    converged=regime != "not converged", unique=unique,
-                   periods=np.ones((2, 4)), message=np.full((2, 4), "m"))
+                   periods=np.ones((2, 4)), messages=np.full((2, 4), "m"))
     assert list(rm.category()[0]) == ["0 stops", "1 stop", "3 stops", "8 stops"]
     fig = rm.plot(tmp_path / "all.png")
     labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]

@@ -58,7 +58,7 @@ def test_branch_order_and_labels(both):
     assert list(both.branch) == ["up"] * 5 + ["down"] * 5
     assert np.all(np.diff(up.omega) > 0)
     assert np.all(np.diff(down.omega) < 0)
-    assert len(up.message) == len(up) == 5
+    assert len(up.messages) == len(up) == 5
     with pytest.raises(ParameterError, match="branch"):
         both.select("sideways")
     only_down = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [2.0, 0.8, 1.5], direction="down")
@@ -137,7 +137,7 @@ def test_damped_sweep_has_no_closed_form():
     fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [1.5], damping=0.05)
     assert fr.analytic_regime[0] == "damped"
     assert np.ma.getmaskarray(fr.analytic_amplitude).all()
-    assert fr.reference is None
+    assert fr.analytic_curve([1.5]) is None
     assert "damped" in fr.table()
     assert fr.parameters["damping"] == 0.05
 
@@ -252,7 +252,7 @@ def test_solver_failure_is_retried_then_reported(monkeypatch):
     with pytest.warns(RuntimeWarning, match="broken solver"):
         fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [1.5])
     assert fr.regime[0] == "not converged" and not fr.converged[0]
-    assert "broken solver" in fr.message[0]
+    assert "broken solver" in fr.messages[0]
     assert "no conv." in fr.table()
 
 

@@ -1,6 +1,13 @@
-"""Result objects: time responses and periodic (steady-state) responses."""
+"""Result objects: time responses, periodic (steady-state) responses, co-simulation records.
+
+The result contract, shared by every result of :mod:`frictionjoint.results`: ``success``
+(bool), ``status`` (a word) and ``message`` (a sentence); a failed computation is a status of
+its result, not an exception. Results of many points (sweeps, maps) also keep each point's
+solver message in ``messages``.
+"""
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
@@ -10,7 +17,7 @@ from numpy.typing import ArrayLike
 if TYPE_CHECKING:  # computing never imports matplotlib
     from matplotlib.axes import Axes
 
-__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult", "STABILITY_MARGIN"]
+__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult", "STABILITY_MARGIN", "collection_status"]
 
 
 @dataclass
@@ -64,25 +71,27 @@ class TimeResponse:
         return (self.work - (self.stored_energy - self.stored_energy[0])
                 - self.dissipated_friction - self.dissipated_viscous)
 
-    def plot(self, ax: Axes | None = None, **kwargs: Any) -> Axes:
+    def plot(self, ax: Axes | None = None, path: str | os.PathLike | None = None, **kwargs: Any) -> Axes:
         """Plot displacement against time (see :func:`frictionjoint.plotting.plot_time_response`).
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
             Draw into these axes (a new figure if omitted).
+        path : str or os.PathLike, optional
+            Write the figure there (format from the extension).
         **kwargs
-            Passed to :func:`~frictionjoint.plotting.plot_time_response`: ``path`` (str or
-            os.PathLike, write the figure there), the rest to ``Axes.plot`` for the displacement lines.
+            Passed to ``Axes.plot`` for the displacement lines.
 
         Returns
         -------
         matplotlib.axes.Axes
             The axes of the displacement.
         """
-        from .plotting import plot_time_response
+        from ..plotting import plot_target, plot_time_response
 
-        return plot_time_response(self, ax=ax, **kwargs)
+        ax, path = plot_target(ax, path)
+        return plot_time_response(self, ax=ax, path=path, **kwargs)
 
 
 @dataclass
@@ -208,5 +217,56 @@ class CoSimulationResult:
     success: bool = True
     message: str = "ok"
 
+    @property
+    def status(self) -> str:
+        """``'ok'`` or ``'failed'`` (the result contract's word for ``success``)."""
+        return "ok" if self.success else "failed"
+
     def __getitem__(self, name: str) -> np.ndarray:
         return self.values[name]
+
+
+def collection_status(converged: ArrayLike, noun: str = "points") -> tuple[str, str]:
+    """``(status, message)`` of a result made of many points (a sweep, a map).
+
+    Parameters
+    ----------
+    converged : array_like of bool
+        Per point: its computation succeeded.
+    noun : str
+        What the points are called in the message.
+
+    Returns
+    -------
+    status : str
+        ``'ok'`` (every point), ``'partial'`` (some) or ``'failed'`` (none, or no points).
+    message : str
+        E.g. ``'97 of 100 points converged'``.
+    """
+    ok = np.asarray(converged, dtype=bool)
+    n, k = int(ok.size), int(np.count_nonzero(ok))
+    status = "ok" if n and k == n else ("partial" if k else "failed")
+    return status, f"{k} of {n} {noun} converged"
+
+
+class PointsContract:
+    """The result contract of a result made of many points (a sweep, a map) with a ``converged``
+    array: ``success`` (every point converged), ``status`` and ``message``
+    (:func:`collection_status`); each point's solver message is in its ``messages``."""
+
+    converged: np.ndarray
+
+    @property
+    def success(self) -> bool:
+        """True when every point converged."""
+        return bool(np.all(self.converged))
+
+    @property
+    def status(self) -> str:
+        """``'ok'`` (every point converged), ``'partial'`` or ``'failed'`` (none)."""
+        return collection_status(self.converged)[0]
+
+    @property
+    def message(self) -> str:
+        """How many points converged (each point's solver message: ``messages``)."""
+        return collection_status(self.converged)[1]

@@ -1,0 +1,21 @@
+"""Result types, one module per family; all of them importable from here.
+
+The result contract: every result has ``success`` (bool), ``status`` (a word) and ``message``
+(a sentence), and a failed computation is a status of its result, not an exception; results
+of many points (sweeps, maps) keep each point's solver message in ``messages``. Results hold
+data only (arrays, words, parameters), so CSV round trips are lossless, and plot with
+``plot(ax=None, path=None)``.
+
+- :mod:`.response`: :class:`TimeResponse`, :class:`PeriodicResponse`, :class:`CoSimulationResult`;
+- :mod:`.frequency`: :class:`FrequencyResponse`, :class:`SystemSweep`;
+- :mod:`.regime_map`: :class:`RegimeMap`;
+- :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`.
+"""
+from .frequency import FrequencyResponse, SystemSweep
+from .regime_map import RegimeMap
+from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
+from .shakedown import CycleResult, MelanResult, ShakedownResult
+
+__all__ = ["TimeResponse", "PeriodicResponse", "CoSimulationResult", "FrequencyResponse", "SystemSweep",
+           "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
+           "collection_status"]
