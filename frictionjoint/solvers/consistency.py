@@ -108,7 +108,7 @@ def _positions(w, x, d, off, idx):
 
 @_jit
 def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced):
-    """Consistency test of a status (its constant arrays ``kern``, see ``Marcher._build_pattern``).
+    """Consistency test of a status (its constant arrays ``kern``, see :meth:`.patterns.StatusPattern.pack`).
 
     Parameters
     ----------

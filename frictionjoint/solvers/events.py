@@ -24,12 +24,13 @@ from numpy.typing import ArrayLike
 
 from ..errors import ConvergenceError, ParameterError, check_system, check_vector
 from ..system import FrictionSystem
+from .eventlog import EVENT_KINDS, EventLog, MarchState
+from .patterns import StatusPattern
 from .propagator import ConfigData, Interval, Observables
 from . import consistency, piece_kernels, search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
-EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
 _SAMPLES_PER_PERIOD = 16
 
 
@@ -38,114 +39,6 @@ def _absmax(a: np.ndarray) -> float:
     if a.size <= 16:
         return max(map(abs, a.ravel().tolist()), default=0.0)
     return float(np.max(np.abs(a), initial=0.0))
-
-
-class EventLog:
-    """Events in time order: ``time`` [s], ``element`` and ``slider`` indices, ``kind``.
-
-    Kinds: ``'stick'`` (slip -> stick, a stop of finite duration begins), ``'slip'``
-    (stick -> slip, start to slide), ``'normal stop'`` (zero-duration stop with reversal),
-    ``'abnormal stop'`` (zero-duration stop, same direction).
-    """
-
-    def __init__(self):
-        self.time: list[float] = []
-        self.element: list[int] = []
-        self.slider: list[int] = []
-        self.kind: list[str] = []
-
-    def append(self, t: float, element: int, slider: int, kind: str) -> None:
-        """Record one event.
-
-        Parameters
-        ----------
-        t : float
-            Event time [s].
-        element : int
-            Index of the element that owns the slider.
-        slider : int
-            Index of the slider (among the system's ``n_sliders``).
-        kind : str
-            One of :data:`EVENT_KINDS`: ``'stick'``, ``'slip'``, ``'normal stop'`` or
-            ``'abnormal stop'``.
-        """
-        self.time.append(float(t))
-        self.element.append(int(element))
-        self.slider.append(int(slider))
-        self.kind.append(kind)
-
-    def __len__(self) -> int:
-        return len(self.time)
-
-    def __iter__(self):
-        return iter(zip(self.time, self.element, self.slider, self.kind))
-
-    def count(self, kind: str, t_start: float = -math.inf, t_stop: float = math.inf) -> int:
-        """Number of events of ``kind`` with ``t_start <= time < t_stop``.
-
-        Parameters
-        ----------
-        kind : str
-            Event kind, one of :data:`EVENT_KINDS`.
-        t_start : float, optional
-            Start of the time window [s] (included); default: no lower bound.
-        t_stop : float, optional
-            End of the time window [s] (excluded); default: no upper bound.
-
-        Returns
-        -------
-        int
-            The number of such events.
-        """
-        return sum(1 for t, k in zip(self.time, self.kind) if k == kind and t_start <= t < t_stop)
-
-    def __repr__(self) -> str:
-        return f"EventLog({len(self)} events)"
-
-
-class MarchState:
-    """Complete state of a marched system (copyable; what FMU state save/restore captures).
-
-    Attributes
-    ----------
-    t : float
-        Time [s].
-    x, v : (n_dof,) ndarray
-        Displacement [m] and velocity [m/s].
-    w : (n_sliders,) ndarray
-        Slider positions [m] along each slider's direction (used by Jenkins sliders).
-    status : (n_sliders,) int ndarray
-        0 stuck, +1/-1 slipping in the positive/negative direction.
-    """
-
-    __slots__ = ("t", "x", "v", "w", "status")
-
-    def __init__(self, t, x, v, w, status):
-        self.t = float(t)
-        self.x = np.array(x, dtype=float)
-        self.v = np.array(v, dtype=float)
-        self.w = np.array(w, dtype=float)
-        self.status = np.array(status, dtype=np.int8)
-
-    def copy(self) -> "MarchState":
-        return MarchState(self.t, self.x, self.v, self.w, self.status)
-
-    def vector(self) -> np.ndarray:
-        """``[x, v, w]`` as one vector."""
-        return np.concatenate([self.x, self.v, self.w])
-
-
-class _Pattern:
-    """What depends on the status vector only (not on the state): built once per status and cached.
-
-    Event functions (rows of ``meta``) are ``g = cy y + ax x0 + af F + a0`` with
-    ``a0 = a0c + a0k * w[widx]`` (Jenkins springs' constant parts).
-    """
-
-    __slots__ = ("cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
-                 "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
-                 "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
-                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern")
 
 
 class Marcher:
@@ -162,7 +55,7 @@ class Marcher:
     def __init__(self, system: FrictionSystem) -> None:
         self.system = check_system("system", system, FrictionSystem)
         self._configs: dict[bytes, ConfigData] = {}
-        self._patterns: dict[bytes, _Pattern] = {}
+        self._patterns: dict[bytes, StatusPattern] = {}
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
         self._mass_scale = float(np.max(np.diag(system.mass)))
@@ -217,112 +110,15 @@ class Marcher:
             cfg = self._configs[key] = ConfigData(self.system, stuck)
         return cfg
 
-    def _pattern(self, status: np.ndarray) -> _Pattern:
+    def _pattern(self, status: np.ndarray) -> StatusPattern:
         if status.dtype != np.int8:
             status = status.astype(np.int8)
         key = status.tobytes()
         pat = self._patterns.get(key)
         if pat is None:
-            pat = self._patterns[key] = self._build_pattern(status.copy())
+            status = status.copy()
+            pat = self._patterns[key] = StatusPattern(self.system, status, self.config(status))
         return pat
-
-    def _build_pattern(self, status: np.ndarray) -> _Pattern:
-        sysm = self.system
-        n = sysm.n_dof
-        d = sysm.slider_direction
-        cfg = self.config(status)
-        pat = _Pattern()
-        pat.cfg = cfg
-        pat.modal_p = pat.modal_abs_p = None
-        pat.kern = None
-        # event functions, as in the reference construction (one row per slipping slider, two per
-        # stuck slider); a0 = a0c + a0k * w[widx]
-        rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
-        zero = np.zeros(n)
-        rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
-        for i, s in enumerate(status):
-            fs = sysm.slip_force[i]
-            if s != 0:
-                rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero)
-                a0c.append(0.0); a0k.append(0.0); widx.append(i)
-                meta.append((i, "v"))
-            elif not sysm.rigid[i]:
-                k = sysm.slider_stiffness[i]
-                rows_x += [-k * d[i], k * d[i]]; rows_v += [zero, zero]; rows_f += [zero, zero]
-                a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
-                meta += [(i, "+"), (i, "-")]
-            else:
-                lr = cfg.L[rigid_row[i]]
-                hx = lr @ cfg.stiffness
-                hv = lr @ sysm.damping
-                # holding force T = -lr F + lr C v + lr Kc x
-                rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
-                a0c += [fs, fs]; a0k += [0.0, 0.0]; widx += [i, i]
-                meta += [(i, "+"), (i, "-")]
-        pat.meta = meta
-        pat.n_rows = len(meta)
-        if meta:
-            obs = Observables(rows_x, rows_v, rows_f, a0c)
-            pat.obs = obs
-            # |coefficients| of x in the event rows: their rounding scale (|ax| |x| >> |ax x| when
-            # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses)
-            pat.ax_abs = np.abs(obs.ax)
-            nb = cfg.N
-            pat.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
-            pat.red_cc = obs.af @ sysm.force_cos
-            pat.red_cs = obs.af @ sysm.force_sin
-            pat.has_af = bool(np.any(obs.af != 0))
-            pat.a0c = obs.a0
-            pat.a0k = np.array(a0k, dtype=float)
-            pat.widx = np.array(widx, dtype=np.intp)
-            pat.has_w = bool(np.any(pat.a0k != 0))
-            pat.row_slider = [i for i, _ in meta]
-            pat.row_v_list = [k == "v" for _, k in meta]
-            pat.row_fs = [float(sysm.slip_force[i]) for i, _ in meta]
-        else:
-            pat.obs = None
-            pat.ax_abs = None
-            pat.row_slider, pat.row_v_list, pat.row_fs = [], [], []
-        pat.vrows = np.array(pat.row_v_list, dtype=bool)
-        pat.any_v = bool(pat.vrows.any())
-        # constant force of the status: slipping sliders' friction; stuck Jenkins springs' k w d
-        slip = status != 0
-        pat.f_slip = d[slip].T @ (status[slip] * sysm.slip_force[slip]) if np.any(slip) else None
-        jst = (status == 0) & ~sysm.rigid
-        pat.has_jst = bool(np.any(jst))
-        pat.jst = jst
-        pat.jst_dt = d[jst].T
-        pat.jst_k = sysm.slider_stiffness[jst]
-        # projection onto the status
-        pat.has_rigid_stuck = bool(cfg.rigid_stuck.size)
-        slip_j = slip & ~sysm.rigid
-        pat.has_slip_j = bool(np.any(slip_j))
-        pat.slip_j = slip_j
-        pat.slip_j_dir = d[slip_j]
-        pat.slip_j_off = status[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
-        return pat
-
-    def _kernel(self, pat: _Pattern) -> tuple:
-        """The constant arrays of :func:`.consistency.check` for a status, packed
-        (:func:`.consistency.pack`; built on first use)."""
-        sysm = self.system
-        cfg = pat.cfg
-        m = cfg.m
-        n = sysm.n_dof
-        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS}
-        obs = pat.obs
-        cy = pat.red_cy
-        pat.kern = consistency.pack(
-            (sysm.stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
-             pat.jst_k, cfg.N.T, cfg.mr_inv_nt, cfg.A[m:, :m], cfg.A[m:, m:], cfg.bc[m:], cfg.bs[m:],
-             cy[:, :m], cy[:, m:], obs.ax, obs.af, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
-             pat.row_fs, [self._fscale_fixed, self._mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
-                          sysm.omega], pat.slip_j_dir, pat.slip_j_off, self._rigid_dir),
-            (np.flatnonzero(pat.jst), pat.widx, [kinds[k] for _, k in pat.meta], pat.row_slider,
-             [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
-              bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], np.flatnonzero(pat.slip_j),
-             self._rigid_idx))
-        return pat.kern
 
     @property
     def n_configurations(self) -> int:
@@ -397,7 +193,7 @@ class Marcher:
             f = f + self.held_force
         return f
 
-    def _f_const(self, state: MarchState, f_ext: np.ndarray, pat: _Pattern | None = None) -> np.ndarray:
+    def _f_const(self, state: MarchState, f_ext: np.ndarray, pat: StatusPattern | None = None) -> np.ndarray:
         if pat is None:
             pat = self._pattern(state.status)
         f = f_ext.copy()
@@ -407,7 +203,7 @@ class Marcher:
             f += pat.jst_dt @ (pat.jst_k * state.w[pat.jst])
         return f
 
-    def _reduced_events(self, pat: _Pattern, itv: Interval, w: np.ndarray):
+    def _reduced_events(self, pat: StatusPattern, itv: Interval, w: np.ndarray):
         """:meth:`Interval.reduce` of the event functions, from the cached per-status parts."""
         obs = pat.obs
         c0 = obs.ax @ itv.x0
@@ -485,7 +281,7 @@ class Marcher:
         itv = Interval(self.system, pat.cfg, state.t, state.x, state.v, f_const, rhs)
         return self._attach(itv, state, f_ext, pat)
 
-    def _attach(self, itv: Interval, state: MarchState, f_ext: np.ndarray, pat: _Pattern,
+    def _attach(self, itv: Interval, state: MarchState, f_ext: np.ndarray, pat: StatusPattern,
                 c0: np.ndarray | None = None) -> Interval:
         """Give a new interval its status, slider positions and event functions (``c0``: their
         constants, computed from the interval when not given)."""
@@ -656,7 +452,7 @@ class Marcher:
             if pat.has_rigid_stuck:  # the state projected on the status (Marcher._project): v here,
                 cfg = pat.cfg       # the slider positions in check
                 state.v = cfg.N @ (cfg.N.T @ state.v)
-            fk, ik = pat.kern if pat.kern is not None else self._kernel(pat)
+            fk, ik = pat.kern if pat.kern is not None else pat.pack(self._fscale_fixed, self._mass_scale)
             j, gj, tolj, atzero, buf = consistency.check(fk, ik, state.x, state.v, state.w, f_ext, state.t,
                                                          self.v_scale, forced)
             if j >= 0:

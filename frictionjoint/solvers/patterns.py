@@ -1,0 +1,149 @@
+"""What the marcher needs of a stick/slip status that does not depend on the state: built once
+per status and cached by :class:`.events.Marcher`.
+
+For a status (0 stuck, +1/-1 slipping) :class:`StatusPattern` holds the event functions (one row
+per slipping slider: its velocity; two per stuck slider: its force against +limit and -limit),
+their reduced form on the configuration's coordinates, the constant forces of the status
+(slipping sliders' friction, stuck Jenkins springs), the projection of a state onto the status,
+and the packed constant arrays of the compiled consistency test (:mod:`.consistency`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import consistency
+from .propagator import ConfigData, Observables
+
+__all__ = ["StatusPattern"]
+
+
+class StatusPattern:
+    """What depends on the status vector only (not on the state).
+
+    Event functions (rows of ``meta``) are ``g = cy y + ax x0 + af F + a0`` with
+    ``a0 = a0c + a0k * w[widx]`` (Jenkins springs' constant parts).
+
+    Parameters
+    ----------
+    sysm : FrictionSystem
+        The marched system.
+    status : (n_sliders,) int8 ndarray
+        The stick/slip status.
+    cfg : ConfigData
+        The decomposition of the status's configuration (sliders of status 0 stuck).
+    """
+
+    __slots__ = ("system", "cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
+                 "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
+                 "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
+                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern")
+
+    def __init__(self, sysm, status: np.ndarray, cfg: ConfigData) -> None:
+        n = sysm.n_dof
+        d = sysm.slider_direction
+        pat = self
+        pat.system = sysm
+        pat.cfg = cfg
+        pat.modal_p = pat.modal_abs_p = None
+        pat.kern = None
+        # event functions, as in the reference construction (one row per slipping slider, two per
+        # stuck slider); a0 = a0c + a0k * w[widx]
+        rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
+        zero = np.zeros(n)
+        rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
+        for i, s in enumerate(status):
+            fs = sysm.slip_force[i]
+            if s != 0:
+                rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero)
+                a0c.append(0.0); a0k.append(0.0); widx.append(i)
+                meta.append((i, "v"))
+            elif not sysm.rigid[i]:
+                k = sysm.slider_stiffness[i]
+                rows_x += [-k * d[i], k * d[i]]; rows_v += [zero, zero]; rows_f += [zero, zero]
+                a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
+                meta += [(i, "+"), (i, "-")]
+            else:
+                lr = cfg.L[rigid_row[i]]
+                hx = lr @ cfg.stiffness
+                hv = lr @ sysm.damping
+                # holding force T = -lr F + lr C v + lr Kc x
+                rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
+                a0c += [fs, fs]; a0k += [0.0, 0.0]; widx += [i, i]
+                meta += [(i, "+"), (i, "-")]
+        pat.meta = meta
+        pat.n_rows = len(meta)
+        if meta:
+            obs = Observables(rows_x, rows_v, rows_f, a0c)
+            pat.obs = obs
+            # |coefficients| of x in the event rows: their rounding scale (|ax| |x| >> |ax x| when
+            # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses)
+            pat.ax_abs = np.abs(obs.ax)
+            nb = cfg.N
+            pat.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
+            pat.red_cc = obs.af @ sysm.force_cos
+            pat.red_cs = obs.af @ sysm.force_sin
+            pat.has_af = bool(np.any(obs.af != 0))
+            pat.a0c = obs.a0
+            pat.a0k = np.array(a0k, dtype=float)
+            pat.widx = np.array(widx, dtype=np.intp)
+            pat.has_w = bool(np.any(pat.a0k != 0))
+            pat.row_slider = [i for i, _ in meta]
+            pat.row_v_list = [k == "v" for _, k in meta]
+            pat.row_fs = [float(sysm.slip_force[i]) for i, _ in meta]
+        else:
+            pat.obs = None
+            pat.ax_abs = None
+            pat.row_slider, pat.row_v_list, pat.row_fs = [], [], []
+        pat.vrows = np.array(pat.row_v_list, dtype=bool)
+        pat.any_v = bool(pat.vrows.any())
+        # constant force of the status: slipping sliders' friction; stuck Jenkins springs' k w d
+        slip = status != 0
+        pat.f_slip = d[slip].T @ (status[slip] * sysm.slip_force[slip]) if np.any(slip) else None
+        jst = (status == 0) & ~sysm.rigid
+        pat.has_jst = bool(np.any(jst))
+        pat.jst = jst
+        pat.jst_dt = d[jst].T
+        pat.jst_k = sysm.slider_stiffness[jst]
+        # projection onto the status
+        pat.has_rigid_stuck = bool(cfg.rigid_stuck.size)
+        slip_j = slip & ~sysm.rigid
+        pat.has_slip_j = bool(np.any(slip_j))
+        pat.slip_j = slip_j
+        pat.slip_j_dir = d[slip_j]
+        pat.slip_j_off = status[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
+
+    def pack(self, fscale_fixed: float, mass_scale: float) -> tuple:
+        """The constant arrays of :func:`.consistency.check` for this status, packed
+        (:func:`.consistency.pack`), kept in :attr:`kern`.
+
+        Parameters
+        ----------
+        fscale_fixed : float
+            The marcher's load scale that does not depend on the state [N].
+        mass_scale : float
+            The largest diagonal mass [kg].
+
+        Returns
+        -------
+        (fk, ik) : (ndarray, ndarray)
+        """
+        pat = self
+        sysm = self.system
+        cfg = pat.cfg
+        rigid_idx = np.flatnonzero(sysm.rigid)
+        m = cfg.m
+        n = sysm.n_dof
+        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS}
+        obs = pat.obs
+        cy = pat.red_cy
+        pat.kern = consistency.pack(
+            (sysm.stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
+             pat.jst_k, cfg.N.T, cfg.mr_inv_nt, cfg.A[m:, :m], cfg.A[m:, m:], cfg.bc[m:], cfg.bs[m:],
+             cy[:, :m], cy[:, m:], obs.ax, obs.af, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
+             pat.row_fs, [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
+                          sysm.omega], pat.slip_j_dir, pat.slip_j_off, sysm.slider_direction[rigid_idx]),
+            (np.flatnonzero(pat.jst), pat.widx, [kinds[k] for _, k in pat.meta], pat.row_slider,
+             [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
+              bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], np.flatnonzero(pat.slip_j),
+             rigid_idx))
+        return pat.kern
