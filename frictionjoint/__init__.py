@@ -18,7 +18,7 @@ from .solvers.steady import periodic_response
 from .regime import RegimeMap, regime_map
 from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
 from .structure import LinearStructure
-from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, system_sweep
+from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, sweep, system_sweep
 from .system import FrictionSystem
 
 __version__ = "0.1.0"
@@ -59,5 +59,6 @@ __all__ = [
     "simulate",
     "SystemSweep",
     "system_sweep",
+    "sweep",
     "peak_response",
 ]

@@ -265,7 +265,7 @@ def _check_writable(parser, option: str, path) -> None:
 
 
 def _demo(args, parser) -> int:
-    from .sweep import oscillator_sweep
+    from .sweep import sweep
 
     wn = math.sqrt(args.stiffness / args.mass)
     r0, r1 = args.ratio
@@ -276,9 +276,10 @@ def _demo(args, parser) -> int:
           f"omega_n = {wn:.6g} rad/s")
     print(f"stepped sine {args.direction}, {ratios.size} frequencies per branch, "
           f"r = {ratios[0]:g} ... {ratios[-1]:g}; exact steady state at each\n", flush=True)
-    fr = oscillator_sweep(args.mass, args.stiffness, args.slip_force, args.force_amplitude,
-                          ratios * wn, damping=args.damping, direction=args.direction,
-                          progress=not args.no_progress)
+    params = dict(mass=args.mass, stiffness=args.stiffness, slip_force=args.slip_force,
+                  force_amplitude=args.force_amplitude, damping=args.damping)
+    fr = sweep("CoulombOscillator", ratios * wn, params, direction=args.direction,
+               progress=not args.no_progress)
     print(fr.table())
     return _write(fr, args)
 

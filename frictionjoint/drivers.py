@@ -1,9 +1,10 @@
 """Drivers of a harmonically excited oscillator for sweeps: the library directly, or an FMU.
 
-Both offer the same five calls -- ``start(parameters)`` (fresh run at ``t = 0``), ``advance(t)``,
-``get(names)``, ``save()`` and ``restore(saved)`` -- and run the same stepping code
-(:class:`~frictionjoint.stepping.OscillatorRun`; inside the FMU for :class:`FMUDriver`), so a sweep
-through the FMU and the same sweep on the library give the same numbers. :func:`shoot` finds the
+A driver (:class:`Driver`) offers six calls -- ``start(parameters)`` (fresh run at ``t = 0``),
+``advance(t)``, ``get(names)``, ``save()``, ``restore(saved)`` and ``close()`` -- and names its
+``outputs``. :class:`LibraryDriver` and :class:`~frictionjoint.fmi.driver.FMUDriver` run the same
+stepping code (:class:`~frictionjoint.stepping.OscillatorRun`; inside the FMU for the latter), so a
+sweep through the FMU and the same sweep on the library give the same numbers. :func:`shoot` finds the
 periodic steady state through that interface only: shooting on ``(x0, v0)`` (a period map is one
 restart and one communication step of a period, events handled inside the step), then one
 period sampled at ``n_samples`` points for the first harmonics, with the displacement peaks
@@ -12,17 +13,44 @@ located exactly (``v = 0``, Brent's method on restored states).
 from __future__ import annotations
 
 import math
-from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import scipy.optimize
 
-from .errors import ParameterError
+from .fmi.driver import FMUDriver
 from .results import PeriodicResponse
 from .solvers.shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
-__all__ = ["LibraryDriver", "FMUDriver", "shoot"]
+__all__ = ["Driver", "LibraryDriver", "FMUDriver", "shoot"]
+
+
+@runtime_checkable
+class Driver(Protocol):
+    """What :func:`shoot` and :func:`frictionjoint.sweep.sweep` need of a stepping oscillator
+    with the parameters and outputs of :data:`~frictionjoint.stepping.OSCILLATOR_PARAMETERS` and
+    :data:`~frictionjoint.stepping.OSCILLATOR_OUTPUTS` (those it has: ``outputs``)."""
+
+    outputs: tuple
+
+    def start(self, parameters: dict) -> None:
+        """A fresh run at ``t = 0`` with these parameters."""
+
+    def advance(self, t: float) -> None:
+        """One communication step to time ``t`` [s] (events inside the step)."""
+
+    def get(self, names) -> list:
+        """Output values by name."""
+
+    def save(self):
+        """The run's complete state."""
+
+    def restore(self, saved) -> None:
+        """Back to a state from :meth:`save`."""
+
+    def close(self) -> None:
+        """Release the run."""
 
 
 class LibraryDriver:
@@ -50,40 +78,6 @@ class LibraryDriver:
 
     def close(self) -> None:
         self.run = None
-
-
-class FMUDriver:
-    """``CoulombOscillator.fmu`` (or an FMU with the same variables) through fmpy: one instance in
-    this process (:class:`~frictionjoint.fmi.master.FMUInstance`)."""
-
-    def __init__(self, path):
-        from .fmi.master import FMUInstance
-
-        self.inst = FMUInstance(path)
-        missing = [n for n in (*OSCILLATOR_PARAMETERS, "x", "v", "stuck") if n not in self.inst.vr]
-        if missing:
-            self.inst.close()
-            raise ParameterError(f"model {Path(path).name} is not an oscillator FMU: it lacks the variables "
-                                 f"{missing} (a sweep needs those of CoulombOscillator.fmu)")
-        self.outputs = tuple(n for n in OSCILLATOR_OUTPUTS if n in self.inst.vr)
-
-    def start(self, parameters: dict) -> None:
-        self.inst.initialize(parameters)
-
-    def advance(self, t: float) -> None:
-        self.inst.step_to(t)
-
-    def get(self, names) -> list:
-        return self.inst.get(names)
-
-    def save(self):
-        return self.inst.get_state()
-
-    def restore(self, saved) -> None:
-        self.inst.set_state(saved)
-
-    def close(self) -> None:
-        self.inst.close()
 
 
 def _one_harmonic_guess(p: dict):

@@ -15,7 +15,8 @@ from __future__ import annotations
 import math
 import sys
 import warnings
-from typing import Callable
+import os
+from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,9 +28,12 @@ from .regime import classify
 from .results.frequency import _HARMONIC_KEYS, FrequencyResponse, SystemSweep, _masked, _wrap
 from .system import FrictionSystem
 
+if TYPE_CHECKING:  # the drivers (and the FMU layer) are imported when a sweep runs
+    from .drivers import Driver
 
-__all__ = ["FrequencyResponse", "SystemSweep", "oscillator_sweep", "system_sweep", "peak_response",
-           "den_hartog_curve", "DIRECTIONS"]
+
+__all__ = ["sweep", "FrequencyResponse", "SystemSweep", "oscillator_sweep", "system_sweep", "peak_response",
+           "den_hartog_curve", "DIRECTIONS", "METHODS"]
 
 #: Allowed values of ``direction``.
 DIRECTIONS = ("up", "down", "both")
@@ -105,6 +109,13 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
     ------
     ParameterError
         If an argument is out of range (the message names it).
+
+    See Also
+    --------
+    sweep : the one entry point (``sweep("CoulombOscillator", omegas, parameters)`` gives the same
+        points, each checked over one more period through the stepping interface; FMUs, drivers
+        and multi-DOF systems too). This function keeps the oscillator's parameters as arguments
+        and solves each point with :meth:`frictionjoint.CoulombOscillator.steady_state`.
     """
     from .oscillator import CoulombOscillator
 
@@ -203,26 +214,44 @@ def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve
     )
 
 
-def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", outputs=("x",),
-          n_samples: int = 256, progress: bool = False) -> FrequencyResponse:
-    """Stepped-sine sweep of the Coulomb oscillator through an FMU or directly in the library.
+#: sweep methods: the steady state at each point found in the time domain (exact piecewise
+#: solution, shooting); harmonic balance ('hbm') comes with issue 14
+METHODS = ("time",)
 
-    The same algorithm drives both (:func:`frictionjoint.drivers.shoot` on a
-    :class:`~frictionjoint.drivers.FMUDriver` or :class:`~frictionjoint.drivers.LibraryDriver`):
-    shooting on ``(x0, v0)`` with one reused instance, the state carried from point to point,
-    first harmonics from ``n_samples`` points per period, exact displacement peaks.
+
+def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
+          direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
+          method: str = "time") -> FrequencyResponse | SystemSweep:
+    """Stepped-sine sweep: the one entry point for the library's models, FMUs and drivers.
+
+    ``model`` says what is swept:
+
+    - ``"CoulombOscillator"``: the library's single-DOF oscillator, stepped in the library
+      (:class:`~frictionjoint.drivers.LibraryDriver`);
+    - a ``.fmu`` file with the variables of ``CoulombOscillator.fmu``: through fmpy
+      (:class:`~frictionjoint.fmi.driver.FMUDriver`);
+    - any :class:`~frictionjoint.drivers.Driver` (a stepping oscillator of the user's);
+    - a callable ``build(omega) -> FrictionSystem``: a multi-DOF system
+      (:func:`system_sweep`; returns a :class:`~frictionjoint.results.SystemSweep`).
+
+    The oscillator sweeps run one algorithm (:func:`frictionjoint.drivers.shoot`): the driver
+    starts on the orbit where it can (the closed-form kernel's shooting with its exact Jacobian,
+    checked over one communication step of a period), otherwise shooting on ``(x0, v0)`` through
+    the driver; the state is carried from point to point; first harmonics of ``x`` and the
+    friction force are integrated exactly (other outputs from ``n_samples`` points per period).
 
     Parameters
     ----------
-    model : str or path
-        A ``.fmu`` file with the variables of ``CoulombOscillator.fmu``, or ``"CoulombOscillator"``
-        for the library model.
+    model : str, path, Driver or callable
+        What is swept (see above).
     omegas : (n,) array_like
         Angular frequencies [rad/s], > 0.
     parameters : dict, optional
         Oscillator parameters (``mass``, ``stiffness``, ``damping``, ``slip_force``,
         ``force_amplitude``, ``base_amplitude``); ``omega``, ``x0``, ``v0`` are set by the sweep.
+        Not for a ``build`` callable.
     direction : {'up', 'down', 'both'}
+        ``'up'`` only for a ``build`` callable (its points in the given order).
     outputs : sequence of str
         Outputs whose first harmonic and peak are reported in ``FrequencyResponse.harmonics``.
     n_samples : int
@@ -230,19 +259,31 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
         ``friction_force`` (those are integrated exactly, piece by piece), >= 16.
     progress : bool
         Show a progress bar (tqdm, on stderr).
+    method : {'time'}
+        How each steady state is found (:data:`METHODS`).
 
     Returns
     -------
-    FrequencyResponse
+    FrequencyResponse or SystemSweep
     """
     from pathlib import Path
 
-    from .drivers import FMUDriver, LibraryDriver, shoot
+    from .drivers import Driver, FMUDriver, LibraryDriver, shoot
     from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS
 
-    library = str(model) == "CoulombOscillator"
-    if not library and not (Path(model).suffix == ".fmu" and Path(model).is_file()):
-        raise ParameterError(f"model must be 'CoulombOscillator' or an existing .fmu file, got {model!r}")
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {METHODS}, got {method!r} (harmonic balance, 'hbm', "
+                             "is not available yet)")
+    if callable(model) and not isinstance(model, Driver):
+        if parameters or direction != "up" or tuple(outputs) != ("x",):
+            raise ParameterError("a build(omega) -> FrictionSystem sweep takes no parameters, outputs or "
+                                 "direction (the system is built at each omega, in the given order)")
+        return system_sweep(model, omegas, progress=progress)
+    driver = model if isinstance(model, Driver) else None
+    if driver is None and str(model) != "CoulombOscillator" and not (Path(model).suffix == ".fmu"
+                                                                     and Path(model).is_file()):
+        raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver or a "
+                             f"build(omega) callable, got {model!r}")
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
@@ -258,13 +299,16 @@ def sweep(model, omegas, parameters: dict | None = None, direction: str = "up", 
         raise ParameterError(f"outputs must be among {sorted(OSCILLATOR_OUTPUTS)}, got {bad}")
     if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) or n_samples < 16:
         raise ParameterError(f"n_samples must be an integer >= 16, got {n_samples!r}")
-    driver = LibraryDriver() if library else FMUDriver(model)
+    own = driver is None
+    if own:
+        driver = LibraryDriver() if str(model) == "CoulombOscillator" else FMUDriver(model)
     try:
         return _run_sweep(base, c, ws, direction, progress,
                           lambda w, st: shoot(driver, dict(base, damping=c, omega=w), st, outputs=outputs,
                                               n_samples=int(n_samples)))
     finally:
-        driver.close()
+        if own:  # a driver given by the caller stays the caller's
+            driver.close()
 
 
 def _check_build(build) -> None:

@@ -1,0 +1,79 @@
+"""frictionjoint.sweep.sweep, the one sweep entry point: the library's oscillator by name, any
+Driver, a build(omega) callable for multi-DOF systems; the same algorithm and numbers whatever
+drives the oscillator."""
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.drivers import Driver, LibraryDriver
+from frictionjoint.errors import ParameterError
+from frictionjoint.fmi.driver import FMUDriver
+from frictionjoint.results import FrequencyResponse, SystemSweep
+
+PARAMS = dict(mass=1.0, stiffness=1.0, slip_force=0.3, force_amplitude=1.0)
+OMEGAS = [0.6, 1.5, 2.0]
+
+
+class _Counting(LibraryDriver):
+    """A user's driver: the library's, counting its restarts and whether it was closed."""
+
+    def __init__(self):
+        super().__init__()
+        self.starts = 0
+        self.closed = False
+
+    def start(self, parameters):
+        self.starts += 1
+        super().start(parameters)
+
+    def close(self):
+        self.closed = True
+
+
+def test_drivers_satisfy_the_protocol():
+    assert isinstance(LibraryDriver(), Driver)
+    assert all(hasattr(FMUDriver, m) for m in ("start", "advance", "get", "save", "restore", "close"))
+
+
+def test_a_driver_of_the_caller_gives_the_same_numbers_and_stays_open():
+    by_name = fj.sweep("CoulombOscillator", OMEGAS, PARAMS)
+    drv = _Counting()
+    mine = fj.sweep(drv, OMEGAS, PARAMS)
+    assert isinstance(mine, FrequencyResponse) and mine.status == "ok"
+    assert np.array_equal(mine.amplitude, by_name.amplitude) and np.array_equal(mine.phase, by_name.phase)
+    assert drv.starts >= len(OMEGAS) and not drv.closed
+
+
+def test_same_points_as_oscillator_sweep():
+    # Den Hartog's closed form is the reference of both (stop-free points): the two routes to the
+    # steady state (driver with a period checked, CoulombOscillator.steady_state) agree with it
+    a = fj.sweep("CoulombOscillator", OMEGAS, PARAMS)
+    b = fj.oscillator_sweep(omegas=OMEGAS, **PARAMS)
+    assert np.max(np.abs(a.amplitude - b.amplitude) / b.amplitude) <= 1e-11
+    assert a.max_error()[0] <= 1e-11 and b.max_error()[0] <= 1e-11
+
+
+def test_a_build_callable_sweeps_a_system():
+    def build(omega):
+        s = fj.LinearStructure.chain(2, damping=0.02)
+        return fj.FrictionSystem(s, [fj.Jenkins(0.5, 0.002, dof=1)], omega=omega,
+                                 excitation=[fj.HarmonicForce(1, 0.01)])
+
+    out = fj.sweep(build, [0.5, 0.6])
+    assert isinstance(out, SystemSweep) and out.success and out.status == "ok"
+    assert out.amplitude.shape == (2, 2) and len(out.messages) == 2
+    with pytest.raises(ParameterError, match="build"):
+        fj.sweep(build, [0.5], PARAMS)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(method="hbm"), "method"),
+    (dict(model="NoSuchModel"), "model"),
+    (dict(model="missing.fmu"), "model"),
+])
+def test_bad_input_names_the_parameter(kwargs, word):
+    args = dict(model="CoulombOscillator", omegas=OMEGAS, parameters=PARAMS)
+    args.update(kwargs)
+    with pytest.raises(ParameterError, match=word):
+        fj.sweep(**args)
