@@ -52,6 +52,10 @@ Methods (``method`` column):
   at ``v = 0`` and Hong & Liu's rule there (stick while ``|P0 cos wt - k x| <= F``, the end of a
   stick found by Brent's method on that force), at several ``rtol`` down to the smallest scipy
   accepts.
+  This is a timed baseline (what a careful user writes), not a reference: the one brute-force
+  reference of the tests and benchmarks is :mod:`bruteforce` (``benchmarks/bruteforce.py``:
+  fixed rtol 1e-12, a step bound, double crossings inside a step found), against which the
+  stop-case reference orbit is checked (``tests/test_benchmark.py``).
 
 Matched accuracy (:meth:`WorkPrecision.headline`): the time of the fastest exact marching row (the
 SDOF kernel or the general marcher, named in the headline) is compared with the fastest scipy

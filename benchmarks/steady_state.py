@@ -1,6 +1,6 @@
 """Run time against error of CoulombOscillator.steady_state, with a baseline in the same process.
 
-Baselines: the event-driven scipy solve_ivp brute force of tests/bruteforce.py (DOP853, rtol 1e-12,
+Baselines: the event-driven scipy solve_ivp brute force of benchmarks/bruteforce.py (DOP853, rtol 1e-12,
 marched period by period to a fixed point), i.e. what a careful user would write; and what most
 users write first, tanh-regularised friction in LSODA (eps = 1e-4 wn P0/k, rtol 1e-9, 60 periods,
 peak of the last; benchmarks/harness.py regularised_amplitude). Errors are relative to Den
@@ -13,16 +13,13 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import sys
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+import bruteforce as bf  # benchmarks/bruteforce.py, beside this script
+from harness import Case, make_problem, regularised_amplitude
 
-import bruteforce as bf  # noqa: E402
-
-import frictionjoint as fj  # noqa: E402
-from frictionjoint.analytic import den_hartog  # noqa: E402
-from harness import Case, make_problem, regularised_amplitude  # noqa: E402
+import frictionjoint as fj
+from frictionjoint.analytic import den_hartog
 
 
 def best_time(fn, repeat):

@@ -1,7 +1,8 @@
 import os
 import sys
 
-# the independent brute-force reference (tests/bruteforce.py) is imported as a plain module
+# the helper scripts of tests/ (fmu_instances_check.py, ...) are imported as plain modules; the
+# brute-force reference is benchmarks/bruteforce.py (pytest's pythonpath has the repository root)
 sys.path.insert(0, os.path.dirname(__file__))
 
 import pytest

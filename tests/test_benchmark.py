@@ -146,3 +146,16 @@ def test_bad_repeat_is_an_argument_error(capsys):
         main(["bench", "--repeat", "0"])
     assert exc.value.code == 2
     assert "--repeat" in capsys.readouterr().err
+
+
+def test_stop_case_reference_agrees_with_the_bruteforce_reference():
+    """The benchmark's stop-case reference (the exact orbit) against the one brute-force
+    reference of tests and benchmarks (benchmarks/bruteforce.py: solve_ivp DOP853 rtol 1e-12,
+    plain period-by-period marching from the orbit's start): 1e-10 relative, the brute force's
+    own accuracy (README: 3.3e-12 on the stop cases)."""
+    from benchmarks import bruteforce as bf
+
+    p = bm.make_problem(bm.Case(2.0, 0.6))
+    ref = bf.coulomb_steady_state(p.mass, p.stiffness, 0.0, p.slip_force, p.force_amplitude, 0.0, p.omega,
+                                  x0=p.x0, v0=p.v0)
+    assert ref.converged and p.error(ref.amplitude) <= 1e-10

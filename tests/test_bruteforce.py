@@ -1,4 +1,4 @@
-"""Self-tests of the independent brute-force reference (tests/bruteforce.py).
+"""Self-tests of the independent brute-force reference (benchmarks/bruteforce.py).
 
 Everything here is checked against closed forms; nothing imports frictionjoint.
 """
@@ -8,7 +8,7 @@ import numpy as np
 from scipy.integrate import quad, simpson
 from scipy.linalg import expm
 
-from bruteforce import (coulomb_response, coulomb_steady_state, iwan_response,
+from benchmarks.bruteforce import (coulomb_response, coulomb_steady_state, iwan_response,
                         jenkins_response)
 
 

@@ -1,4 +1,4 @@
-"""The exact marcher against the independent brute-force reference (tests/bruteforce.py: scipy
+"""The exact marcher against the independent brute-force reference (benchmarks/bruteforce.py: scipy
 solve_ivp DOP853 with stick/slip events, rtol 1e-12, no code shared with frictionjoint).
 
 Covers the regimes where Den Hartog's closed form does not apply: stops of finite duration at
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-import bruteforce as bf
+from benchmarks import bruteforce as bf
 import frictionjoint as fj
 from frictionjoint.analytic import den_hartog
 
