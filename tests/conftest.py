@@ -19,10 +19,13 @@ def fmus(tmp_path_factory):
 
 def pytest_collection_modifyitems(config, items):
     """Markers by what a test needs: ``fmu`` for the users of the ``fmus`` fixture, ``stress`` for
-    tests/stress (``slow`` is set by hand on the tests that take more than about 2 s)."""
+    tests/stress; both are ``slow`` too, so that ``pytest -m "not slow"`` is the quick subset
+    (``slow`` is set by hand on the other tests that take more than about 2 s)."""
     stress_dir = os.path.join(os.path.dirname(__file__), "stress")
     for item in items:
         if "fmus" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.fmu)
+            item.add_marker(pytest.mark.slow)
         if str(item.fspath).startswith(stress_dir):
             item.add_marker(pytest.mark.stress)
+            item.add_marker(pytest.mark.slow)
