@@ -132,7 +132,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,build-fmus,host-env,bench}")
     sub.required = True
+    _add_demo(sub)
+    _add_map(sub)
+    _add_sweep(sub)
+    _add_tools(sub)
+    return parser
 
+
+def _add_demo(sub) -> None:
     demo = sub.add_parser(
         "demo", allow_abbrev=False,
         help="forced response of the Coulomb oscillator across resonance vs Den Hartog",
@@ -162,6 +169,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_csv_and_progress(demo, "table")
     demo.set_defaults(func=_demo, subparser=demo)
 
+
+def _add_map(sub) -> None:
     mp = sub.add_parser(
         "map", allow_abbrev=False,
         help="Hong & Liu's map of stops per cycle over (F/P0, r)",
@@ -180,13 +189,16 @@ def build_parser() -> argparse.ArgumentParser:
     _add_csv_and_progress(mp, "map")
     mp.set_defaults(func=_map, subparser=mp)
 
+
+def _add_sweep(sub) -> None:
     sw = sub.add_parser(
         "sweep", allow_abbrev=False,
         help="stepped-sine forced-response sweep through an FMU (fmpy) or the library model",
         description="Stepped-sine sweep of CoulombOscillator.fmu (or any FMU with its variables), "
                     "driven through fmpy, or of the library model 'CoulombOscillator' without the FMU "
-                    "layer: periodic steady state at every frequency by shooting with FMU state "
-                    "save/restore, the state carried from point to point. Prints the table (peak, "
+                    "layer (frictionjoint.sweep): the periodic steady state at every frequency (the "
+                    "model starts on it, one period checked), the state carried from point to point. "
+                    "Prints the table (peak, "
                     "first-harmonic amplitude and phase of each output) and writes the plot; with "
                     "--compare analytic, Den Hartog's amplitude and the relative error beside each "
                     "point, or why the closed form does not apply there (stops, damping, resonance).")
@@ -204,7 +216,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="output to report (peak, first harmonic), repeatable (default x): "
                          + ", ".join(OSCILLATOR_OUTPUTS))
     sw.add_argument("--samples", type=_count(16), default=256,
-                    help="samples per period for the first harmonics (default 256)")
+                    help="samples per period for the first harmonics of outputs other than x and "
+                         "friction_force, which are integrated exactly (default 256)")
     sw.add_argument("--compare", choices=("analytic",), default=None,
                     help="put Den Hartog's closed form and the relative error beside each point")
     sw.add_argument("--plot", dest="out", default=None, metavar="PNG",
@@ -212,6 +225,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_csv_and_progress(sw, "table")
     sw.set_defaults(func=_sweep, subparser=sw)
 
+
+def _add_tools(sub) -> None:
+    """build-fmus, host-env and bench."""
     bf = sub.add_parser(
         "build-fmus", allow_abbrev=False,
         help="build the FMUs (pythonfmu), post-process and validate them",
@@ -253,7 +269,6 @@ def build_parser() -> argparse.ArgumentParser:
                     help="folder for work_precision.csv and work_precision.png (default: .)")
     be.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     be.set_defaults(func=_bench, subparser=be, csv=None)
-    return parser
 
 
 def _check_writable(parser, option: str, path) -> None:

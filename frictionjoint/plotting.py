@@ -114,13 +114,8 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
     ratio = fr.frequency_ratio
     xvals = ratio if ratio is not None else fr.omega
-    xlabel = (r"frequency ratio $r = \omega/\omega_n$" if ratio is not None
-              else r"excitation frequency $\omega$ [rad/s]")
     if ax is not None:
         ax_a, ax_p = (ax if phase else (ax, None))
         fig = ax_a.figure
@@ -131,12 +126,22 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         fig = new_figure((8.0, 4.8))
         ax_a, ax_p = fig.subplots(1, 1), None
     axes = [ax_a] + ([ax_p] if ax_p is not None else [])
-    handles = []
-
     ok = fr.converged & np.isfinite(fr.amplitude)
-    amp_ok = fr.amplitude[ok & (fr.amplitude > 0)]
-    amp_ref = np.empty(0)
-    # analytic reference: dense curve, gaps where it is not the motion
+    handles, amp_ref = _draw_analytic(fr, ax_a, ax_p, axes)
+    handles += _draw_points(fr, xvals, ok, ax_a, ax_p, axes)
+    _decorate_frequency_axes(fr, xvals, ok, amp_ref, ax_a, ax_p, axes)
+    ax_a.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    _save(fig, path)
+    return fig
+
+
+def _draw_analytic(fr, ax_a, ax_p, axes):
+    """The analytic curve (dense, gaps where it is not the motion, grey bands there); returns
+    ``(legend handles, its finite positive amplitudes)``."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles, amp_ref = [], np.empty(0)
     dense = np.empty(0)
     if len(fr):
         lo, hi = float(fr.omega.min()), float(fr.omega.max())
@@ -145,26 +150,36 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         if wn is not None and lo < wn < hi:  # resolve the resonance itself
             dense = np.unique(np.concatenate([dense, [wn]]))
     curve = fr.analytic_curve(dense) if dense.size else None
-    if curve is not None:
-        d_amp, d_ph = curve
-        amp_line = np.ma.filled(d_amp.astype(float), np.nan)
-        amp_ref = amp_line[np.isfinite(amp_line) & (amp_line > 0)]
-        ph_line = np.ma.filled(d_ph.astype(float), np.nan)
-        scale = fr.natural_frequency if ratio is not None else 1.0
-        xd = dense / scale
-        ax_a.plot(xd, amp_line, color="k", lw=1.4, zorder=2)
-        if ax_p is not None:
-            ax_p.plot(xd, np.degrees(ph_line), color="k", lw=1.4, zorder=2)
-        handles.append(Line2D([], [], color="k", lw=1.4, label=f"{fr.analytic_name} (closed form)"))
-        bad = np.ma.getmaskarray(d_amp)
-        for a, b in _runs(bad):
-            x0 = xd[max(a - 1, 0)] if a > 0 else xd[a]
-            x1 = xd[min(b + 1, len(xd) - 1)]
-            for ax in axes:
-                ax.axvspan(x0, x1, color="0.88", zorder=0, lw=0)
-        if bad.any():
-            handles.append(Patch(color="0.88", label=f"{fr.analytic_name} not valid (stops / resonance)"))
+    if curve is None:
+        return handles, amp_ref
+    d_amp, d_ph = curve
+    amp_line = np.ma.filled(d_amp.astype(float), np.nan)
+    amp_ref = amp_line[np.isfinite(amp_line) & (amp_line > 0)]
+    ph_line = np.ma.filled(d_ph.astype(float), np.nan)
+    scale = fr.natural_frequency if fr.frequency_ratio is not None else 1.0
+    xd = dense / scale
+    ax_a.plot(xd, amp_line, color="k", lw=1.4, zorder=2)
+    if ax_p is not None:
+        ax_p.plot(xd, np.degrees(ph_line), color="k", lw=1.4, zorder=2)
+    handles.append(Line2D([], [], color="k", lw=1.4, label=f"{fr.analytic_name} (closed form)"))
+    bad = np.ma.getmaskarray(d_amp)
+    for a, b in _runs(bad):
+        x0 = xd[max(a - 1, 0)] if a > 0 else xd[a]
+        x1 = xd[min(b + 1, len(xd) - 1)]
+        for ax in axes:
+            ax.axvspan(x0, x1, color="0.88", zorder=0, lw=0)
+    if bad.any():
+        handles.append(Patch(color="0.88", label=f"{fr.analytic_name} not valid (stops / resonance)"))
+    return handles, amp_ref
 
+
+def _draw_points(fr, xvals, ok, ax_a, ax_p, axes):
+    """The simulated points: branches as lines with markers (broken where no orbit was found),
+    points with stops or permanent stick highlighted, vertical lines at unbounded or
+    unconverged points; returns the legend handles."""
+    from matplotlib.lines import Line2D
+
+    handles = []
     for branch in ("up", "down"):
         sel = fr.branch == branch
         if not (sel & ok).any():
@@ -174,13 +189,10 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         order = np.argsort(xvals[sel], kind="stable")
         xb = xvals[sel][order]
         good = ok[sel][order]
-        # lines break at points without a periodic orbit
-        amp_b = np.where(good, fr.amplitude[sel][order], np.nan)
-        ax_a.plot(xb, amp_b, zorder=3, **style)
+        ax_a.plot(xb, np.where(good, fr.amplitude[sel][order], np.nan), zorder=3, **style)
         if ax_p is not None:
             ax_p.plot(xb, np.where(good, np.degrees(fr.phase[sel][order]), np.nan), zorder=3, **style)
         handles.append(Line2D([], [], label=label, **style))
-
     for regime, style in _REGIME_STYLE.items():
         sel = (fr.regime == regime) & ok
         if not sel.any():
@@ -191,7 +203,6 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         if ax_p is not None:
             ax_p.plot(xvals[sel], np.degrees(fr.phase[sel]), zorder=4, **style)
         handles.append(Line2D([], [], label=label, **style))
-
     for regime, color, label in (("unbounded", "C3", "unbounded growth (resonance)"),
                                  ("not converged", "m", "no periodic orbit found")):
         sel = fr.regime == regime
@@ -201,7 +212,12 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
             for ax in axes:
                 ax.axvline(xv, color=color, ls=":", lw=1.5, zorder=1)
         handles.append(Line2D([], [], color=color, ls=":", lw=1.5, label=label))
+    return handles
 
+
+def _decorate_frequency_axes(fr, xvals, ok, amp_ref, ax_a, ax_p, axes):
+    """Scales, limits, labels, grids and the title of a frequency-response figure."""
+    amp_ok = fr.amplitude[ok & (fr.amplitude > 0)]
     if amp_ok.size:
         ax_a.set_yscale("log")
         top, bottom = float(amp_ok.max()), float(amp_ok.min())
@@ -217,7 +233,8 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         ax_p.set_ylim(-5, 185)
         ax_p.set_yticks([0, 45, 90, 135, 180])
         ax_p.grid(True, alpha=0.3)
-    axes[-1].set_xlabel(xlabel)
+    axes[-1].set_xlabel(r"frequency ratio $r = \omega/\omega_n$" if fr.frequency_ratio is not None
+                        else r"excitation frequency $\omega$ [rad/s]")
     if len(xvals):
         lo, hi = float(np.min(xvals)), float(np.max(xvals))
         pad = 0.015 * (hi - lo) if hi > lo else 0.05 * abs(lo)
@@ -230,9 +247,6 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
                  f" (m = {p.get('mass', float('nan')):g} kg, k = {p['stiffness']:g} N/m"
                  + (f", c = {p['damping']:g} N s/m" if p.get("damping") else "") + ")")
     ax_a.set_title(title)
-    ax_a.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
-    _save(fig, path)
-    return fig
 
 
 # --------------------------------------------------------------------------- regime map

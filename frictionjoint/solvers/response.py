@@ -209,6 +209,71 @@ def _check_record(record):
     return record
 
 
+class _EnergyRecord:
+    """The energy accounting of :func:`simulate` (``record`` with ``'energy'``): work of the
+    applied forces and viscous dissipation integrated by Gauss rules on each piece, friction
+    dissipation exact (slip force times slip), stored energy at the output times."""
+
+    def __init__(self, system: FrictionSystem, out: dict, n_t: int) -> None:
+        self.system = system
+        self.out = out
+        self.acc = {"work": 0.0, "fric": 0.0, "visc": 0.0}
+        for key in ("work", "stored", "fric", "visc"):
+            out[key] = np.empty(n_t)
+
+    def _stored(self, x, v, w):
+        system = self.system
+        e = 0.5 * np.einsum("ik,ij,jk->k", v, system.mass, v) + 0.5 * np.einsum(
+            "ik,ij,jk->k", x, system.stiffness, x)
+        jen = ~system.rigid
+        if np.any(jen):
+            s = system.slider_direction[jen] @ x
+            e = e + 0.5 * system.slider_stiffness[jen] @ (s - w[jen]) ** 2
+        return e
+
+    def _w_at(self, itv, x):
+        """Slider positions (n_sliders, k) along the interval."""
+        system = self.system
+        s = system.slider_direction @ x
+        w = np.repeat(itv.w[:, None], x.shape[1], axis=1)
+        slip = itv.status != 0
+        w[slip] = s[slip] - (itv.status[slip] * system.slip_force[slip]
+                             / system.slider_stiffness[slip])[:, None]
+        return w
+
+    def piece(self, itv, k0: int, taus: np.ndarray, tau_end: float) -> None:
+        """Accumulate over the piece ``[0, tau_end]`` of ``itv``; record at the output times
+        ``taus`` (local), the first of which has index ``k0``."""
+        system, out, acc = self.system, self.out, self.acc
+        bounds = np.concatenate([[0.0], taus, [tau_end]])
+        slip = itv.status != 0
+        fsl = system.slip_force[slip]
+        d_slip = system.slider_direction[slip]
+        s_start = d_slip @ itv.x0
+        for k in range(bounds.size - 1):
+            a, b = bounds[k], bounds[k + 1]
+            if b > a:
+                nodes, wts = gauss_pieces(itv, a, b)
+                xq, vq = itv.state(nodes)
+                f = system.harmonic_force(itv.t0 + nodes) + itv.f_ext[:, None]
+                acc["work"] += float(np.sum(wts * np.einsum("ik,ik->k", f, vq)))
+                acc["visc"] += float(np.sum(wts * np.einsum("ik,ij,jk->k", vq, system.damping, vq)))
+            if k < taus.size:
+                idx = k0 + k
+                xb, vb = itv.state(b)
+                if slip.any():
+                    fric = float(fsl @ np.abs(d_slip @ xb[:, 0] - s_start))
+                else:
+                    fric = 0.0
+                out["work"][idx] = acc["work"]
+                out["visc"][idx] = acc["visc"]
+                out["fric"][idx] = acc["fric"] + fric
+                out["stored"][idx] = self._stored(xb, vb, self._w_at(itv, xb))[0]
+        if slip.any():
+            xe, _ = itv.state(tau_end)
+            acc["fric"] += float(fsl @ np.abs(d_slip @ xe[:, 0] - s_start))
+
+
 def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
              w0: ArrayLike | None = None, t0: float = 0.0, t_eval: ArrayLike | None = None,
              record: str | Sequence[str] = ("x", "v", "friction_force"),
@@ -254,31 +319,8 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
         out["friction_force"] = np.empty((n_el, n_t))
         owner = np.zeros((n_el, system.n_sliders))
         owner[system.slider_owner, np.arange(system.n_sliders)] = 1.0
-    energy = "energy" in record
-    if energy:
-        acc = {"work": 0.0, "fric": 0.0, "visc": 0.0}
-        for key in ("work", "stored", "fric", "visc"):
-            out[key] = np.empty(n_t)
+    energy = _EnergyRecord(system, out, n_t) if "energy" in record else None
     pos = [0]
-
-    def stored(itv, x, v, w):
-        e = 0.5 * np.einsum("ik,ij,jk->k", v, system.mass, v) + 0.5 * np.einsum(
-            "ik,ij,jk->k", x, system.stiffness, x)
-        jen = ~system.rigid
-        if np.any(jen):
-            s = system.slider_direction[jen] @ x
-            e = e + 0.5 * system.slider_stiffness[jen] @ (s - w[jen]) ** 2
-        return e
-
-    def w_at(itv, x):
-        """Slider positions (n_sliders, k) along the interval."""
-        s = system.slider_direction @ x
-        w = np.repeat(itv.w[:, None], x.shape[1], axis=1)
-        slip = itv.status != 0
-        w[slip] = s[slip] - (itv.status[slip] * system.slip_force[slip]
-                             / system.slider_stiffness[slip])[:, None]
-        return w
-
     t_close = 8.0 * np.finfo(float).eps * max(1.0, abs(t_end))
 
     def on_interval(itv, tau_end):
@@ -289,7 +331,7 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
         k1 = k0
         while k1 < n_t and t_eval[k1] <= t1:
             k1 += 1
-        if k1 == k0 and not energy:
+        if k1 == k0 and energy is None:
             return
         taus = t_eval[k0:k1] - itv.t0
         if k1 > k0:
@@ -301,34 +343,8 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
             if "friction_force" in out:
                 red = itv.reduce(m.force_observables(itv))
                 out["friction_force"][:, k0:k1] = owner @ itv.evaluate(red, taus)[0]
-        if energy:
-            bounds = np.concatenate([[0.0], taus, [tau_end]])
-            slip = itv.status != 0
-            fsl = system.slip_force[slip]
-            d_slip = system.slider_direction[slip]
-            s_start = d_slip @ itv.x0
-            for k in range(bounds.size - 1):
-                a, b = bounds[k], bounds[k + 1]
-                if b > a:
-                    nodes, wts = gauss_pieces(itv, a, b)
-                    xq, vq = itv.state(nodes)
-                    f = system.harmonic_force(itv.t0 + nodes) + itv.f_ext[:, None]
-                    acc["work"] += float(np.sum(wts * np.einsum("ik,ik->k", f, vq)))
-                    acc["visc"] += float(np.sum(wts * np.einsum("ik,ij,jk->k", vq, system.damping, vq)))
-                if k < taus.size:
-                    idx = k0 + k
-                    xb, vb = itv.state(b)
-                    if slip.any():
-                        fric = float(fsl @ np.abs(d_slip @ xb[:, 0] - s_start))
-                    else:
-                        fric = 0.0
-                    out["work"][idx] = acc["work"]
-                    out["visc"][idx] = acc["visc"]
-                    out["fric"][idx] = acc["fric"] + fric
-                    out["stored"][idx] = stored(itv, xb, vb, w_at(itv, xb))[0]
-            if slip.any():
-                xe, _ = itv.state(tau_end)
-                acc["fric"] += float(fsl @ np.abs(d_slip @ xe[:, 0] - s_start))
+        if energy is not None:
+            energy.piece(itv, k0, taus, tau_end)
         pos[0] = k1
 
     success, message = True, "ok"
@@ -341,7 +357,7 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
             out[key][..., pos[0]:] = np.nan
     res = TimeResponse(t=t_eval, x=out.get("x"), v=out.get("v"), friction_force=out.get("friction_force"),
                        events=log, final_state=state, success=success, message=message)
-    if energy:
+    if energy is not None:
         res.work = out["work"]
         res.stored_energy = out["stored"]
         res.dissipated_friction = out["fric"]
