@@ -86,19 +86,24 @@ class MarchState:
         Slider positions [m] along each slider's direction (used by Jenkins sliders).
     status : (n_sliders,) int ndarray
         0 stuck, +1/-1 slipping in the positive/negative direction.
+    v_scale : float or None
+        The marcher's velocity scale (the zero band of the velocity events follows it), carried
+        with the state so that a march restarted from a copy -- by any marcher of the same system
+        -- continues bit for bit; None: the marcher's own (a state built by hand).
     """
 
-    __slots__ = ("t", "x", "v", "w", "status")
+    __slots__ = ("t", "x", "v", "w", "status", "v_scale")
 
-    def __init__(self, t, x, v, w, status):
+    def __init__(self, t, x, v, w, status, v_scale=None):
         self.t = float(t)
         self.x = np.array(x, dtype=float)
         self.v = np.array(v, dtype=float)
         self.w = np.array(w, dtype=float)
         self.status = np.array(status, dtype=np.int8)
+        self.v_scale = None if v_scale is None else float(v_scale)
 
     def copy(self) -> "MarchState":
-        return MarchState(self.t, self.x, self.v, self.w, self.status)
+        return MarchState(self.t, self.x, self.v, self.w, self.status, self.v_scale)
 
     def vector(self) -> np.ndarray:
         """``[x, v, w]`` as one vector."""

@@ -180,7 +180,7 @@ class Marcher:
         at_limit = np.abs(np.abs(tj) - sysm.slip_force[jen]) <= 1e-12 * sysm.slip_force[jen]
         moving_out = np.sign(tj) == status[jen]
         status[jen] = np.where(at_limit & moving_out, status[jen], 0)
-        state = MarchState(t0, x0, v0, w0, status)
+        state = MarchState(t0, x0, v0, w0, status, self.v_scale)
         self._project(state)
         self.settle(state, log)
         return state
@@ -583,7 +583,9 @@ class Marcher:
         Parameters
         ----------
         state : MarchState
-            Start state, marched in place (settled first unless ``itv`` is given).
+            Start state, marched in place (settled first unless ``itv`` is given); its
+            ``v_scale``, when set, is the marcher's velocity scale from the start, and holds the
+            marcher's at the end (a copy of the state restarts the run bit for bit).
         t_end : float
             End time [s].
         log : EventLog, optional
@@ -602,6 +604,14 @@ class Marcher:
         Interval
             The closed-form piece valid at ``t_end`` (settled there).
         """
+        if state.v_scale is not None:  # the state carries the velocity scale of its run
+            self.v_scale = state.v_scale
+        try:
+            return self._march(state, t_end, log, on_interval, itv)
+        finally:
+            state.v_scale = self.v_scale
+
+    def _march(self, state, t_end, log, on_interval, itv):
         if itv is None or itv.t0 != state.t:
             itv = self.settle(state, log)
         zero_steps = 0
