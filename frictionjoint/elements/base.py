@@ -11,7 +11,31 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
-__all__ = ["Attachment", "Slider"]
+from ..errors import check_nonnegative
+
+__all__ = ["Attachment", "Slider", "MasingCycles"]
+
+
+class MasingCycles:
+    """Force-controlled cycles of a Masing element from its displacement-controlled ones: an
+    element with ``displacement(force)`` (the backbone inverted) and
+    ``dissipation_per_displacement_cycle(amplitude)`` gets :meth:`dissipation_per_cycle`."""
+
+    def dissipation_per_cycle(self, force_amplitude: float) -> float:
+        """Energy [J] dissipated per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``.
+
+        Parameters
+        ----------
+        force_amplitude : float
+            Force amplitude ``Q*`` [N], ``0 <= Q* < slip_force``.
+
+        Returns
+        -------
+        float
+            Energy dissipated per cycle [J].
+        """
+        q = check_nonnegative("force_amplitude", force_amplitude)
+        return self.dissipation_per_displacement_cycle(self.displacement(q))
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_nonnegative, check_positive, check_real
-from .base import Slider
+from .base import MasingCycles, Slider
 
 __all__ = ["Iwan", "segalman_density"]
 
@@ -54,7 +54,7 @@ def segalman_density(slip_force, stiffness, chi, beta):
 
 
 @dataclass(frozen=True)
-class Iwan:
+class Iwan(MasingCycles):
     """Parallel Jenkins sliders on one DOF (or direction).
 
     Parameters
@@ -222,22 +222,6 @@ class Iwan:
         a = check_nonnegative("displacement_amplitude", displacement_amplitude)
         _, f, phi = self._table()
         return float(np.sum(4.0 * f * np.maximum(a - phi, 0.0)))
-
-    def dissipation_per_cycle(self, force_amplitude: float) -> float:
-        """Energy [J] per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``.
-
-        Parameters
-        ----------
-        force_amplitude : float
-            Force amplitude ``Q*`` [N], ``0 <= Q* < slip_force``.
-
-        Returns
-        -------
-        float
-            Energy dissipated per cycle [J].
-        """
-        q = check_nonnegative("force_amplitude", force_amplitude)
-        return self.dissipation_per_displacement_cycle(self.displacement(q))
 
     def sliders(self) -> list[Slider]:
         """The sliders the marcher handles."""

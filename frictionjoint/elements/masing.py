@@ -21,6 +21,7 @@ import scipy.integrate
 import scipy.optimize
 
 from ..errors import ParameterError, check_nonnegative, check_positive
+from .base import MasingCycles
 from .iwan import segalman_density
 
 __all__ = ["ContinuousIwan", "MasingMemory", "odd_backbone"]
@@ -35,7 +36,7 @@ def odd_backbone(positive: Callable, u):
     return float(out) if out.ndim == 0 else out
 
 
-class ContinuousIwan:
+class ContinuousIwan(MasingCycles):
     """Iwan element with a continuous slider density, given by its backbone.
 
     Parameters
@@ -199,22 +200,6 @@ class ContinuousIwan:
             return float(val) + sum(4.0 * k * phi * (a - phi) for k, phi in self._point_sliders if a > phi)
         return 8.0 * self._energy(min(a, self.slip_displacement)) \
             + 8.0 * self.slip_force * max(a - self.slip_displacement, 0.0) - 4.0 * a * self.backbone(a)
-
-    def dissipation_per_cycle(self, force_amplitude: float) -> float:
-        """Energy [J] dissipated per cycle of the force between ``±Q*``, ``0 <= Q* < slip_force``.
-
-        Parameters
-        ----------
-        force_amplitude : float
-            Force amplitude ``Q*`` [N], ``0 <= Q* < slip_force``.
-
-        Returns
-        -------
-        float
-            Energy dissipated per cycle [J].
-        """
-        q = check_nonnegative("force_amplitude", force_amplitude)
-        return self.dissipation_per_displacement_cycle(self.displacement(q))
 
     def memory(self) -> "MasingMemory":
         """A fresh turning-point memory (unstressed state at ``u = 0``) for arbitrary paths."""
