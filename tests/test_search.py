@@ -75,3 +75,49 @@ def test_skipped_steps_keep_every_function_above_its_band():
             assert np.all(dense > level[:, None])
             checked += 1
     assert checked > 20
+
+
+def _tiny_reference(g, a, b):
+    """The root search just after a start at zero as the compiled path wrote it before the step
+    function was shared with the NumPy path (the reference of the next test)."""
+    prev = a + (b - a) / 64
+    for k in range(2, 65):
+        t = a + (b - a) * k / 64
+        if g(prev) > 0 > g(t):
+            return ("bracket", prev, t)
+        prev = t
+    hi = a + (b - a) / 64
+    if not g(hi) < 0:
+        return ("b",)
+    d = hi - a
+    for _ in range(80):
+        d *= 0.5
+        lo = a + d
+        if lo <= a:
+            break
+        if g(lo) > 0:
+            return ("bracket", lo, hi)
+        hi = lo
+    return ("b",)
+
+
+def test_tiny_root_step_function_tries_the_same_points():
+    """search._tiny_next (one step, shared by the compiled and the NumPy event location) brackets
+    the same root as the loop it replaces, on roots from 1e-30 to 1 of the window."""
+    rng = np.random.default_rng(1)
+    bracketed = 0
+    for _ in range(2000):
+        a = rng.uniform(-1, 1)
+        b = a + 10 ** rng.uniform(-8, 1)
+        root = a + (b - a) * 10 ** rng.uniform(-30, 0)
+        c = rng.uniform(0.1, 50)
+        g = [lambda t: root - t, lambda t: -(t - a) * (t - root) * 1e3, lambda t: -1.0,
+             lambda t: math.sin(c * (t - a) / (b - a)) - 0.3][rng.integers(4)]
+        st = np.zeros(8)
+        act, ta, tb = search._tiny_next(a, b, st, 0.0)
+        while act == search._EVALUATE:
+            act, ta, tb = search._tiny_next(a, b, st, float(g(ta)))
+        got = ("bracket", ta, tb) if act == search._BRACKET else ("b",)
+        assert got == _tiny_reference(g, a, b)
+        bracketed += got[0] == "bracket"
+    assert bracketed > 500

@@ -630,15 +630,8 @@ class SdofCoulomb:
                     s = new
                 continue
             start_v = v
-            ev, xe, ve, vmax = self._slip_event(t, x, v, s, t_end - t, v_scale)
-            v_scale = max(0.5 * v_scale, vmax)
-            t_stop = t_end if ev is None else t + ev
-            if on_piece is not None:
-                on_piece(t, x, v, s, t_stop, xe, ve)
-            zero_steps = zero_steps + 1 if ev is not None and ev <= 0.0 else 0
-            if zero_steps > 8:
-                raise ConvergenceError(f"events do not advance time at t = {t!r} (chattering)")
-            t, x, v = t_stop, xe, ve
+            ev, t, x, v, v_scale, zero_steps = self._slip_piece(t, x, v, s, t_end, v_scale, zero_steps,
+                                                               on_piece, "events")
             if ev is None:
                 s, v = self._settle_at_end(t, x, v, s, v_scale, counts)
                 break
@@ -653,6 +646,21 @@ class SdofCoulomb:
             counts[0 if new == 0 else (3 if new == s else 2)] += 1
             s = new
         return SdofResult(t, x, v, s, sum(counts), dict(zip(EVENT_KINDS, counts)), v_scale)
+
+    def _slip_piece(self, t, x, v, s, t_end, v_scale, zero_steps, on_piece, what):
+        """One slip piece of direction ``s`` from ``(t, x, v)`` to its first event (``v = 0``) or
+        ``t_end``, handed to ``on_piece``; returns ``(ev, t, x, v, v_scale, zero_steps)`` at its
+        end (``ev``: the event's local time, None at ``t_end``). More than 8 pieces in a row that
+        do not advance time are chattering (``what`` names the events in the error)."""
+        ev, xe, ve, vmax = self._slip_event(t, x, v, s, t_end - t, v_scale)
+        v_scale = max(0.5 * v_scale, vmax)
+        t_stop = t_end if ev is None else t + ev
+        if on_piece is not None:
+            on_piece(t, x, v, s, t_stop, xe, ve)
+        zero_steps = zero_steps + 1 if ev is not None and ev <= 0.0 else 0
+        if zero_steps > 8:
+            raise ConvergenceError(f"{what} do not advance time at t = {t!r} (chattering)")
+        return ev, t_stop, xe, ve, v_scale, zero_steps
 
     def _settle_at_end(self, t, x, v, s, v_scale, counts):
         """At the end of a march in a slip piece, a velocity within its zero band is an event at
@@ -683,14 +691,8 @@ class SdofCoulomb:
                 h = self.force_amplitude * math.cos(w * t) - self.stiffness * x
                 hd = -self.force_amplitude * w * math.sin(w * t)
                 s = 1 if (h > 0 or (h == 0 and hd >= 0)) else -1
-            ev, xe, ve, vmax = self._slip_event(t, x, v, s, t_end - t, v_scale)
-            v_scale = max(0.5 * v_scale, vmax)
-            t_stop = t_end if ev is None else t + ev
-            on_piece(t, x, v, s, t_stop, xe, ve)
-            zero_steps = zero_steps + 1 if ev is not None and ev <= 0.0 else 0
-            if zero_steps > 8:
-                raise ConvergenceError(f"turning points do not advance time at t = {t!r}")
-            t, x, v = t_stop, xe, ve
+            ev, t, x, v, v_scale, zero_steps = self._slip_piece(t, x, v, s, t_end, v_scale, zero_steps,
+                                                               on_piece, "turning points")
             if ev is None:
                 return SdofResult(t, x, v, (v > 0) - (v < 0), 0, counts)
 

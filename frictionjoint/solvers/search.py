@@ -186,28 +186,67 @@ def _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
     return _brentq(0, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
 
 
+#: actions of :func:`_tiny_next`
+_EVALUATE, _BRACKET, _GIVE_UP = 0, 1, 2
+
+
+@_jit
+def _tiny_next(a, b, st, gv):
+    """One step of the search for the root just after a start at zero, shared by the compiled
+    and the NumPy paths (each supplies the evaluations of its own ``g``).
+
+    The points tried, in order: ``a + (b - a) k / 64`` for ``k = 1 ... 64``, the root bracketed by
+    the first pair ``g > 0 > g``; failing that (the positive stretch after a start at zero can be
+    far shorter than the grid, e.g. a slip of a few microseconds where the force exceeds the slip
+    limit by 1e-12 of it), halvings ``a + d/2^j`` of the first step towards the start until ``g``
+    is positive, the root then between that point and the previous one.
+
+    ``st`` (8 floats, zeros at the start) holds the search's state; ``gv`` is ``g`` at the point
+    asked for by the previous call (ignored at the first). Returns ``(action, t0, t1)``:
+    ``_EVALUATE`` (call again with ``g(t0)``), ``_BRACKET`` (the root is in ``[t0, t1]``: Brent) or
+    ``_GIVE_UP`` (no root found: the answer is ``b``).
+    """
+    phase = st[0]
+    if phase == 0.0:  # first call: ask for g at the first grid point
+        st[0], st[1] = 1.0, 1.0
+        return _EVALUATE, a + (b - a) * 1 / 64, 0.0
+    if phase == 1.0:  # grid: gv = g(t_k)
+        k = int(st[1])
+        t = a + (b - a) * k / 64
+        if k == 1:
+            st[6] = gv
+        elif st[3] > 0 > gv:
+            return _BRACKET, st[2], t
+        st[2], st[3] = t, gv
+        if k < 64:
+            st[1] = k + 1
+            return _EVALUATE, a + (b - a) * (k + 1) / 64, 0.0
+        hi = a + (b - a) * 1 / 64
+        if not st[6] < 0:
+            return _GIVE_UP, b, b
+        st[0], st[4], st[5], st[7] = 2.0, hi, hi - a, 0.0
+    elif gv > 0:  # halvings: gv = g(lo) at lo = a + d
+        return _BRACKET, a + st[5], st[4]
+    else:
+        st[4] = a + st[5]
+    # the next halving
+    st[5] *= 0.5
+    st[7] += 1.0
+    lo = a + st[5]
+    if st[7] > 80 or lo <= a:
+        return _GIVE_UP, b, b
+    return _EVALUATE, lo, 0.0
+
+
 @_jit
 def _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
-    """Root just after a start at zero (see ``Marcher._locate_tiny``)."""
-    prev = a + (b - a) / 64
-    for k in range(2, 65):
-        t = a + (b - a) * k / 64
-        if (_value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, prev, r) > 0
-                > _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, r)):
-            return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, prev, t, xtol)
-        prev = t
-    hi = a + (b - a) / 64
-    if not _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, hi, r) < 0:
-        return b
-    d = hi - a
-    for _ in range(80):
-        d *= 0.5
-        lo = a + d
-        if lo <= a:
-            break
-        if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, lo, r) > 0:
-            return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, lo, hi, xtol)
-        hi = lo
+    """Root just after a start at zero (:func:`_tiny_next`)."""
+    st = np.zeros(8)
+    act, ta, tb = _tiny_next(a, b, st, 0.0)
+    while act == _EVALUATE:
+        act, ta, tb = _tiny_next(a, b, st, _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, ta, r))
+    if act == _BRACKET:
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, ta, tb, xtol)
     return b
 
 
@@ -587,23 +626,9 @@ def _np_brent(g, a, b, xtol):
 
 
 def _np_locate_tiny(g, a, b, xtol):
-    ts = np.linspace(a, b, 65)[1:]
-    for lo, hi in zip(ts[:-1], ts[1:]):
-        if g(lo) > 0 > g(hi):
-            return _np_brent(g, lo, hi, xtol)
-    # the positive stretch after a start at zero can be far shorter than the grid (e.g. a
-    # slip of a few microseconds where the force exceeds the slip limit by 1e-12 of it):
-    # halve towards the start until g is positive, then the root lies just beyond
-    hi = ts[0]
-    if not g(hi) < 0:
-        return b
-    d = hi - a
-    for _ in range(80):
-        d *= 0.5
-        lo = a + d
-        if lo <= a:
-            break
-        if g(lo) > 0:
-            return _np_brent(g, lo, hi, xtol)
-        hi = lo
-    return b
+    """:func:`_locate_tiny` for the NumPy path's ``g``."""
+    st = np.zeros(8)
+    act, ta, tb = _tiny_next(a, b, st, 0.0)
+    while act == _EVALUATE:
+        act, ta, tb = _tiny_next(a, b, st, float(g(ta)))
+    return _np_brent(g, ta, tb, xtol) if act == _BRACKET else b
