@@ -53,16 +53,21 @@ class LinearStructure:
         Viscous damping matrix [N s/m], symmetric positive semi-definite; zero if omitted.
     dof_names : sequence of str, optional
         Names of the DOFs; ``"x0", "x1", ...`` if omitted.
+    indefinite_stiffness : bool
+        Accept a stiffness with negative directions: a rotating structure's spin softening of
+        DOFs that only its joints hold (a blade's free root); the assembled system must be stable.
     """
 
     def __init__(self, mass: ArrayLike, stiffness: ArrayLike, damping: ArrayLike | None = None,
-                 dof_names: Sequence[str] | None = None):
+                 dof_names: Sequence[str] | None = None, indefinite_stiffness: bool = False):
         self.mass = _square_matrix("mass", mass, None)
         n = self.mass.shape[0]
         self.stiffness = _square_matrix("stiffness", stiffness, n)
         self.damping = _square_matrix("damping", np.zeros((n, n)) if damping is None else damping, n)
         _check_definite("mass", self.mass, strict=True)
-        _check_definite("stiffness", self.stiffness, strict=False)
+        self.indefinite_stiffness = bool(indefinite_stiffness)
+        if not indefinite_stiffness:
+            _check_definite("stiffness", self.stiffness, strict=False)
         _check_definite("damping", self.damping, strict=False)
         if dof_names is None:
             dof_names = [f"x{i}" for i in range(n)]

@@ -1,0 +1,135 @@
+"""The beam blade (frictionjoint.structures.BeamBlade): finite elements against the
+Euler-Bernoulli closed form, rotating cantilever tables, spin softening, the structure it gives."""
+import math
+
+import numpy as np
+import pytest
+
+from frictionjoint.errors import ParameterError
+from frictionjoint.structures import BeamBlade, euler_bernoulli_cantilever
+
+#: the issue's titanium blade (Ti-6Al-4V: E = 114 GPa, rho = 4430 kg/m^3)
+BLADE = dict(length=0.15, width=0.03, thickness=0.003, youngs_modulus=114e9, density=4430.0)
+
+
+def _speed(blade, nu):
+    """Rotor speed [rad/s] of the dimensionless speed ``nu``."""
+    return nu / float(blade.dimensionless(1.0))
+
+
+def test_non_rotating_against_euler_bernoulli():
+    # beta_n L = 1.875104, 4.694091, 7.854757 (1 + cos x cosh x = 0): <= 1e-5 with the default mesh
+    b = BeamBlade(**BLADE)
+    ref = euler_bernoulli_cantilever(3, b.length, b.youngs_modulus * b.second_moment, b.density * b.area)
+    assert np.max(np.abs(b.natural_frequencies(3) / ref - 1)) <= 1e-5
+    assert np.allclose(b.dimensionless(b.natural_frequencies(3)), np.array([1.875104, 4.694091, 7.854757]) ** 2,
+                       rtol=1e-5)
+
+
+def test_mesh_convergence_is_fourth_order():
+    b = [BeamBlade(**BLADE, n_elements=n) for n in (10, 20, 40)]
+    ref = euler_bernoulli_cantilever(3, b[0].length, b[0].youngs_modulus * b[0].second_moment,
+                                     b[0].density * b[0].area)
+    err = [np.abs(x.natural_frequencies(3) / ref - 1) for x in b]
+    rate = np.log2(err[1] / err[2])
+    assert np.all(rate > 3.8)  # Hermite cubics: frequency error ~ h^4
+
+
+@pytest.mark.parametrize("nu", [0.0, 3.0, 10.0])
+def test_chordwise_is_flapwise_softened(nu):
+    # square section (same I in both planes): omega_chord^2 = omega_flap^2 - Omega^2, mode by mode
+    sq = dict(BLADE, width=0.01, thickness=0.01)
+    flap = BeamBlade(**sq, hub_radius=0.05)
+    om = _speed(flap, nu)
+    f = BeamBlade(**sq, hub_radius=0.05, rotor_speed=om).natural_frequencies(3)
+    c = BeamBlade(**sq, hub_radius=0.05, rotor_speed=om, bending="chordwise").natural_frequencies(3)
+    # exact in the discrete problem (K_chord = K_flap - Omega^2 M); the eigensolver's rounding is
+    # eps times the largest eigenvalue of the mesh, ~1e6 times the first: 1e-9 of omega^2
+    assert np.max(np.abs(c ** 2 - (f ** 2 - om ** 2)) / f ** 2) <= 1e-9
+
+
+def test_structure_keeps_the_root_and_clamping_it_gives_the_frequencies():
+    b = BeamBlade(**BLADE, n_elements=8, rotor_speed=300.0, hub_radius=0.2)
+    s = b.structure
+    assert s.n_dof == 27 and s.dof_names[:4] == ("u0", "w0", "t0", "u1")
+    keep = [i for i, name in enumerate(s.dof_names) if name[0] in "wt" and name[1:] != "0"]
+    import scipy.linalg
+    lam = scipy.linalg.eigh(s.stiffness[np.ix_(keep, keep)], s.mass[np.ix_(keep, keep)], eigvals_only=True)
+    assert np.allclose(np.sqrt(lam[:3]), b.natural_frequencies(3), rtol=1e-13)
+    # the free root under rotation: spin softening of the axial rigid motion (the joint holds it)
+    assert np.linalg.eigvalsh(s.stiffness)[0] < 0
+    assert b.centrifugal_force == pytest.approx(4430.0 * 0.03 * 0.003 * 300.0 ** 2 * (0.2 * 0.15 + 0.15 ** 2 / 2),
+                                                rel=1e-14)
+
+
+def test_rayleigh_damping_and_mass():
+    b = BeamBlade(**BLADE, n_elements=6, rayleigh=(2.0, 1e-5))
+    s = b.structure
+    assert math.isclose(np.sum(s.mass[0::3, 0::3]), 4430.0 * 0.03 * 0.003 * 0.15, rel_tol=1e-13)  # axial mass
+    assert np.allclose(s.damping, 2.0 * s.mass + 1e-5 * s.stiffness, rtol=0, atol=1e-12 * np.max(np.abs(s.damping)))
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(length=0.0), "length"), (dict(n_elements=0), "n_elements"), (dict(rotor_speed=-1.0), "rotor_speed"),
+    (dict(bending="torsion"), "bending"), (dict(rayleigh=(1.0,)), "rayleigh"), (dict(density=math.nan), "density"),
+])
+def test_bad_input_names_the_parameter(kwargs, word):
+    with pytest.raises(ParameterError, match=word):
+        BeamBlade(**dict(BLADE, **kwargs))
+
+
+def _receptance(st, springs, force_dof, out_dof, omegas):
+    """``x_out / f`` of ``st`` with ground springs ``{dof: k}`` under a harmonic force at
+    ``force_dof`` (undamped, direct solve)."""
+    k = st.stiffness.copy()
+    for name, kk in springs.items():
+        j = st.dof_index(name)
+        k[j, j] += kk
+    f = np.zeros(st.n_dof)
+    f[st.dof_index(force_dof)] = 1.0
+    return np.array([np.linalg.solve(k - w * w * st.mass, f)[st.dof_index(out_dof)] for w in omegas])
+
+
+def _held(st, springs):
+    """Stiffness of ``st`` with ground springs ``{dof: k}`` at its root DOFs (a stuck root)."""
+    k = st.stiffness.copy()
+    for name, kk in springs.items():
+        j = st.dof_index(name)
+        k[j, j] += kk
+    return k
+
+
+#: a stuck dovetail root as ground springs: radial, tangential, rocking
+HELD = {"u0": 2e8, "w0": 1e8, "t0": 2e3}
+
+
+@pytest.mark.parametrize("speed, hub", [(0.0, 0.0), (800.0, 0.25), (3000.0, 0.3)])
+def test_craig_bampton_frequencies_and_stuck_root_frf(speed, hub):
+    import scipy.linalg
+
+    from frictionjoint.structures import craig_bampton
+
+    b = BeamBlade(**BLADE, rotor_speed=speed, hub_radius=hub, rayleigh=(0.0, 2e-6))
+    full = b.structure
+    tip = f"w{b.n_elements}"
+    red = craig_bampton(full, ["u0", "w0", "t0"], loaded_dofs=[tip])  # default: 5 modes
+    assert red.dof_names == ("u0", "w0", "t0", "q1", "q2", "q3", "q4", "q5", f"r_{tip}")
+    # root clamped: exactly the retained modes
+    got = np.sqrt(scipy.linalg.eigh(red.stiffness[3:8, 3:8], red.mass[3:8, 3:8], eigvals_only=True)[:3])
+    assert np.max(np.abs(got / b.natural_frequencies(3) - 1)) <= 1e-9
+    # root stuck (held by springs): the first three frequencies to 1e-3 (about 1e-5 here)
+    wf = np.sqrt(scipy.linalg.eigh(_held(full, HELD), full.mass, eigvals_only=True)[:3])
+    wr = np.sqrt(scipy.linalg.eigh(_held(red, HELD), red.mass, eigvals_only=True)[:3])
+    assert np.max(np.abs(wr / wf - 1)) <= 1e-3
+    # the stuck-root FRF, tip force to tip displacement (Rayleigh damping), below the third mode:
+    # within 1e-3 of its peak everywhere (pointwise ratios are meaningless at antiresonances)
+    t = red.transformation
+    f = np.zeros(full.n_dof)
+    f[full.dof_index(tip)] = 1.0
+    omegas = np.linspace(0.01, 0.95, 300) * wf[2]
+    kf, kr = _held(full, HELD), _held(red, HELD)
+    a = np.array([np.linalg.solve(kf + 1j * w * full.damping - w * w * full.mass, f)[full.dof_index(tip)]
+                  for w in omegas])
+    r = np.array([(t @ np.linalg.solve(kr + 1j * w * red.damping - w * w * red.mass, t.T @ f))[full.dof_index(tip)]
+                  for w in omegas])
+    assert np.max(np.abs(r - a)) <= 1e-3 * np.max(np.abs(a))
