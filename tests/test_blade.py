@@ -133,3 +133,25 @@ def test_craig_bampton_frequencies_and_stuck_root_frf(speed, hub):
     r = np.array([(t @ np.linalg.solve(kr + 1j * w * red.damping - w * w * red.mass, t.T @ f))[full.dof_index(tip)]
                   for w in omegas])
     assert np.max(np.abs(r - a)) <= 1e-3 * np.max(np.abs(a))
+
+
+def test_blade_model_definitions(tmp_path):
+    from frictionjoint.structures import MODELS_DIR, load_blade_model
+
+    m = load_blade_model("ti64_compressor_blade")
+    assert m.path == MODELS_DIR / "ti64_compressor_blade.toml" and "ASM" in m.source
+    b = m.blade()
+    assert b.rotor_speed == 1000.0 and b.hub_radius == 0.25 and b.rayleigh == (0.0, 2e-6)
+    assert m.root["friction_coefficient"] == 0.3 and m.excitation["tip_force_amplitude"] == 1.0
+    # rotation stiffens the flapwise modes (the non-rotating blade's first mode is 109 Hz)
+    assert b.natural_frequencies(1)[0] > 2.5 * m.blade(rotor_speed=0.0).natural_frequencies(1)[0]
+    assert load_blade_model(m.path).blade_parameters == m.blade_parameters
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[blade]\nlength = 0.1\nwidth = 0.01\nthickness = 0.001\nyoungs_modulus = -1.0\ndensity = 1.0\n')
+    with pytest.raises(ParameterError, match="youngs_modulus"):
+        load_blade_model(bad)
+    bad.write_text('[blade]\nlenght = 0.1\n')
+    with pytest.raises(ParameterError, match=r"\[blade\]"):
+        load_blade_model(bad)
+    with pytest.raises(ParameterError, match="ti64_compressor_blade"):
+        load_blade_model("no_such_blade")

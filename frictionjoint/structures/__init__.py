@@ -1,5 +1,8 @@
-"""Blade models: structures with their root DOFs kept for the root joints, and their reduction."""
+"""Blade models: structures with their root DOFs kept for the root joints, their reduction, and
+the model definitions of ``models/``."""
 from .beam import BENDING, BeamBlade, euler_bernoulli_cantilever
+from .models import MODELS_DIR, BladeModel, load_blade_model
 from .reduction import craig_bampton
 
-__all__ = ["BeamBlade", "BENDING", "euler_bernoulli_cantilever", "craig_bampton"]
+__all__ = ["BeamBlade", "BENDING", "euler_bernoulli_cantilever", "craig_bampton", "BladeModel", "load_blade_model",
+           "MODELS_DIR"]

@@ -1,0 +1,122 @@
+"""Blade model definitions: a blade, its rotor, its root and its excitation as data (TOML) with
+their source; the definitions of the repository live in its top-level ``models/`` folder.
+
+A definition (SI units)::
+
+    name = "Ti64CompressorBlade"
+    source = "where the numbers come from"
+    [blade]            # BeamBlade's arguments: length, width, thickness, youngs_modulus,
+                       # density, and optionally n_elements, bending, rayleigh = [alpha, beta]
+    [rotor]            # optional: speed [rad/s], hub_radius [m]
+    [root]             # optional: the root joint's parameters (e.g. a dovetail's)
+    [excitation]       # optional: e.g. tip_force_amplitude [N]
+
+:func:`load_blade_model` reads one.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import ParameterError
+from .beam import BeamBlade
+
+__all__ = ["BladeModel", "load_blade_model", "MODELS_DIR"]
+
+#: the repository's model definitions (a source checkout: next to the package)
+MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
+
+_BLADE_KEYS = ("length", "width", "thickness", "youngs_modulus", "density", "n_elements", "bending", "rayleigh")
+_SECTIONS = ("name", "source", "blade", "rotor", "root", "excitation")
+
+
+@dataclass(frozen=True)
+class BladeModel:
+    """A blade model definition (see the module docstring).
+
+    Attributes
+    ----------
+    name, source : str
+        Its name and where its numbers come from.
+    blade_parameters : dict
+        :class:`~frictionjoint.structures.BeamBlade`'s arguments, the rotor's included.
+    root, excitation : dict
+        The root joint's and the excitation's parameters, as written.
+    path : Path
+        The file.
+    """
+
+    name: str
+    source: str
+    blade_parameters: dict = field(default_factory=dict)
+    root: dict = field(default_factory=dict)
+    excitation: dict = field(default_factory=dict)
+    path: Path | None = None
+
+    def blade(self, **overrides) -> BeamBlade:
+        """The :class:`~frictionjoint.structures.BeamBlade` of the definition, with
+        ``overrides`` of its arguments (e.g. ``rotor_speed=0.0``).
+
+        Parameters
+        ----------
+        **overrides
+            BeamBlade arguments that replace the definition's.
+
+        Returns
+        -------
+        BeamBlade
+        """
+        return BeamBlade(**dict(self.blade_parameters, **overrides))
+
+
+def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
+    """Read a blade model definition: a ``.toml`` path, or the name of a file in
+    :data:`MODELS_DIR` (with or without ``.toml``).
+
+    Parameters
+    ----------
+    name_or_path : str or os.PathLike
+        E.g. ``"ti64_compressor_blade"`` or ``"models/ti64_compressor_blade.toml"``.
+
+    Returns
+    -------
+    BladeModel
+    """
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python < 3.11
+        import tomli as tomllib
+
+    path = Path(name_or_path)
+    if not path.is_file():
+        stem = path.name if path.suffix == ".toml" else f"{path.name}.toml"
+        path = MODELS_DIR / stem
+    if not path.is_file():
+        known = sorted(p.stem for p in MODELS_DIR.glob("*.toml")) if MODELS_DIR.is_dir() else []
+        raise ParameterError(f"name_or_path must be a blade model file or one of {known}, got {str(name_or_path)!r}")
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
+    unknown = set(data) - set(_SECTIONS)
+    if unknown:
+        raise ParameterError(f"{path.name}: unknown keys {sorted(unknown)} (allowed: {list(_SECTIONS)})")
+    blade = dict(data.get("blade", {}))
+    bad = set(blade) - set(_BLADE_KEYS)
+    if bad or not blade:
+        raise ParameterError(f"{path.name}: [blade] must hold BeamBlade's arguments {list(_BLADE_KEYS)}, "
+                             f"got {sorted(blade)}")
+    rotor = dict(data.get("rotor", {}))
+    if set(rotor) - {"speed", "hub_radius"}:
+        raise ParameterError(f"{path.name}: [rotor] takes speed and hub_radius, got {sorted(rotor)}")
+    if "speed" in rotor:
+        blade["rotor_speed"] = rotor["speed"]
+    if "hub_radius" in rotor:
+        blade["hub_radius"] = rotor["hub_radius"]
+    if "rayleigh" in blade:
+        blade["rayleigh"] = tuple(blade["rayleigh"])
+    model = BladeModel(str(data.get("name", path.stem)), str(data.get("source", "")), blade,
+                       dict(data.get("root", {})), dict(data.get("excitation", {})), path)
+    model.blade()  # every value checked now, with the parameter's name in the error
+    return model
