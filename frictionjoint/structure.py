@@ -166,6 +166,28 @@ class LinearStructure:
                 f"direction must be a finite non-zero vector of length {self.n_dof}, got {direction!r}")
         return d
 
+    def clamped(self, dofs: Sequence[int | str]) -> "LinearStructure":
+        """The structure with ``dofs`` held at zero (their rows and columns removed).
+
+        Parameters
+        ----------
+        dofs : sequence of str or int
+            DOFs to clamp, by name or index (e.g. a blade root's slope, held by its slot).
+
+        Returns
+        -------
+        LinearStructure
+            The other DOFs, in their order and with their names.
+        """
+        gone = {self.dof_index(d) for d in dofs}
+        keep = [i for i in range(self.n_dof) if i not in gone]
+        if not keep:
+            raise ParameterError("dofs must leave at least one DOF free")
+        sub = np.ix_(keep, keep)
+        return LinearStructure(self.mass[sub], self.stiffness[sub], self.damping[sub],
+                               dof_names=[self.dof_names[i] for i in keep],
+                               indefinite_stiffness=self.indefinite_stiffness)
+
     def natural_frequencies(self) -> np.ndarray:
         """Undamped natural angular frequencies [rad/s], ascending."""
         import scipy.linalg

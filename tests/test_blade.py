@@ -203,3 +203,16 @@ def test_rotating_flapwise_with_hub_radius_against_the_series(delta, nu):
     # twice the 5e-8 of the mesh above (a square)
     c = _lambdas(nu, delta, n_elements=120, bending="chordwise")
     assert np.max(np.abs(c ** 2 - (ref ** 2 - nu ** 2)) / ref ** 2) <= 1e-7
+
+
+def test_clamped_structure():
+    b = BeamBlade(**BLADE, n_elements=4, rotor_speed=100.0)
+    s = b.structure.clamped(["u0", "w0", "t0"])
+    assert s.dof_names == b.dof_names[3:] and s.indefinite_stiffness
+    assert np.array_equal(s.stiffness, b.structure.stiffness[3:, 3:])
+    import scipy.linalg
+    lam = scipy.linalg.eigh(s.clamped([n for n in s.dof_names if n[0] == "u"]).stiffness,
+                            s.clamped([n for n in s.dof_names if n[0] == "u"]).mass, eigvals_only=True)
+    assert np.allclose(np.sqrt(lam[:3]), b.natural_frequencies(3), rtol=1e-12)
+    with pytest.raises(ParameterError, match="at least one"):
+        s.clamped(s.dof_names)
