@@ -107,8 +107,8 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     phase : bool
         Add a phase panel [deg] below the amplitude.
     ax : matplotlib Axes or (Axes, Axes), optional
-        Draw into these axes (with ``phase``: the amplitude and the phase axes) instead of a new
-        figure.
+        Draw into these axes instead of a new figure: a pair, the amplitude and the phase axes
+        (with ``phase``); one Axes, the amplitude only.
 
     Returns
     -------
@@ -116,8 +116,8 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     """
     ratio = fr.frequency_ratio
     xvals = ratio if ratio is not None else fr.omega
-    if ax is not None:
-        ax_a, ax_p = (ax if phase else (ax, None))
+    if ax is not None:  # a pair: amplitude and phase; one Axes: the amplitude only
+        ax_a, ax_p = (tuple(ax) if phase and np.ndim(ax) == 1 and len(ax) == 2 else (ax, None))
         fig = ax_a.figure
     elif phase:
         fig = new_figure((8.0, 7.0))

@@ -10,6 +10,7 @@ A definition is a TOML or JSON file (SI units)::
     damping = [[0.02, -0.01], [-0.01, 0.01]] # [N s/m], optional
     ports = ["x1", "x2"]                 # DOFs where joints act
     outputs = ["x1", "x2"]               # DOFs whose x, v are FMU outputs (the ports are always)
+    indefinite_stiffness = false         # optional: true for a rotating structure's spin softening
 
     [excitation]                         # optional
     omega = 1.2                          # [rad/s]
@@ -95,6 +96,7 @@ class StructureDefinition:
         return {"name": self.name, "source": self.source, "dofs": list(s.dof_names),
                 "mass": s.mass.tolist(), "stiffness": s.stiffness.tolist(), "damping": s.damping.tolist(),
                 "ports": list(self.ports), "outputs": list(self.outputs),
+                "indefinite_stiffness": bool(s.indefinite_stiffness),
                 "excitation": {"omega": self.omega, "force_amplitude": dict(self.force_amplitude)}}
 
     def to_json(self, path) -> Path:
@@ -107,7 +109,8 @@ class StructureDefinition:
     def from_dict(cls, data: dict) -> "StructureDefinition":
         """A definition from plain data (the file format above)."""
         data = dict(data)
-        known = {"name", "source", "dofs", "mass", "stiffness", "damping", "ports", "outputs", "excitation"}
+        known = {"name", "source", "dofs", "mass", "stiffness", "damping", "ports", "outputs", "excitation",
+                 "indefinite_stiffness"}
         unknown = set(data) - known
         if unknown:
             raise ParameterError(f"unknown keys {sorted(unknown)} in a structure definition; allowed: {sorted(known)}")
@@ -118,7 +121,11 @@ class StructureDefinition:
         unknown = set(excitation) - {"omega", "force_amplitude"}
         if unknown:
             raise ParameterError(f"unknown keys {sorted(unknown)} in [excitation]; allowed: omega, force_amplitude")
-        structure = LinearStructure(data["mass"], data["stiffness"], data.get("damping"), dof_names=data["dofs"])
+        indefinite = data.get("indefinite_stiffness", False)
+        if not isinstance(indefinite, bool):
+            raise ParameterError(f"indefinite_stiffness must be true or false, got {indefinite!r}")
+        structure = LinearStructure(data["mass"], data["stiffness"], data.get("damping"), dof_names=data["dofs"],
+                                    indefinite_stiffness=indefinite)
         return cls(structure, tuple(data.get("ports", ())), tuple(data.get("outputs", ())),
                    dict(excitation.get("force_amplitude", {})), excitation.get("omega", 1.0),
                    data.get("name", "LinearStructure"), str(data.get("source", "")))

@@ -274,6 +274,8 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     if method not in METHODS:
         raise ParameterError(f"method must be one of {METHODS}, got {method!r} (harmonic balance, 'hbm', "
                              "is not available yet)")
+    if isinstance(model, type):
+        raise ParameterError(f"model must be a Driver instance, not the class {model.__name__}")
     if callable(model) and not isinstance(model, Driver):
         if parameters or direction != "up" or tuple(outputs) != ("x",):
             raise ParameterError("a build(omega) -> FrictionSystem sweep takes no parameters, outputs or "

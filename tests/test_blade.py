@@ -216,3 +216,14 @@ def test_clamped_structure():
     assert np.allclose(np.sqrt(lam[:3]), b.natural_frequencies(3), rtol=1e-12)
     with pytest.raises(ParameterError, match="at least one"):
         s.clamped(s.dof_names)
+
+
+def test_a_rotating_structure_survives_its_definition_file(tmp_path):
+    from frictionjoint.structure_file import StructureDefinition, load_structure_definition
+    from frictionjoint.structures import craig_bampton
+
+    b = BeamBlade(**BLADE, n_elements=10, rotor_speed=1000.0, hub_radius=0.25)
+    red = craig_bampton(b.structure, ["u0", "w0", "t0"], 3, loaded_dofs=["w10"])
+    path = StructureDefinition(red, ("u0", "w0")).to_json(tmp_path / "blade.json")
+    back = load_structure_definition(path).structure
+    assert back.indefinite_stiffness and np.array_equal(back.stiffness, red.stiffness)

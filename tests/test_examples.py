@@ -62,7 +62,7 @@ def test_readme_opens_with_the_two_commands():
 @pytest.mark.slow
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
-    assert len(python) == 2  # the library example, the system of FMUs
+    assert len(python) == 3  # the library example, the system of FMUs, the blade models
     monkeypatch.chdir(tmp_path)
     exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
     assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
@@ -135,3 +135,11 @@ def test_readme_main_job_runs_with_fewer_points(tmp_path):
     assert len(numeric) >= 8 and max(numeric) <= 1e-9
     png = argv[argv.index("--plot") + 1]
     assert (tmp_path / png).read_bytes()[:8] == PNG_MAGIC
+
+
+def test_readme_blade_example_runs():
+    """The README's blade-models example (issue 13)."""
+    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][2]
+    namespace = {"__name__": "readme"}
+    exec(compile(block, str(README) + ":blade-example", "exec"), namespace)
+    assert namespace["reduced"].dof_names[-1] == "r_w30" and namespace["model"].name == "Ti64CompressorBlade"

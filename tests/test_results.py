@@ -61,3 +61,8 @@ def test_plot_takes_the_former_positional_path(tmp_path):
     assert fig2 is fig and (tmp_path / "b.png").exists()
     with pytest.raises(TypeError, match="path"):
         fr.plot(tmp_path / "c.png", path=tmp_path / "d.png")
+
+
+def test_no_points_is_no_success():
+    fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [1.5]).select("down")  # an up sweep has no down points
+    assert len(fr) == 0 and not fr.success and fr.status == "failed"

@@ -49,8 +49,24 @@ def test_wrong_type_or_causality_is_a_type_error(call):
 
 def test_unknown_value_reference_is_a_key_error():
     s = JenkinsJointSlave(**KW)
-    with pytest.raises(KeyError):
-        s.get_real([len(s.vars)])
+    for vr in (len(s.vars), -1):  # -1: an unsigned reference >= 2^31 as the C wrapper passes it
+        with pytest.raises(KeyError):
+            s.get_real([vr])
+
+
+def test_model_description_attributes():
+    # FMI 2.0: parameters initial="exact" with a start; inputs a start, no initial; outputs neither
+    import xml.etree.ElementTree as ET
+
+    s = CoulombOscillatorSlave(**KW)
+    for v in s.vars.values():
+        attrib = ET.fromstring(ET.tostring(v.to_xml())).attrib
+        if v.causality.name == "parameter":
+            assert attrib.get("initial") == "exact" and v.start is not None, v.name
+        elif v.causality.name == "input":
+            assert "initial" not in attrib and v.start is not None, v.name
+        else:
+            assert "initial" not in attrib, v.name
 
 
 def test_a_slave_is_freed_by_reference_counting():

@@ -71,6 +71,7 @@ def test_a_build_callable_sweeps_a_system():
     (dict(method="hbm"), "method"),
     (dict(model="NoSuchModel"), "model"),
     (dict(model="missing.fmu"), "model"),
+    (dict(model=LibraryDriver), "Driver instance"),  # the class passes the Protocol's hasattr check
 ])
 def test_bad_input_names_the_parameter(kwargs, word):
     args = dict(model="CoulombOscillator", omegas=OMEGAS, parameters=PARAMS)

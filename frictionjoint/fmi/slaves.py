@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import operator
 import os
 import pickle
 
@@ -110,8 +111,10 @@ class _Slave(BalancedSlave):
         if table is None:
             table = OrderedDict()
             for vr, d in enumerate(self._declared):
-                extra = {} if d.causality is Fmi2Causality.output else dict(initial=Fmi2Initial.exact,
-                                                                            start=d.start)
+                # FMI 2.0: parameters carry initial="exact" and a start, inputs a start only
+                extra = ({} if d.causality is Fmi2Causality.output else
+                         dict(initial=Fmi2Initial.exact, start=d.start) if d.causality is Fmi2Causality.parameter
+                         else dict(start=d.start))
                 var = _TYPES[d.kind](d.name, causality=d.causality, variability=d.variability,
                                      description=d.description, **extra)
                 var.value_reference = vr
@@ -127,9 +130,12 @@ class _Slave(BalancedSlave):
 
     def _declaration(self, vr, kind):
         try:
-            d = self._declared[vr]
-        except (IndexError, TypeError):
-            raise KeyError(f"no variable with valueReference={vr!r}") from None
+            i = operator.index(vr)
+        except TypeError:
+            i = -1
+        if not 0 <= i < len(self._declared):  # (no negative indexing from the end)
+            raise KeyError(f"no variable with valueReference={vr!r}")
+        d = self._declared[i]
         if d.kind is not kind:
             raise TypeError(f"Variable with valueReference={vr} is not of type {_TYPES[kind].__name__}!")
         return d

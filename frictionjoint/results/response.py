@@ -258,12 +258,12 @@ class PointsContract:
 
     @property
     def success(self) -> bool:
-        """True when every point converged."""
-        return bool(np.all(self.converged))
+        """True when every point converged (and there is at least one)."""
+        return self.status == "ok"
 
     @property
     def status(self) -> str:
-        """``'ok'`` (every point converged), ``'partial'`` or ``'failed'`` (none)."""
+        """``'ok'`` (every point converged), ``'partial'`` or ``'failed'`` (none, or no points)."""
         return collection_status(self.converged)[0]
 
     @property

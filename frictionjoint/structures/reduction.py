@@ -82,12 +82,12 @@ def craig_bampton(structure: LinearStructure, boundary_dofs: Sequence, n_modes: 
     for d in loaded:
         f = np.zeros(len(i))
         f[i.index(d)] = 1.0
-        r = scipy.linalg.solve(kii, f, assume_a="sym")
+        r = r0 = scipy.linalg.solve(kii, f, assume_a="sym")
         for _ in range(2):  # mass-orthogonal to the modes and the earlier vectors (twice: rounding)
             basis = np.column_stack(vectors)
             r = r - basis @ (basis.T @ (mii @ r))
         norm = float(r @ mii @ r)
-        if not norm > 1e-24 * float(f @ scipy.linalg.solve(kii, f, assume_a="sym")) ** 2:
+        if not norm > 1e-20 * float(r0 @ mii @ r0):
             raise ParameterError(f"the residual vector of {structure.dof_names[d]!r} lies in the kept modes")
         vectors.append((r / np.sqrt(norm))[:, None])
     v = np.column_stack(vectors)
