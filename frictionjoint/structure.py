@@ -177,16 +177,21 @@ class LinearStructure:
         Returns
         -------
         LinearStructure
-            The other DOFs, in their order and with their names.
+            The other DOFs, in their order and with their names (a reduced structure's
+            ``transformation`` keeps the columns of the other DOFs).
         """
         gone = {self.dof_index(d) for d in dofs}
         keep = [i for i in range(self.n_dof) if i not in gone]
         if not keep:
             raise ParameterError("dofs must leave at least one DOF free")
         sub = np.ix_(keep, keep)
-        return LinearStructure(self.mass[sub], self.stiffness[sub], self.damping[sub],
-                               dof_names=[self.dof_names[i] for i in keep],
-                               indefinite_stiffness=self.indefinite_stiffness)
+        out = LinearStructure(self.mass[sub], self.stiffness[sub], self.damping[sub],
+                              dof_names=[self.dof_names[i] for i in keep],
+                              indefinite_stiffness=self.indefinite_stiffness)
+        if getattr(self, "transformation", None) is not None:  # a reduced structure: x = T x_r
+            out.transformation = self.transformation[:, keep]
+            out.full_dof_names = self.full_dof_names
+        return out
 
     def natural_frequencies(self) -> np.ndarray:
         """Undamped natural angular frequencies [rad/s], ascending."""

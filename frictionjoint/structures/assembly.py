@@ -1,0 +1,212 @@
+"""A blade assembly: a (reduced) blade structure, its root joints and its harmonic loads, as one
+object that builds the :class:`~frictionjoint.system.FrictionSystem` at any ``omega`` and runs the
+library's solvers on it.
+
+Loads are given on the full model's DOFs (e.g. the tip ``w30``); on a Craig-Bampton structure
+(:func:`~frictionjoint.structures.craig_bampton`, which keeps its ``transformation``) they are
+projected, ``f_r = T^T f``, and the first harmonic of any full-model DOF is recovered from the
+reduced orbit, ``X = T X_r`` (exact for the first harmonic, which is linear in the state).
+"""
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import ParameterError, check_real
+from ..excitation import HarmonicForce
+from ..results import PeriodicResponse, SystemSweep, TimeResponse
+from ..structure import LinearStructure
+from ..system import FrictionSystem
+
+__all__ = ["BladeAssembly"]
+
+
+class BladeAssembly:
+    """Blade structure + root joints + harmonic loads.
+
+    Parameters
+    ----------
+    structure : LinearStructure
+        The blade (full, or reduced by :func:`~frictionjoint.structures.craig_bampton`, possibly
+        :meth:`~frictionjoint.structure.LinearStructure.clamped` afterwards).
+    joints : sequence
+        Joint elements on its DOFs (e.g. a :class:`~frictionjoint.elements.DovetailRoot` on
+        ``w0``/``u0``).
+    loads : dict
+        ``{dof: amplitude}``: forces ``amplitude cos(omega t)`` [N] on DOFs of the full model
+        (projected onto a reduced structure) or of ``structure`` itself.
+    """
+
+    def __init__(self, structure: LinearStructure, joints: Sequence = (), loads: dict | None = None) -> None:
+        if not isinstance(structure, LinearStructure):
+            raise ParameterError(f"structure must be a LinearStructure, got {type(structure).__name__}")
+        self.structure = structure
+        self.joints = tuple(joints)
+        self.loads = {str(k): check_real(f"loads[{k!r}]", v) for k, v in dict(loads or {}).items()}
+        self._force = self._reduced_force()
+        FrictionSystem(structure, self.joints)  # the joints' DOFs checked now
+
+    @classmethod
+    def from_model(cls, model, n_modes: int = 5, **blade_overrides) -> "BladeAssembly":
+        """The assembly of a blade model definition (:func:`~frictionjoint.structures.load_blade_model`):
+        its blade reduced by Craig-Bampton to the root DOFs, ``n_modes`` modes and the tip's
+        residual vector, the root slope held by the slot, a flat-flank
+        :class:`~frictionjoint.elements.DovetailRoot` (``[root]``) under the blade's centrifugal
+        force on ``w0``/``u0``, and ``[excitation] tip_force_amplitude`` at the tip.
+
+        Parameters
+        ----------
+        model : BladeModel
+            The definition (rotating: the dovetail needs a centrifugal force).
+        n_modes : int
+            Fixed-interface modes kept, >= 0.
+        **blade_overrides
+            BeamBlade arguments that replace the definition's (e.g. ``rotor_speed``).
+
+        Returns
+        -------
+        BladeAssembly
+        """
+        from ..elements.dovetail import DovetailRoot
+        from .reduction import craig_bampton
+
+        blade = model.blade(**blade_overrides)
+        tip = f"w{blade.n_elements}"
+        reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], n_modes, loaded_dofs=[tip]).clamped(["t0"])
+        if not blade.centrifugal_force > 0:
+            raise ParameterError("the model's rotor_speed must be > 0 (the dovetail is loaded by the centrifugal force)")
+        root = DovetailRoot(blade.centrifugal_force, tangential_dof="w0", radial_dof="u0", **model.root)
+        return cls(reduced, [root], {tip: float(model.excitation.get("tip_force_amplitude", 1.0))})
+
+    # ------------------------------------------------------------------ DOFs
+    def _full_to_reduced(self):
+        """``(full DOF names, T restricted to the structure's DOFs)`` of a reduced structure, or
+        None for a full one."""
+        t = getattr(self.structure, "transformation", None)
+        if t is None:
+            return None
+        return list(self.structure.full_dof_names), t
+
+    def _reduced_force(self) -> np.ndarray:
+        f = np.zeros(self.structure.n_dof)
+        red = self._full_to_reduced()
+        for dof, amp in self.loads.items():
+            if dof in self.structure.dof_names:
+                f[self.structure.dof_index(dof)] += amp
+            elif red is not None and dof in red[0]:
+                f += amp * red[1][red[0].index(dof)]
+            else:
+                raise ParameterError(f"loads: {dof!r} is not a DOF of the blade")
+        return f
+
+    def _row(self, dof: str) -> np.ndarray:
+        """Coefficients of a full-model DOF in the structure's DOFs."""
+        if dof in self.structure.dof_names:
+            row = np.zeros(self.structure.n_dof)
+            row[self.structure.dof_index(dof)] = 1.0
+            return row
+        red = self._full_to_reduced()
+        if red is None or dof not in red[0]:
+            raise ParameterError(f"dof {dof!r} is not a DOF of the blade")
+        return red[1][red[0].index(dof)]
+
+    # ------------------------------------------------------------------ solvers
+    def system(self, omega: float) -> FrictionSystem:
+        """The friction system at excitation frequency ``omega`` [rad/s].
+
+        Parameters
+        ----------
+        omega : float
+            Angular frequency [rad/s], > 0.
+
+        Returns
+        -------
+        FrictionSystem
+        """
+        names = self.structure.dof_names
+        exc = [HarmonicForce(names[k], float(a)) for k, a in enumerate(self._force) if a != 0.0]
+        return FrictionSystem(self.structure, self.joints, omega=omega, excitation=exc)
+
+    def steady_state(self, omega: float, **kwargs) -> PeriodicResponse:
+        """Periodic steady state at ``omega`` (:func:`frictionjoint.solvers.steady.periodic_response`).
+
+        Parameters
+        ----------
+        omega : float
+            Angular frequency [rad/s], > 0.
+        **kwargs
+            Passed to ``periodic_response`` (start guess, tolerances).
+
+        Returns
+        -------
+        PeriodicResponse
+        """
+        from ..solvers.steady import periodic_response
+
+        return periodic_response(self.system(omega), **kwargs)
+
+    def simulate(self, omega: float, t_end: float, **kwargs) -> TimeResponse:
+        """Time response at ``omega`` from rest (:func:`frictionjoint.solvers.response.simulate`).
+
+        Parameters
+        ----------
+        omega : float
+            Angular frequency [rad/s], > 0.
+        t_end : float
+            End time [s].
+        **kwargs
+            Passed to ``simulate`` (initial state, output times, what to record).
+
+        Returns
+        -------
+        TimeResponse
+        """
+        from ..solvers.response import simulate
+
+        return simulate(self.system(omega), t_end, **kwargs)
+
+    def sweep(self, omegas: ArrayLike, progress: bool = False) -> SystemSweep:
+        """Stepped-sine sweep (:func:`frictionjoint.sweep.sweep` with this assembly's ``system``).
+
+        Parameters
+        ----------
+        omegas : sequence of float
+            Angular frequencies [rad/s], > 0, in the order swept.
+        progress : bool
+            Show a progress bar.
+
+        Returns
+        -------
+        SystemSweep
+        """
+        from ..sweep import sweep
+
+        return sweep(self.system, omegas, progress=progress)
+
+    def first_harmonic(self, response: PeriodicResponse, dof: str) -> complex:
+        """First harmonic ``X`` of a DOF of the full model on a steady state, ``x = Re(X e^{i omega
+        t})`` [m]: ``|X|`` its amplitude, ``-arg X`` its lag behind ``cos(omega t)``.
+
+        Parameters
+        ----------
+        response : PeriodicResponse
+            A steady state of this assembly.
+        dof : str
+            A DOF of the full model (e.g. the tip) or of the structure.
+
+        Returns
+        -------
+        complex
+        """
+        amp = np.atleast_1d(np.asarray(response.harmonic_amplitude, dtype=float))
+        phase = np.atleast_1d(np.asarray(response.phase, dtype=float))
+        if amp.size != self.structure.n_dof:
+            raise ParameterError(f"response must be a steady state of this assembly ({self.structure.n_dof} DOFs)")
+        x = amp * np.exp(-1j * phase)
+        out = complex(self._row(dof) @ x)
+        if not (math.isfinite(out.real) and math.isfinite(out.imag)):
+            raise ParameterError(f"response has no finite first harmonic ({response.status})")
+        return out
