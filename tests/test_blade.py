@@ -255,3 +255,27 @@ def test_blade_assembly_stuck_orbit_against_the_full_model():
         BladeAssembly(asm.structure, asm.joints, {"w99": 1.0})
     with pytest.raises(ParameterError, match="rotor_speed"):
         BladeAssembly.from_model(model, rotor_speed=0.0)
+
+
+def test_lumped_blade():
+    import scipy.linalg
+
+    from frictionjoint.structures import lumped_blade
+
+    ei, rho_a, L = 114e9 * 0.03 * 0.003 ** 3 / 12, 4430.0 * 0.03 * 0.003, 0.15
+    s = lumped_blade(L, ei, rho_a, 3)
+    assert s.dof_names == ("w0", "w1", "w2", "w3")
+    assert np.sum(np.diag(s.mass)) == pytest.approx(rho_a * L, rel=1e-14)
+    c = s.clamped(["w0"])
+    f = np.zeros(3)
+    f[-1] = 1.0
+    # the massless beam's flexibility is exact: tip deflection F L^3 / (3 E I)
+    assert np.linalg.solve(c.stiffness, f)[-1] == pytest.approx(L ** 3 / (3 * ei), rel=1e-12)
+    # the root translation moves the blade rigidly: no stiffness
+    assert np.allclose(s.stiffness @ np.ones(4), 0.0, atol=1e-9 * np.max(np.abs(s.stiffness)))
+    ref = euler_bernoulli_cantilever(1, L, ei, rho_a)[0]
+    err = []
+    for n in (6, 12, 24):
+        cl = lumped_blade(L, ei, rho_a, n).clamped(["w0"])
+        err.append(abs(np.sqrt(scipy.linalg.eigh(cl.stiffness, cl.mass, eigvals_only=True)[0]) / ref - 1))
+    assert err[0] < 0.013 and 3.9 < err[0] / err[1] < 4.1 and 3.9 < err[1] / err[2] < 4.1  # O(1/n^2)
