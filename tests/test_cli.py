@@ -20,6 +20,7 @@ def run(*args, cwd=None):
                           text=True, timeout=TIMEOUT, cwd=cwd)
 
 
+@pytest.mark.slow  # about 2-3 s: a CLI run in a subprocess
 def test_demo_writes_table_png_and_csv(tmp_path):
     png, table = tmp_path / "fr.png", tmp_path / "fr.csv"
     proc = run("demo", "--points", "4", "--out", str(png), "--csv", str(table))
@@ -37,6 +38,7 @@ def test_demo_writes_table_png_and_csv(tmp_path):
     assert "sweep" in proc.stderr  # the progress bar goes to stderr
 
 
+@pytest.mark.slow  # about 2-3 s: a CLI run in a subprocess
 def test_demo_default_output_name(tmp_path):
     proc = run("demo", "--points", "2", "--ratio", "1.5:2.0", "--slip-force", "0.3",
                "--direction", "up", "--no-progress", cwd=tmp_path)
@@ -45,6 +47,7 @@ def test_demo_default_output_name(tmp_path):
     assert proc.stderr == ""
 
 
+@pytest.mark.slow  # about 2-3 s: a CLI run in a subprocess
 def test_map_writes_png(tmp_path):
     png, table = tmp_path / "map.png", tmp_path / "map.csv"
     proc = run("map", "--out", str(png), "--friction", "0.3:1.2:2", "--ratio", "0.45:1.5:2",
@@ -130,6 +133,7 @@ def _rows(text):
     return [ln.split() for ln in text.splitlines() if ln.startswith(("up ", "down "))]
 
 
+@pytest.mark.slow  # about 2-3 s: a CLI run in a subprocess
 def test_sweep_library_model_with_compare(tmp_path):
     """``sweep CoulombOscillator --compare analytic``: Den Hartog beside each point, r = 1 unbounded."""
     from frictionjoint.analytic import den_hartog_response as den_hartog

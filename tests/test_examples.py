@@ -20,6 +20,7 @@ def code_blocks(text):
     return [(m.group(1), m.group(2)) for m in re.finditer(r"^```(\w*)\n(.*?)^```", text, re.S | re.M)]
 
 
+@pytest.mark.slow  # about 2-3 s: the example script in a subprocess
 def test_forced_response_example(tmp_path):
     out = tmp_path / "fr.png"
     env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
@@ -32,6 +33,7 @@ def test_forced_response_example(tmp_path):
     assert len(rows) == 6  # three points up, three down
 
 
+@pytest.mark.slow  # about 2-3 s: the example script in a subprocess
 def test_forced_response_example_points_argument(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "forced_response.py"),
                            "plot.png", "2"], capture_output=True, text=True, timeout=TIMEOUT,
