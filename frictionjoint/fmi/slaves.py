@@ -15,7 +15,6 @@ import math
 import operator
 import os
 import pickle
-
 from collections import OrderedDict
 from typing import NamedTuple, Optional
 

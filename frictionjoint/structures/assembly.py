@@ -82,36 +82,22 @@ class BladeAssembly:
         return cls(reduced, [root], {tip: float(model.excitation.get("tip_force_amplitude", 1.0))})
 
     # ------------------------------------------------------------------ DOFs
-    def _full_to_reduced(self):
-        """``(full DOF names, T restricted to the structure's DOFs)`` of a reduced structure, or
-        None for a full one."""
-        t = getattr(self.structure, "transformation", None)
-        if t is None:
-            return None
-        return list(self.structure.full_dof_names), t
-
     def _reduced_force(self) -> np.ndarray:
-        f = np.zeros(self.structure.n_dof)
-        red = self._full_to_reduced()
-        for dof, amp in self.loads.items():
-            if dof in self.structure.dof_names:
-                f[self.structure.dof_index(dof)] += amp
-            elif red is not None and dof in red[0]:
-                f += amp * red[1][red[0].index(dof)]
-            else:
-                raise ParameterError(f"loads: {dof!r} is not a DOF of the blade")
-        return f
+        return sum((amp * self._row(dof, "loads") for dof, amp in self.loads.items()),
+                   np.zeros(self.structure.n_dof))
 
-    def _row(self, dof: str) -> np.ndarray:
-        """Coefficients of a full-model DOF in the structure's DOFs."""
-        if dof in self.structure.dof_names:
-            row = np.zeros(self.structure.n_dof)
-            row[self.structure.dof_index(dof)] = 1.0
+    def _row(self, dof: str, what: str = "dof") -> np.ndarray:
+        """Coefficients of a DOF, of the structure or of the full model that a reduced structure's
+        ``transformation`` maps from, in the structure's DOFs (``what`` names it in the error)."""
+        s = self.structure
+        if dof in s.dof_names:
+            row = np.zeros(s.n_dof)
+            row[s.dof_index(dof)] = 1.0
             return row
-        red = self._full_to_reduced()
-        if red is None or dof not in red[0]:
-            raise ParameterError(f"dof {dof!r} is not a DOF of the blade")
-        return red[1][red[0].index(dof)]
+        full = getattr(s, "full_dof_names", ())
+        if dof not in full:
+            raise ParameterError(f"{what}: {dof!r} is not a DOF of the blade")
+        return s.transformation[list(full).index(dof)]
 
     # ------------------------------------------------------------------ solvers
     def system(self, omega: float) -> FrictionSystem:

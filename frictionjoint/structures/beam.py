@@ -27,6 +27,7 @@ directions (spin softening of its free root): the joints that hold it make the a
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -180,7 +181,7 @@ class BeamBlade:
         """``u0, w0, t0, u1, ...``: axial, transverse and slope DOFs of each node, root first."""
         return tuple(f"{q}{i}" for i in range(self.n_elements + 1) for q in "uwt")
 
-    @property
+    @functools.cached_property
     def structure(self) -> LinearStructure:
         """The blade as a :class:`~frictionjoint.structure.LinearStructure` with every DOF, the
         root's included (for the root joints); stiffness = elastic + centrifugal stiffening -
