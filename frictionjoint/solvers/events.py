@@ -535,7 +535,7 @@ class Marcher:
             found, tau, row, vmax = search.first_event(pat.modal_p, pat.modal_abs_p, itv._a, b0, bp, bm, c0,
                                                        cfg.lam, cc, cs, self.system.omega, itv.t0,
                                                        np.asarray(tol, dtype=float), atzero, pat.vrows,
-                                                       float(horizon), h)
+                                                       float(horizon), h, *itv.near)
         else:
             found, tau, row, vmax = search.numpy_first_event(itv, red, tol, atzero, pat.vrows, horizon, h)
         self.v_scale *= 0.5
@@ -566,7 +566,7 @@ class Marcher:
             cfg = itv.config
             b0, bp, bm = itv._b
             state.x, state.v = piece_kernels.state(cfg.V, cfg.N, itv.x0, cfg.lam, itv._a, b0, bp, bm,
-                                                   itv.omega, float(tau))
+                                                   itv.omega, float(tau), *itv.near)
         else:
             x, v = itv.state(tau)
             state.x = x[:, 0]

@@ -16,9 +16,9 @@ import cmath
 
 import numpy as np
 
-from .search import ENABLED, _jit
+from .search import ENABLED, _jit, _resonant
 
-__all__ = ["coefficients", "state", "ENABLED"]
+__all__ = ["coefficients", "state", "resonant_terms", "ENABLED"]
 
 
 @_jit
@@ -65,9 +65,10 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
 
 
 @_jit
-def state(v, nb, x0, lam, a, b0, bp, bm, w, tau):
-    """Structural displacement and velocity (n_dof,) of a plain modal piece at local time ``tau``:
-    ``x = x0 + N Re(V eta)[:m]``, ``v = N Re(V eta)[m:]``."""
+def state(v, nb, x0, lam, a, b0, bp, bm, w, tau, nidx, nmu, nc):
+    """Structural displacement and velocity (n_dof,) of a modal piece at local time ``tau``:
+    ``x = x0 + N Re(V eta)[:m]``, ``v = N Re(V eta)[m:]``, with the resonant terms ``nc_q
+    E(lam_q, mu_q, tau)`` of the modes ``nidx`` (:attr:`.Interval.near`; none for a plain piece)."""
     p = lam.size
     m = p // 2
     eta = np.empty(p, np.complex128)
@@ -75,6 +76,9 @@ def state(v, nb, x0, lam, a, b0, bp, bm, w, tau):
     eim = eip.conjugate()
     for i in range(p):
         eta[i] = cmath.exp(lam[i] * tau) * a[i] + b0[i] + bp[i] * eip + bm[i] * eim
+    for q in range(nidx.size):
+        i = nidx[q]
+        eta[i] += nc[q] * _resonant(lam[i], nmu[q], tau)
     y = np.empty(p)
     for r in range(p):
         s = 0j
@@ -93,3 +97,14 @@ def state(v, nb, x0, lam, a, b0, bp, bm, w, tau):
         x[r] += sx
         vel[r] = sv
     return x, vel
+
+
+@_jit
+def resonant_terms(lam, mu, tau):
+    """``E(lam_i, mu, tau_k)`` (modes, times) of :func:`.propagator._E`, element by element
+    (:func:`.search._resonant`): the resonant terms of a piece at many times in one call."""
+    out = np.empty((lam.size, tau.size), np.complex128)
+    for i in range(lam.size):
+        for k in range(tau.size):
+            out[i, k] = _resonant(lam[i], mu, tau[k])
+    return out

@@ -49,7 +49,11 @@ def _E(lam: np.ndarray, mu: complex, tau: np.ndarray) -> np.ndarray:
 
     ``tau e^{lam tau} phi1((mu - lam) tau)``, or the same ``tau e^{mu tau} phi1((lam - mu) tau)``
     where ``Re(mu - lam) > 0``: the first form overflows to ``0 * inf`` there (a stiff decaying
-    mode, ``e^{lam tau}`` underflowing, over a long piece)."""
+    mode, ``e^{lam tau}`` underflowing, over a long piece). Compiled
+    (:func:`.piece_kernels.resonant_terms`, the same two forms) where the kernels are."""
+    if piece_kernels.ENABLED:
+        return piece_kernels.resonant_terms(np.ascontiguousarray(lam, dtype=complex).ravel(), complex(mu),
+                                            np.ascontiguousarray(tau, dtype=float).ravel())
     z = (mu - lam) * tau
     up = z.real > 0
     if not up.any():
@@ -230,6 +234,24 @@ class Observables:
         return self.a0.size
 
 
+#: the resonant terms of a plain piece (none): ``(nidx, nmu, nc)`` of :attr:`Interval.near`
+_NO_NEAR = (np.zeros(0, np.intp), np.zeros(0, complex), np.zeros(0, complex))
+
+
+def _near_arrays(near) -> tuple:
+    """``(nidx, nmu, nc)``: the resonant terms ``nc_q E(lam_q, mu_q, tau)`` of ``Interval._near``
+    (one per mode and forcing exponent with a nonzero coefficient), flat for the compiled kernels."""
+    if not near:
+        return _NO_NEAR
+    idx, mus, cs = [], [], []
+    for mu, c in near:
+        k = np.flatnonzero(c != 0)
+        idx.append(k)
+        mus.append(np.full(k.size, mu, dtype=complex))
+        cs.append(c[k])
+    return (np.concatenate(idx).astype(np.intp), np.concatenate(mus), np.concatenate(cs).astype(complex))
+
+
 class Interval:
     """The exact motion from ``t0`` in one configuration.
 
@@ -293,6 +315,7 @@ class Interval:
     def _prepare(self):
         """Modal coefficients (or the augmented matrix), computed on first use only."""
         self._ready = True
+        self.near = _NO_NEAR
         config = self.config
         m = config.m
         w = self.omega
@@ -307,6 +330,7 @@ class Interval:
                     wi, config.lam, y0, b0, hp, hm, w, self.t0)
                 self._b = b
                 self._near = []
+                self.near = _NO_NEAR
                 return
             self.eta0 = wi @ y0
             self.beta0 = wi @ b0
@@ -328,6 +352,7 @@ class Interval:
                 a -= bk
                 self._b.append(bk)
             self._a = a
+            self.near = _near_arrays(self._near)
         elif m:
             n2 = 2 * m
             aug = np.zeros((n2 + 3, n2 + 3))
@@ -451,11 +476,11 @@ class Interval:
                 vals[2] - w * w * (cc * co + cs * si)]
 
     def modal_search(self) -> bool:
-        """True when the event functions are plain exp-polynomials (modal configuration, no
-        near-resonant mode/forcing pair): the compiled search applies."""
+        """True when the piece has a modal closed form (modal configuration): the compiled search
+        and state apply, with the (near-)resonant terms of :attr:`near` if any."""
         if not self._ready:
             self._prepare()
-        return bool(self.config.modal and self.config.m and not self._near)
+        return bool(self.config.modal and self.config.m)
 
     def scalar(self, red, j: int):
         """Fast scalar ``g(tau)`` and ``g'(tau)`` of observable row ``j`` (for root finding)."""
@@ -505,14 +530,22 @@ class Interval:
         cfg = self.config
         if not self._ready:
             self._prepare()
-        if not (cfg.modal and cfg.m) or self._near:
+        if not (cfg.modal and cfg.m):
             return max(self.omega, cfg.max_rate)
         vn = np.linalg.norm(cfg.V[:cfg.m], axis=0)
         free = vn * np.abs(self._a)
         ref = max(float(np.max(free)), float(np.max(vn * (np.abs(self._b[0]) + np.abs(self._b[1])
                                                             + np.abs(self._b[2])))), 1e-300)
+        nidx, _, nc = self.near
+        if nidx.size:
+            # a resonant term nc E(lam, mu, tau) grows like tau e^{lam tau}: its size over a period
+            span = 2 * math.pi / self.omega if self.omega > 0 else 0.0
+            ref = max(ref, float(np.max(vn[nidx] * np.abs(nc))) * span)
         live = free > rel * ref
-        return max(self.omega, float(np.max(np.abs(cfg.lam[live]), initial=0.0)))
+        rate = float(np.max(np.abs(cfg.lam[live]), initial=0.0))
+        if nidx.size:
+            rate = max(rate, float(np.max(np.abs(cfg.lam[nidx]))))
+        return max(self.omega, rate)
 
     def bounds(self, red, horizon: float):
         """Lower and upper bounds ``(lo, hi)`` (n_obs,) of the observables over local times

@@ -12,6 +12,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+import scipy.linalg
 from numpy.typing import ArrayLike
 
 from ..errors import ConvergenceError, ParameterError, check_real, check_system
@@ -120,6 +121,17 @@ def _roots(itv, rows, lo, hi, order: int, tau_end: float, scale) -> np.ndarray:
     return t
 
 
+def _resonant_integral(a: complex, b: complex, big_t: float) -> complex:
+    """``int_0^T E(a, b, t) dt`` of a resonant term (:func:`.propagator._E`), ``E(lam, mu, t) e^{z t}
+    = E(lam + z, mu + z, t)``: the integral of ``e^{a (t - s) + b s}`` over the simplex ``0 <= s <= t
+    <= T``, the corner entry of the exponential of the bidiagonal matrix with diagonal ``(0, a, b)``
+    times ``T`` (Van Loan 1978, "Computing integrals involving the matrix exponential"); no
+    cancellation at ``a = b``, where the divided differences ``(I(b) - I(a))/(b - a)`` lose
+    ``eps/|b - a| T`` of it."""
+    m = np.array([[0.0, 1.0, 0.0], [0.0, a, 1.0], [0.0, 0.0, b]], dtype=complex) * big_t
+    return complex(scipy.linalg.expm(m)[0, 2])
+
+
 def interval_fourier(itv, red, nu: float, tau_end: float):
     """``int Q(t) e^{i nu t} dt`` over the piece ``[0, tau_end]`` of ``itv`` (absolute time
     ``t = t0 + tau``) of the observables ``red`` (:meth:`Interval.reduce`), (n_obs,) complex, in
@@ -129,7 +141,7 @@ def interval_fourier(itv, red, nu: float, tau_end: float):
     cfg = itv.config
     if not itv._ready:
         itv._prepare()
-    if cfg.m and (not cfg.modal or itv._near):
+    if cfg.m and not cfg.modal:
         return None
     cy, c0, cc, cs = red
     w = itv.omega
@@ -150,10 +162,15 @@ def interval_fourier(itv, red, nu: float, tau_end: float):
         b0, bp, bm = itv._b
         lam = cfg.lam
 
+        nidx, nmu, nc = itv.near
+
         def modal(n_):  # int_0^T eta(tau) e^{i n_ tau} d tau, per mode
             z = 1j * n_
-            return (itv._a * ints(lam + z) + b0 * ints([z])[0] + bp * ints([z + 1j * w])[0]
-                    + bm * ints([z - 1j * w])[0])
+            out = (itv._a * ints(lam + z) + b0 * ints([z])[0] + bp * ints([z + 1j * w])[0]
+                   + bm * ints([z - 1j * w])[0])
+            for i, mu, c in zip(nidx.tolist(), nmu.tolist(), nc.tolist()):
+                out[i] += c * _resonant_integral(lam[i] + z, mu + z, big_t)
+            return out
         plus = e0 * (p @ modal(nu))
         minus = np.conj(np.conj(e0) * (p @ modal(-nu)))
         out = out + 0.5 * (plus + minus)

@@ -62,10 +62,34 @@ CHUNK = 48
 
 
 @_jit
-def _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, r):
+def _phi1(z):
+    """``(e^z - 1)/z`` of a complex ``z``, 1 at 0; ``e^z - 1`` written without cancellation,
+    ``Re = expm1(x) cos y - 2 sin^2(y/2)``, ``Im = e^x sin y`` (NumPy's complex ``expm1``)."""
+    if z == 0:
+        return 1.0 + 0j
+    x, y = z.real, z.imag
+    sh = math.sin(0.5 * y)
+    return complex(math.expm1(x) * math.cos(y) - 2.0 * sh * sh, math.exp(x) * math.sin(y)) / z
+
+
+@_jit
+def _resonant(lam, mu, tau):
+    """``E(lam, mu, tau) = int_0^tau e^{lam (tau - s)} e^{mu s} ds`` of a (near-)resonant mode and
+    forcing pair (:func:`.propagator._E`): ``tau e^{lam tau} phi1((mu - lam) tau)``, or the same with
+    ``lam`` and ``mu`` exchanged where ``Re(mu - lam) > 0`` (no ``0 * inf``)."""
+    z = (mu - lam) * tau
+    if z.real > 0:
+        return tau * cmath.exp(mu * tau) * _phi1(-z)
+    return tau * cmath.exp(lam * tau) * _phi1(z)
+
+
+@_jit
+def _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tau, r):
     g = 0.0
     for i in range(lam.size):
         g += (pa[r, i] * cmath.exp(lam[i] * tau)).real
+    for q in range(nlam.size):
+        g += (pn[r, q] * _resonant(nlam[q], nmu[q], tau)).real
     e = cmath.exp(1j * w * tau)
     g += k0[r] + (kp[r] * e + km[r] / e).real
     if harmonic:
@@ -75,10 +99,12 @@ def _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, r):
 
 
 @_jit
-def _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, tau, r):
+def _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tau, r):
     dg = 0.0
     for i in range(lam.size):
         dg += (pla[r, i] * cmath.exp(lam[i] * tau)).real
+    for q in range(nlam.size):
+        dg += (pn[r, q] * (nlam[q] * _resonant(nlam[q], nmu[q], tau) + cmath.exp(nmu[q] * tau))).real
     e = cmath.exp(1j * w * tau)
     dg += (1j * w * (kp[r] * e - km[r] / e)).real
     if harmonic:
@@ -88,12 +114,18 @@ def _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, tau, r):
 
 
 @_jit
-def _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, g, dg, col):
+def _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tau, g, dg, col):
     """g and g' of every row at ``tau`` into column ``col`` of ``g``, ``dg``."""
     p = lam.size
     e = np.empty(p, np.complex128)
     for i in range(p):
         e[i] = cmath.exp(lam[i] * tau)
+    nq = nlam.size
+    en = np.empty(nq, np.complex128)
+    dn = np.empty(nq, np.complex128)
+    for q in range(nq):
+        en[q] = _resonant(nlam[q], nmu[q], tau)
+        dn[q] = nlam[q] * en[q] + cmath.exp(nmu[q] * tau)
     eip = cmath.exp(1j * w * tau)
     eim = eip.conjugate()
     co = si = 0.0
@@ -107,6 +139,9 @@ def _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, g, dg, col):
         for i in range(p):
             a += (pa[r, i] * e[i]).real
             b += (pla[r, i] * e[i]).real
+        for q in range(nq):
+            a += (pn[r, q] * en[q]).real
+            b += (pn[r, q] * dn[q]).real
         a += k0[r] + (kp[r] * eip + km[r] * eim).real
         b += (1j * w * (kp[r] * eip - km[r] * eim)).real
         if harmonic:
@@ -117,16 +152,16 @@ def _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tau, g, dg, col):
 
 
 @_jit
-def _brentq(which, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, xa, xb, xtol):
+def _brentq(which, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, xa, xb, xtol):
     """scipy's brentq (scipy/optimize/Zeros/brentq.c) on g (``which = 0``) or g' (1) of row r."""
     xpre, xcur = xa, xb
     xblk = fblk = spre = scur = 0.0
     if which == 0:
-        fpre = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xpre, r)
-        fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+        fpre = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xpre, r)
+        fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xcur, r)
     else:
-        fpre = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xpre, r)
-        fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+        fpre = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xpre, r)
+        fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xcur, r)
     if fpre == 0.0:
         return xpre
     if fcur == 0.0:
@@ -170,20 +205,20 @@ def _brentq(which, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, xa, xb,
         else:
             xcur += delta if sbis > 0 else -delta
         if which == 0:
-            fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+            fcur = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xcur, r)
         else:
-            fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, xcur, r)
+            fcur = _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, xcur, r)
     return xcur
 
 
 @_jit
-def _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
+def _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol):
     """Root of g on [a, b] (g(a) >= 0 > g(b) up to rounding): a zero end point wins."""
-    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, a, r) <= 0:
+    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, a, r) <= 0:
         return a
-    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, b, r) >= 0:
+    if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, b, r) >= 0:
         return b
-    return _brentq(0, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+    return _brentq(0, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol)
 
 
 #: actions of :func:`_tiny_next`
@@ -239,48 +274,48 @@ def _tiny_next(a, b, st, gv):
 
 
 @_jit
-def _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol):
+def _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol):
     """Root just after a start at zero (:func:`_tiny_next`)."""
     st = np.zeros(8)
     act, ta, tb = _tiny_next(a, b, st, 0.0)
     while act == _EVALUATE:
-        act, ta, tb = _tiny_next(a, b, st, _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, ta, r))
+        act, ta, tb = _tiny_next(a, b, st, _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, ta, r))
     if act == _BRACKET:
-        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, ta, tb, xtol)
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, ta, tb, xtol)
     return b
 
 
 @_jit
-def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, crossing, tol, h, start_zero):
+def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, crossing, tol, h, start_zero):
     """Event time of row r in [a, b] (a crossing or a dip found by the sampling), or -1."""
     xtol = 1e-16 * h
     if crossing:
-        if start_zero or _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, a, r) < 0:
+        if start_zero or _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, a, r) < 0:
             # the function starts at zero: find a positive point before the crossing
             prev = a
             for k in range(1, 33):
                 t = a + (b - a) * k / 32
-                if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, r) < 0:
+                if _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, t, r) < 0:
                     if k == 1:
                         if not start_zero:
                             return a
-                        return _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, t, xtol)
-                    return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, prev, t, xtol)
+                        return _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, t, xtol)
+                    return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, prev, t, xtol)
                 prev = t
             return b
-        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol)
     # dip: a local minimum between a and b
-    if (_slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, a, r) >= 0
-            or _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, b, r) <= 0):
+    if (_slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, a, r) >= 0
+            or _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, b, r) <= 0):
         return -1.0
-    tm = _brentq(1, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, b, xtol)
+    tm = _brentq(1, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol)
     if start_zero and tm <= 1e-9 * h:
         return -1.0
-    gm = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, tm, r)
+    gm = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tm, r)
     if gm < 0:
         if start_zero and gm >= -tol:
             return tm
-        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, a, tm, xtol)
+        return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, tm, xtol)
     if gm <= tol:
         return tm
     return -1.0
@@ -326,6 +361,38 @@ def magnitudes(z):
 
 
 @_jit
+def _near_terms(p, nidx, nc):
+    """``pn[r, q] = p[r, nidx[q]] nc[q]``: the event functions' coefficients of the resonant
+    terms ``E(lam_q, mu_q, tau)`` of the piece."""
+    nr = p.shape[0]
+    pn = np.empty((nr, nidx.size), np.complex128)
+    for r in range(nr):
+        for q in range(nidx.size):
+            pn[r, q] = p[r, nidx[q]] * nc[q]
+    return pn
+
+
+@_jit
+def _near_bounds(pn, nlam, nmu, horizon):
+    """Per row, bounds over ``[0, horizon]`` of the resonant terms and of their second derivative:
+    ``|E| <= horizon G``, ``|E''| = |lam^2 E + (lam + mu) e^{mu tau}| <= |lam|^2 horizon G + (|lam|
+    + |mu|) G``, ``G = max(1, e^{Re lam horizon}, e^{Re mu horizon})``."""
+    nr, nq = pn.shape
+    size = np.zeros(nr)
+    curv = np.zeros(nr)
+    for q in range(nq):
+        gq = math.exp(max(nlam[q].real, nmu[q].real, 0.0) * horizon)
+        al = abs(nlam[q])
+        s_q = horizon * gq
+        c_q = al * al * horizon * gq + (al + abs(nmu[q])) * gq
+        for r in range(nr):
+            apn = abs(pn[r, q])
+            size[r] += apn * s_q
+            curv[r] += apn * c_q
+    return size, curv
+
+
+@_jit
 def _growth(lam, horizon):
     """``max(1, e^{Re lam_i horizon})`` per mode."""
     grow = np.empty(lam.size)
@@ -335,12 +402,13 @@ def _growth(lam, horizon):
 
 
 @_jit
-def _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows):
+def _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows, near_size):
     """True when no function can reach its zero band over ``[0, horizon]`` (closed-form bound
     about k0, see ``Interval.bounds``: forced part |Z|, free modes sum |pa_i| max(1, e^{Re lam_i
     horizon}), and the rounding of terms of these sizes), with the velocity rows' upper bound.
     ``apa = |pa|``, ``abs_p = |p|`` and ``grow`` (:func:`_growth`) are computed once per piece
-    (status) and shared with :func:`_curvature_bound`."""
+    (status) and shared with :func:`_curvature_bound`; ``near_size`` bounds the resonant terms
+    (:func:`_near_bounds`)."""
     nr, nm = apa.shape
     ab0 = np.empty(nm)
     for i in range(nm):
@@ -355,7 +423,7 @@ def _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, 
         for i in range(nm):
             free += apa[r, i] * grow[i]
             pb += abs_p[r, i] * ab0[i]
-        sr = abs(z) + free
+        sr = abs(z) + free + near_size[r]
         spread[r] = sr + 1e-12 * (abs(k0[r]) + sr + pb)
         if atzero[r] or not (k0[r] - spread[r] > tol[r]):
             skip = False
@@ -368,19 +436,20 @@ def _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, 
 
 
 @_jit
-def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, tol, horizon):
+def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tol, horizon):
     """Per row: a bound ``M`` of ``|g''|`` over ``[0, horizon]`` (free modes ``sum |pa_i| |lam_i|^2
     max(1, e^{Re lam_i horizon})``, forced part ``w^2 (|kp| + |km| + |(cc, cs)|)``) and the level
     ``tol + 1e-12 (|k0| + spread)`` the function must stay above for a step to be skipped (its zero
     band plus the rounding of terms of the function's size)."""
     return _curvature_bound(magnitudes(pa), lam, _growth(lam, horizon), k0, kp, km, cc, cs, w,
-                            harmonic, tol)
+                            harmonic, tol, pn, nlam, nmu, horizon)
 
 
 @_jit
-def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol):
+def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, pn, nlam, nmu, horizon):
     """:func:`_curvature` from ``apa = |pa|`` and ``grow`` (:func:`_growth`)."""
     nr, nm = apa.shape
+    near_size, near_curv = _near_bounds(pn, nlam, nmu, horizon)
     curv = np.empty(nr)
     level = np.empty(nr)
     # |pla_i| |lam_i| = |pa_i| |lam_i|^2 (no second complex modulus per row and mode; the
@@ -398,8 +467,8 @@ def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol):
         forced = abs(kp[r]) + abs(km[r])
         if harmonic:
             forced += math.hypot(cc[r], cs[r])
-        curv[r] = m2 + w * w * forced
-        level[r] = tol[r] + 1e-12 * (abs(k0[r]) + spread + forced)
+        curv[r] = m2 + w * w * forced + near_curv[r]
+        level[r] = tol[r] + 1e-12 * (abs(k0[r]) + spread + forced + near_size[r])
     return curv, level
 
 
@@ -428,7 +497,8 @@ def _safe_step(g, dg, col, curv, level):
 
 
 @_jit
-def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h):
+def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h,
+                nidx, nmu, nc):
     """First event of a modal piece in ``(0, horizon]``.
 
     Parameters
@@ -451,6 +521,11 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
         Velocity rows (their values set the marcher's velocity scale).
     horizon, h : float
         End of the search and sampling step [s].
+    nidx : (q,) int ndarray
+        Modes with a (near-)resonant term ``nc_q E(lam_q, mu_q, tau)`` added to their ``eta``
+        (``Interval._near``; empty for a plain piece).
+    nmu, nc : (q,) complex ndarray
+        Their forcing exponents ``mu`` (0 or ``+-i w``) and coefficients.
 
     Returns
     -------
@@ -463,25 +538,31 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
         Largest ``|g|`` of the velocity rows seen (bound, start or samples).
     """
     pa, pla, k0, kp, km, harmonic = _coefficients(p, a, b0, bp, bm, c0, lam, cc, cs)
+    pn = _near_terms(p, nidx, nc)
+    nlam = np.empty(nidx.size, np.complex128)
+    for q in range(nidx.size):
+        nlam[q] = lam[nidx[q]]
     nr = k0.size
     vmax = 0.0
     apa = magnitudes(pa)
     grow = _growth(lam, horizon)
     if horizon > 4 * h:
-        skip, vmax = _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows)
+        near_size = _near_bounds(pn, nlam, nmu, horizon)[0]
+        skip, vmax = _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows,
+                                   near_size)
         if skip:
             return False, 0.0, -1, vmax
     # two sample columns (previous, current), filled one sample at a time: the search stops at
     # the first sample step with a located event, with nothing evaluated beyond it
     g = np.empty((nr, 2))
     dg = np.empty((nr, 2))
-    _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, 0.0, g, dg, 0)
+    _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, 0.0, g, dg, 0)
     for r in range(nr):
         if atzero[r]:
             g[r, 0] = 0.0
         if vrows[r]:
             vmax = max(vmax, abs(g[r, 0]))
-    curv, level = _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol)
+    curv, level = _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, pn, nlam, nmu, horizon)
     t_prev = 0.0
     prev, cur = 0, 1
     k = 0
@@ -489,7 +570,7 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
         k += 1
         # a step longer than h where no function can reach its band (Taylor bound, see _safe_step)
         t = min(t_prev + max(h, _safe_step(g, dg, prev, curv, level)), horizon)
-        _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, t, g, dg, cur)
+        _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, t, g, dg, cur)
         best_tau = math.inf
         best_row = -1
         for r in range(nr):
@@ -500,7 +581,7 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
             if not (cross or dip):
                 continue
             start_zero = k == 1 and atzero[r]
-            tau = _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, r, t_prev, t, cross,
+            tau = _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, t_prev, t, cross,
                           tol[r], h, start_zero)
             if tau >= 0 and tau < best_tau:
                 best_tau = tau
