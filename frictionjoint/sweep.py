@@ -363,8 +363,9 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> 
 
 
 def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int = 0, n_grid: int = 25,
-                  xtol: float = 1e-6) -> tuple[float, float, SystemSweep]:
-    """Resonance peak of the first-harmonic amplitude of DOF ``dof`` over ``[omega_min, omega_max]``.
+                  xtol: float = 1e-6, output: ArrayLike | None = None) -> tuple[float, float, SystemSweep]:
+    """Resonance peak of the first-harmonic amplitude of DOF ``dof`` (or of the output ``output .
+    x``) over ``[omega_min, omega_max]``.
 
     A stepped sweep over ``n_grid`` frequencies brackets the largest amplitude, then a bounded
     scalar search (Brent) refines it to ``xtol`` relative in ``omega``.
@@ -381,10 +382,14 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
         Equally spaced frequencies of the bracketing sweep, >= 3.
     xtol : float
         Tolerance of the search relative in ``omega`` [-], in ``(0, 1)``.
+    output : (n_dof,) array_like, optional
+        Coefficients of an output linear in the DOFs (e.g. a blade tip recovered from a reduced
+        model), maximised instead of DOF ``dof``.
 
     Returns
     -------
     (omega_peak, amplitude_peak, sweep) : (float, float, SystemSweep)
+        The peak [rad/s], its first-harmonic amplitude [m] and the bracketing sweep.
     """
     import scipy.optimize
 
@@ -401,14 +406,26 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
     n_dof = check_system("build(omega)", build(lo), FrictionSystem).n_dof
     if dof >= n_dof:
         raise ParameterError(f"dof must be in [0, {n_dof - 1}] (the system's DOFs), got {dof}")
+    if output is None:
+        row = np.zeros(n_dof)
+        row[dof] = 1.0
+    else:
+        row = np.asarray(output, dtype=float).reshape(-1)
+        if row.shape != (n_dof,) or not np.all(np.isfinite(row)) or not np.any(row):
+            raise ParameterError(f"output must be {n_dof} finite coefficients, not all zero")
+
+    def first_harmonic(sw):  # |row . X| per point, X = a e^{-i phase}
+        x = np.atleast_2d(sw.harmonic_amplitude) * np.exp(-1j * np.atleast_2d(sw.phase))
+        return np.abs(x @ row)
+
     grid = np.linspace(lo, hi, n_grid)
     sw = system_sweep(build, grid)
-    amps = sw.harmonic_amplitude[:, dof]
+    amps = first_harmonic(sw)
     i = int(np.argmax(amps))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
 
     def neg(w):
-        return -float(system_sweep(build, [w]).harmonic_amplitude[0, dof])
+        return -float(first_harmonic(system_sweep(build, [w]))[0])
 
     res = scipy.optimize.minimize_scalar(neg, bounds=(a, b), method="bounded",
                                          options={"xatol": xtol * b})

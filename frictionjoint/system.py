@@ -82,6 +82,8 @@ class FrictionSystem:
                 # own directions and preloads, plus linear springs and a constant force
                 att = el.attach(structure)
                 k = k + att.stiffness
+                if att.damping is not None:
+                    c = c + att.damping
                 self.constant_force += att.force
                 for d, s, p in zip(att.directions, att.sliders, att.preload):
                     d_rows.append(d)
@@ -100,6 +102,7 @@ class FrictionSystem:
                 pre.append(0.0)
                 owner.append(ie)
         self.stiffness = k  # structure + base springs + the elements' linear springs
+        self.damping = c  # structure + base dashpots + the elements' dashpots
         self.slider_direction = np.array(d_rows, dtype=float).reshape(len(d_rows), n)
         self.slip_force = np.array(fsl, dtype=float)
         self.slider_stiffness = np.array(ksl, dtype=float)

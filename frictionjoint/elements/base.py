@@ -76,6 +76,8 @@ class Attachment:
         Linear stiffness [N/m] the element adds (e.g. normal contact springs).
     force : (n_dof,) ndarray
         Constant force [N] on the structure (e.g. the load that makes ``x = 0`` a static state).
+    damping : (n_dof, n_dof) ndarray or None
+        Linear viscous damping [N s/m] the element adds (e.g. contact dashpots); None: none.
     """
 
     directions: object
@@ -83,3 +85,4 @@ class Attachment:
     preload: object
     stiffness: object
     force: object
+    damping: object = None

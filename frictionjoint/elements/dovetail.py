@@ -23,6 +23,14 @@ monotonically from zero (radial root motion ``Y0``: approach ``Y0 cos g``, slip 
 * slipping during run-up otherwise: ``N = Fc/(2 (cos g + mu sin g))``, ``T = mu N``,
   ``Y0 = N/(kn cos g)``.
 
+Rocking (optional): with a ``rocking_dof`` and a ``flank_half_width`` ``a``, the root also turns.
+The rocking coordinate ``theta`` is the blade's slope ``dX/dY`` at the root (a beam's rotation DOF;
+a rigid turn of the root block by ``-theta``, clockwise for ``theta > 0``). Each flank's contact
+point lies at ``X = +a`` (right) or ``-a`` (left) on the root's centre line and moves by ``u_i = (X,
+Y - x_i theta)``: tipping the blade towards ``+X`` unloads the right flank and loads the left one.
+The root coordinates are then ``(X, Y, theta)`` and every flank quantity goes through its own
+contact point (:attr:`DovetailRoot.normal_rows`, :attr:`DovetailRoot.tangent_rows`).
+
 Dynamics around the static state (the structure's coordinates are measured from it): each flank is
 a joint element along its own tangent -- one Jenkins slider (``kt``, ``mu N0``) for a flat flank
 with sharp edges, which sticks or slips as a whole, or the Iwan sliders of a microslip contact
@@ -95,6 +103,17 @@ class DovetailRoot:
         ``flank_contact`` is given (the contact's initial stiffness is then used).
     tangential_dof, radial_dof : str or int, optional
         Structure DOFs of the root's tangential and radial translation; at least one.
+    rocking_dof : str or int, optional
+        Structure DOF of the root's rocking ``theta`` (the blade's slope ``dX/dY`` at the root
+        [rad]; module docstring); requires ``flank_half_width``.
+    flank_half_width : float, optional
+        Distance ``a`` [m], > 0, of each flank's contact point from the root's centre line (the
+        rocking lever arm).
+    normal_damping : float
+        Viscous damping of each flank's normal contact [N s/m], >= 0: a dashpot along the flank
+        normal beside ``kn`` (contact damping; without it the blade's rigid-body motions on its
+        root are undamped). The displacement-driven :class:`DrivenDovetail` is rate-independent:
+        it carries no dashpot.
     flank_contact : callable, optional
         ``flank_contact(normal_load)`` -> a microslip contact (e.g.
         :class:`~frictionjoint.contact.MindlinContact` or a half-plane contact of a rounded
@@ -107,7 +126,15 @@ class DovetailRoot:
     def __init__(self, centrifugal_force: float, flank_angle: float, friction_coefficient: float,
                  normal_stiffness: float, tangential_stiffness: float | None = None,
                  tangential_dof: str | int | None = None, radial_dof: str | int | None = None,
-                 flank_contact: Callable[[float], Any] | None = None, n_sliders: int = 16):
+                 flank_contact: Callable[[float], Any] | None = None, n_sliders: int = 16,
+                 rocking_dof: str | int | None = None, flank_half_width: float | None = None,
+                 normal_damping: float = 0.0):
+        self._args = dict(centrifugal_force=centrifugal_force, flank_angle=flank_angle,
+                          friction_coefficient=friction_coefficient, normal_stiffness=normal_stiffness,
+                          tangential_stiffness=tangential_stiffness, tangential_dof=tangential_dof,
+                          radial_dof=radial_dof, flank_contact=flank_contact, n_sliders=n_sliders,
+                          rocking_dof=rocking_dof, flank_half_width=flank_half_width,
+                          normal_damping=normal_damping)
         self.centrifugal_force = check_positive("centrifugal_force", centrifugal_force)
         g = check_real("flank_angle", flank_angle)
         if not 0.0 <= g < 0.5 * math.pi:
@@ -119,6 +146,14 @@ class DovetailRoot:
             raise ParameterError("give tangential_dof, radial_dof or both (the root DOFs)")
         self.tangential_dof = tangential_dof
         self.radial_dof = radial_dof
+        if (rocking_dof is None) != (flank_half_width is None):
+            raise ParameterError("rocking_dof and flank_half_width go together (give both or neither)")
+        self.rocking_dof = rocking_dof
+        self.flank_half_width = None if flank_half_width is None else \
+            check_positive("flank_half_width", flank_half_width)
+        self.normal_damping = check_real("normal_damping", normal_damping)
+        if self.normal_damping < 0:
+            raise ParameterError(f"normal_damping must be >= 0 N s/m, got {normal_damping!r}")
         self.flank_contact = flank_contact
         if flank_contact is None:
             if tangential_stiffness is None:
@@ -159,6 +194,44 @@ class DovetailRoot:
         #: flank normals (force directions on the blade) and tangents, rows right/left, (X, Y)
         self.normals = np.array([[-s, -c], [s, -c]])
         self.tangents = np.array([[-c, s], [c, s]])
+        #: the same in the root coordinates, (X, Y) or with rocking (X, Y, theta): ``n_i . B_i``
+        #: and ``t_i . B_i``, ``B_i`` the map to flank i's contact point (module docstring)
+        self.normal_rows, self.tangent_rows = self._rows()
+
+    def replace(self, **changes: Any) -> DovetailRoot:
+        """The same root with some constructor arguments changed (e.g. ``centrifugal_force``,
+        ``friction_coefficient``): the static state is computed anew.
+
+        Parameters
+        ----------
+        **changes
+            Constructor arguments, by keyword.
+
+        Returns
+        -------
+        DovetailRoot
+        """
+        unknown = set(changes) - set(self._args)
+        if unknown:
+            raise ParameterError(f"not DovetailRoot arguments: {sorted(unknown)} (allowed: {sorted(self._args)})")
+        return DovetailRoot(**{**self._args, **changes})
+
+    def _rows(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.flank_half_width is None:
+            return self.normals.copy(), self.tangents.copy()
+        a = self.flank_half_width
+        nr = np.zeros((2, 3))
+        tr = np.zeros((2, 3))
+        for i, x_i in enumerate((a, -a)):
+            b = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, -x_i]])  # (X, Y, theta) -> contact point (X, Y)
+            nr[i] = self.normals[i] @ b
+            tr[i] = self.tangents[i] @ b
+        return nr, tr
+
+    @property
+    def root_coordinates(self) -> tuple[str, ...]:
+        """Names of the root coordinates: ``('X', 'Y')`` or, rocking, ``('X', 'Y', 'theta')``."""
+        return ("X", "Y") if self.flank_half_width is None else ("X", "Y", "theta")
 
     @classmethod
     def from_rotor(cls, rotor_speed: float, blade_mass: float, radius: float, **kwargs: Any) -> DovetailRoot:
@@ -218,7 +291,9 @@ class DovetailRoot:
             2.0 * math.cos(check_real("flank_angle", flank_angle)))
 
     def root_force(self, normal_forces: ArrayLike, friction_forces: ArrayLike) -> np.ndarray:
-        """Force ``sum_i (N_i n_i - T_i t_i)`` [N] of the flanks on the blade, ``(X, Y)``.
+        """Force ``sum_i (N_i n_i - T_i t_i)`` [N] of the flanks on the blade in the root
+        coordinates: ``(X, Y)``, or with rocking ``(X, Y, theta)`` (the last a moment [N m]
+        conjugate to ``theta``).
 
         Parameters
         ----------
@@ -230,12 +305,12 @@ class DovetailRoot:
 
         Returns
         -------
-        (2,) ndarray
-            Force of the flanks on the blade ``(X, Y)`` [N].
+        (2,) or (3,) ndarray
+            Generalised force of the flanks on the blade in :attr:`root_coordinates`.
         """
         n = np.asarray(normal_forces, dtype=float)
         t = np.asarray(friction_forces, dtype=float)
-        return n @ self.normals - t @ self.tangents
+        return n @ self.normal_rows - t @ self.tangent_rows
 
     # ----------------------------------------------------------- flank sliders
     def flank_sliders(self) -> list[tuple[Slider, float]]:
@@ -258,10 +333,12 @@ class DovetailRoot:
         return [(Slider(float(fi), float(ki)), float(p)) for ki, fi, p in zip(k, f, pre)]
 
     def stuck_stiffness(self) -> np.ndarray:
-        """Root stiffness (2, 2) [N/m] in ``(X, Y)`` with both flanks stuck:
-        ``sum_i kn n_i n_i^T + kt t_i t_i^T``; ``XX = 2 (kn sin^2 g + kt cos^2 g)``."""
-        return (self.normal_stiffness * self.normals.T @ self.normals
-                + self.tangential_stiffness * self.tangents.T @ self.tangents)
+        """Root stiffness in :attr:`root_coordinates` with both flanks stuck, (2, 2) [N/m] or
+        rocking (3, 3) [N/m, N/rad, N m/rad]: ``sum_i kn r_i r_i^T + kt q_i q_i^T`` over the flanks'
+        normal and tangent rows; ``XX = 2 (kn sin^2 g + kt cos^2 g)``, rocking ``2 a^2 (kn cos^2
+        g + kt sin^2 g)``."""
+        return (self.normal_stiffness * self.normal_rows.T @ self.normal_rows
+                + self.tangential_stiffness * self.tangent_rows.T @ self.tangent_rows)
 
     def equivalent_jenkins(self, dof: str | int | None = None,
                            direction: ArrayLike | None = None) -> tuple[Jenkins, float]:
@@ -294,9 +371,10 @@ class DovetailRoot:
 
     # ---------------------------------------------------------- attachment
     def _root_map(self, structure) -> np.ndarray:
-        """(2, n_dof) map from structure DOFs to the root displacement ``(X, Y)``."""
-        a = np.zeros((2, structure.n_dof))
-        for row, dof in enumerate((self.tangential_dof, self.radial_dof)):
+        """(k, n_dof) map from structure DOFs to the root coordinates (:attr:`root_coordinates`)."""
+        dofs = (self.tangential_dof, self.radial_dof, self.rocking_dof)[:self.normal_rows.shape[1]]
+        a = np.zeros((len(dofs), structure.n_dof))
+        for row, dof in enumerate(dofs):
             if dof is not None:
                 a[row, structure.dof_index(dof)] = 1.0
         return a
@@ -315,26 +393,31 @@ class DovetailRoot:
         Attachment
             Slider directions ``(k, n_dof)``, the ``k`` flank sliders and their static preloads [N],
             the normal springs' stiffness ``(n_dof, n_dof)`` [N/m] and the constant force
-            ``(n_dof,)`` [N] (centrifugal force and normal preloads).
+            ``(n_dof,)`` [N] (centrifugal force and normal preloads), and the normal dashpots'
+            damping ``(n_dof, n_dof)`` [N s/m] (None without them).
         """
         a = self._root_map(structure)
         table = self.flank_sliders()
         directions, sliders, preload = [], [], []
         for i in range(2):
-            d = self.tangents[i] @ a
+            d = self.tangent_rows[i] @ a
             if not np.any(d):  # a flank tangent normal to the attached DOFs moves nothing
                 continue
             for sl, p in table:
                 directions.append(d)
                 sliders.append(sl)
                 preload.append(p)
-        kn = self.normal_stiffness * sum(np.outer(self.normals[i] @ a, self.normals[i] @ a) for i in range(2))
+        nn = sum(np.outer(self.normal_rows[i] @ a, self.normal_rows[i] @ a) for i in range(2))
+        kn = self.normal_stiffness * nn
         # x = 0 is the static state: Fc and the normal preloads N0 n_i (the linear normal springs
-        # carry only the change) balance the preloaded sliders' -T0 t_i
-        f_root = self.centrifugal_force * np.array([0.0, 1.0]) + self.static.normal_force * self.normals.sum(axis=0)
+        # carry only the change) balance the preloaded sliders' -T0 t_i (their moments cancel)
+        radial = np.zeros(a.shape[0])
+        radial[1] = 1.0
+        f_root = self.centrifugal_force * radial + self.static.normal_force * self.normal_rows.sum(axis=0)
         force = f_root @ a
         return Attachment(np.array(directions).reshape(len(directions), structure.n_dof), sliders,
-                          np.array(preload), kn, force)
+                          np.array(preload), kn, force,
+                          self.normal_damping * nn if self.normal_damping > 0 else None)
 
     def driven(self, normal_load_variation: bool = False) -> "DrivenDovetail":
         """Displacement-driven flanks starting in the static state (:class:`DrivenDovetail`).
@@ -352,15 +435,18 @@ class DovetailRoot:
         return DrivenDovetail(self, normal_load_variation)
 
     def __repr__(self) -> str:
+        rock = "" if self.flank_half_width is None else f", flank_half_width={self.flank_half_width:g}"
         return (f"DovetailRoot(centrifugal_force={self.centrifugal_force:g}, flank_angle="
                 f"{self.flank_angle:g}, friction_coefficient={self.friction_coefficient:g}, "
                 f"normal_stiffness={self.normal_stiffness:g}, tangential_stiffness="
-                f"{self.tangential_stiffness:g})")
+                f"{self.tangential_stiffness:g}{rock})")
 
 
 class DrivenDovetail:
-    """Dovetail flanks driven by a prescribed root displacement ``u = (X, Y)`` from the static
-    state, exact for paths linear between updates.
+    """Dovetail flanks driven by a prescribed root displacement ``u`` from the static state (the
+    root coordinates ``(X, Y)``, or ``(X, Y, theta)`` of a rocking root), exact for paths linear
+    between updates. Below, ``n . u`` and ``t . u`` stand for the flank's rows
+    (:attr:`DovetailRoot.normal_rows`, :attr:`DovetailRoot.tangent_rows`) applied to ``u``.
 
     Per flank: normal force ``N = N0 - kn n . u`` and a slip limit from ``N0`` (frozen; flat or
     microslip flanks: each flank's sliders are the exact play operator
@@ -374,8 +460,8 @@ class DrivenDovetail:
 
     Attributes
     ----------
-    u : (2,) ndarray
-        Current root displacement [m].
+    u : (2,) or (3,) ndarray
+        Current root coordinates [m, rad].
     normal_force, friction_force : (2,) ndarray
         Flank forces [N], right and left (sign convention of :mod:`~frictionjoint.elements.dovetail`).
     slipping : (2,) bool ndarray
@@ -390,7 +476,7 @@ class DrivenDovetail:
         st = root.static
         self.kn, self.mu = root.normal_stiffness, root.friction_coefficient
         self.gap0 = st.normal_force / self.kn  # static approach of each flank
-        self.u = np.zeros(2)
+        self.u = np.zeros(root.normal_rows.shape[1])
         if self.vary:
             if root._table is not None:
                 raise ParameterError("normal_load_variation needs flat flanks (flank_contact is None)")
@@ -416,7 +502,7 @@ class DrivenDovetail:
         return self._flanks[0].dissipated_energy + self._flanks[1].dissipated_energy
 
     def _normal(self, u) -> np.ndarray:
-        approach = self.gap0 - self.root.normals @ u
+        approach = self.gap0 - self.root.normal_rows @ u
         if self.vary:
             return self.kn * np.maximum(approach, 0.0)
         return self.kn * approach
@@ -424,30 +510,32 @@ class DrivenDovetail:
     def _update_forces(self) -> None:
         self.normal_force = self._normal(self.u)
         if self._flanks is None:
-            self.friction_force = self.kt * (self.root.tangents @ self.u - self.w)
+            self.friction_force = self.kt * (self.root.tangent_rows @ self.u - self.w)
         else:
             self.friction_force = np.array([f.force for f in self._flanks])
 
     @property
     def root_force(self) -> np.ndarray:
-        """Flank forces on the blade ``(X, Y)`` [N] (the static part balances ``Fc``)."""
+        """Flank forces on the blade in the root coordinates [N, N m] (the static part balances
+        ``Fc``)."""
         return self.root.root_force(self.normal_force, self.friction_force)
 
     def update(self, u) -> None:
-        """Move the root linearly from the current ``u`` to ``u`` [m]."""
+        """Move the root linearly from the current ``u`` to ``u`` [m, rad]."""
         u = np.asarray(u, dtype=float).reshape(-1)
-        if u.shape != (2,) or not np.all(np.isfinite(u)):
-            raise ParameterError(f"u must be a finite (X, Y) pair [m], got {u!r}")
+        if u.shape != self.u.shape or not np.all(np.isfinite(u)):
+            names = ", ".join(self.root.root_coordinates)
+            raise ParameterError(f"u must be finite root coordinates ({names}) [m, rad], got {u!r}")
         if self._flanks is not None:
-            s = self.root.tangents @ u
+            s = self.root.tangent_rows @ u
             for i, f in enumerate(self._flanks):
                 f.update(float(s[i]))
                 self.slipping[i] = bool(f.slipping.all())
         else:
             u0 = self.u
             cuts = [0.0, 1.0]
-            a0 = self.gap0 - self.root.normals @ u0
-            a1 = self.gap0 - self.root.normals @ u
+            a0 = self.gap0 - self.root.normal_rows @ u0
+            a1 = self.gap0 - self.root.normal_rows @ u
             for x0, x1 in zip(a0, a1):  # split where a flank lifts off or closes
                 if (x0 > 0) != (x1 > 0):
                     cuts.append(x0 / (x0 - x1))
@@ -458,7 +546,7 @@ class DrivenDovetail:
         self._update_forces()
 
     def _segment(self, ua, ub) -> None:
-        t = self.root.tangents
+        t = self.root.tangent_rows
         sa, sb = t @ ua, t @ ub
         la, lb = self.mu * self._normal(ua), self.mu * self._normal(ub)
         trial = self.kt * (sb - self.w)
@@ -476,11 +564,11 @@ class DrivenDovetail:
         self.slipping = slip
 
     def tangent_stiffness(self) -> np.ndarray:
-        """Root tangent stiffness (2, 2) [N/m], ``-d(root force)/du`` in the current state: normal
+        """Root tangent stiffness (k, k) in the root coordinates, ``-d(root force)/du`` in the current state: normal
         springs in contact, stuck sliders, and for slipping flanks with varying normal load the
         non-symmetric term ``-sig mu kn t n^T``."""
-        n, t = self.root.normals, self.root.tangents
-        k = np.zeros((2, 2))
+        n, t = self.root.normal_rows, self.root.tangent_rows
+        k = np.zeros((self.u.size, self.u.size))
         for i in range(2):
             in_contact = self.normal_force[i] > 0 or not self.vary
             if in_contact:

@@ -111,7 +111,9 @@ class PeriodicResponse:
     stops_per_cycle : int
         Stops of finite duration (slip -> stick) per period, over all sliders.
     stuck : bool
-        True when nothing slips over the whole period (permanent stick).
+        True when nothing slips over the whole period (permanent stick): no slider's slip exceeds
+        1e-12 of its displacement amplitude (a flank shaken down to its slip limit touches it
+        every cycle, a slip of rounding size).
     converged : bool
         True when a periodic orbit was found to tolerance.
     unique : bool

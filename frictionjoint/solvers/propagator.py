@@ -154,14 +154,21 @@ class ConfigData:
             self.L = np.zeros((0, n))
         self.modal = True
         if m:
-            lam, v = np.linalg.eig(a)
-            cond = np.linalg.cond(v)
+            # eigenvectors of the balanced matrix B = T^-1 A T (T diagonal: powers of 2, no
+            # rounding), V = T V_B: the conditioning of V_B says whether the configuration is
+            # (near-)defective; that of V also carries the scales of the coordinates (a root
+            # rotation [rad] and translations [m] beside modal coordinates, masses of 1e-5 and 1
+            # kg: cond(V) ~ 2e8 for cond(V_B) ~ 1e2), which would flag well-conditioned
+            # configurations as defective and send them to the matrix exponential
+            ab, (tsc, _) = scipy.linalg.matrix_balance(a, permute=False, separate=True)
+            lam, vb = np.linalg.eig(ab)
+            cond = np.linalg.cond(vb)
             if not np.isfinite(cond) or cond > 1e8:
                 self.modal = False
                 lam = np.linalg.eigvals(a)
                 v = w = None
             else:
-                v = v.astype(complex)
+                v = (tsc[:, None] * vb).astype(complex)
                 kt = system.slider_stiffness[jen_stuck]
                 k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
                 # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
@@ -170,7 +177,7 @@ class ConfigData:
                 if kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref:
                     lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ system.stiffness @ nb,
                                            nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
-                w = np.linalg.inv(v)
+                w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
         else:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
@@ -405,11 +412,10 @@ class Interval:
         for k, tk in enumerate(tau):
             zs[:, k] = scipy.linalg.expm(self._aug * tk) @ self._z0
         out = [zs[:m2]]
-        dz = self._aug @ zs
-        if order >= 1:
+        dz = zs
+        for _ in range(order):  # d^k z / dt^k = aug^k z
+            dz = self._aug @ dz
             out.append(dz[:m2])
-        if order >= 2:
-            out.append((self._aug @ dz)[:m2])
         return out
 
     def velocity(self, tau, order: int = 0) -> list[np.ndarray]:

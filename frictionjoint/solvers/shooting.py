@@ -14,7 +14,11 @@ The period map is any object with
 - ``pmap.scales(z) -> (nz,)`` component scales of the residual (its norm is ``max |r_i| / scale_i``);
 - ``pmap.amplitude(z) -> float``, a size of the motion, watched for unbounded growth;
 - optionally ``pmap.exact_jacobian = True``: the Jacobian comes with the map's last call at no
-  marching cost (full Newton steps instead of chord steps).
+  marching cost (full Newton steps instead of chord steps);
+- optionally ``pmap.closed_form(z) -> orbit or None``: an exact periodic orbit that the state
+  ``z`` already determines, e.g. every slider stuck and the linear orbit of that configuration
+  within every slip limit (a friction oscillator shaken down into permanent stick). Marching tries
+  it after every period, so that a lightly damped transient need not decay to the tolerance.
 
 The library's exact period map (:func:`frictionjoint.solvers.steady.periodic_response`) and the
 period map of a stepping driver (the library's or an FMU's, :func:`frictionjoint.drivers.shoot`)
@@ -49,6 +53,8 @@ CHORD_RATE = 0.05
 NEWTON_RCOND = 1e-13
 #: smallest backtracking factor of a Newton step
 MIN_STEP = 1 / 32
+#: Newton steps that may raise the residual (the best backtracking trial, taken when none falls)
+NONMONOTONE_STEPS = 3
 
 
 @dataclass
@@ -69,6 +75,8 @@ class ShootingOutcome:
         Growth per period when the motion grows without bound.
     slow : (float, float) or None
         ``(rate, periods needed)`` when marching stopped early as too slow.
+    closed : object or None
+        The orbit of ``pmap.closed_form`` when marching reached a state that determines it.
     """
 
     converged: bool
@@ -78,6 +86,7 @@ class ShootingOutcome:
     jac_rnorm: float = math.inf
     growth: float | None = None
     slow: tuple | None = None
+    closed: object = None
 
     @property
     def status(self) -> str:
@@ -155,6 +164,8 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: boo
     """
     jac, jac_rnorm = None, math.inf
     rnorm = float(np.max(np.abs(pz - z) / scale))
+    best = (z, pz, rnorm)
+    escapes = 0
     for _ in range(iterations):
         if rnorm <= tol:
             return True, z, pz, rnorm, jac, jac_rnorm
@@ -165,22 +176,37 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: boo
         a = (jac - np.eye(z.size)) / scale[:, None] * scale[None, :]
         step = _newton_step(a, -(pz - z) / scale) * scale
         lam = 1.0
+        trial = None
         while lam >= MIN_STEP:
             zn = z + lam * step
             pzn = pmap(zn)
             rn = float(np.max(np.abs(pzn - zn) / scale))
             if rn < rnorm:
                 break
+            if trial is None or rn < trial[2]:
+                trial = (zn, pzn, rn)
             lam *= 0.5
         else:
-            if fresh:
+            if not fresh:
+                jac = None  # the chord Jacobian was stale: refresh it and retry
+                continue
+            if escapes >= NONMONOTONE_STEPS:
                 break  # no descent even with a fresh Jacobian
-            jac = None  # the chord Jacobian was stale: refresh it and retry
-            continue
+            # no descent even with a fresh Jacobian: on a period map with events the linearisation
+            # holds only while the events keep their order, and the orbit may lie beyond a change
+            # of that order (a flank that starts to slip twice per period); take the best trial
+            # and go on from there, a few times at most
+            escapes += 1
+            zn, pzn, rn = trial
         # chord method: keep the Jacobian while the residual falls fast
-        if not chord or rn > CHORD_RATE * rnorm:
+        if not chord or rn > CHORD_RATE * rnorm or rn >= rnorm:
             jac = None
         z, pz, rnorm = zn, pzn, rn
+        if rnorm < best[2]:
+            best = (z, pz, rnorm)
+    if rnorm > tol and best[2] < rnorm:
+        z, pz, rnorm = best  # the best iterate (its Jacobian is not the last one)
+        jac, jac_rnorm = None, math.inf
     return rnorm <= tol, z, pz, rnorm, jac, jac_rnorm
 
 
@@ -256,7 +282,12 @@ def find_periodic_orbit(pmap, z, pz, *, tol: float, max_newton: int, max_periods
         amps, hist = [], []
         if not (np.all(np.isfinite(z)) and rnorm < WANDERED_RESIDUAL):
             z = z_start  # Newton wandered off: march from the start instead
+        closed_form = getattr(pmap, "closed_form", None)
         for k in range(max_periods):
+            if closed_form is not None:
+                closed = closed_form(z)
+                if closed is not None:
+                    return ShootingOutcome(True, z, 0.0, closed=closed)
             pz = pmap(z)
             rnorm = float(np.max(np.abs(pz - z) / pmap.scales(z)))
             hist.append(rnorm)

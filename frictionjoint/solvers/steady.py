@@ -12,6 +12,7 @@ linear one of the stuck configuration.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -183,15 +184,15 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
     y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - cfg.lam))
     y_start = y_static + y_harm.real
     nb = cfg.N
-    orbit = MarchState(0.0, st.x + nb @ y_start[:m], nb @ y_start[m:], st.w, st.status)
-    marcher._project(orbit)
-    itv = marcher.interval(orbit)
-    red, _ = itv.events
-    bounds = itv.bounds(red, period)
-    if bounds is None or not all(lo > tol for lo, tol in zip(bounds[0].tolist(), marcher._tolerances(itv))):
-        return None
     x_static = st.x + nb @ y_static[:m]
     x_harm = nb @ y_harm[:m]
+    found = _admissible_orbit(system, marcher, st, st.x + nb @ y_start[:m], nb @ y_start[m:], x_static, y_harm)
+    if found is None:
+        return None
+    orbit, shift = found
+    if shift is not None:
+        x_static = x_static + shift
+    itv = marcher.interval(orbit)
     jen = ~system.rigid
     z = np.concatenate([orbit.x, orbit.v, orbit.w[jen]])
     pmap = _PeriodMap(system, marcher, 0.0, pmap_tol)
@@ -209,6 +210,61 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
         t=t_s, x=x_s)
     res.set_multipliers(np.linalg.eigvals(jac))
     return res
+
+
+def _admissible_orbit(system, marcher: Marcher, st: MarchState, x0, v0, x_static, y_harm):
+    """The all-stuck linear orbit at ``t = 0``, ``(x0, v0)`` for the slider positions ``st.w``
+    (static part ``x_static``, harmonic part ``y_harm`` in the configuration's reduced
+    coordinates ``[q, q']``), with every event function above its band over the period, and the
+    shift of its static part (None: unshifted); or None.
+
+    On the orbit each event function is a constant plus one harmonic, ``Q(t) = Q0 + Re(Z
+    e^{i w t})``, so its minimum over the period is ``Q0 - |Z|``: exact, also near resonance,
+    where the closed-form bounds of a piece (:meth:`.Interval.bounds`) do not apply.
+
+    Where some slider's force would exceed its limit but the harmonic part alone stays below it
+    (``A_i = k_i |d_i . x_harm| < fs_i``), the slider positions are moved, ``w + dw``, so that each
+    mean force lies within ``fs_i - A_i`` (less 1e-9 of ``fs_i``) and moves the least, the mean
+    forces being linear in ``w`` through the static deflection: the shaken-down orbit (Melan) that
+    marching approaches only as fast as the lightest damping lets its transient decay. A member of
+    the family of stuck orbits (they differ in ``w`` and their static offsets; all have the same
+    harmonic part)."""
+    cfg = marcher.config(st.status)
+    m = cfg.m
+    x_harm = cfg.N @ y_harm[:m]
+
+    def build(x, w):
+        orbit = MarchState(0.0, x, v0.copy(), w, st.status.copy())
+        marcher._project(orbit)
+        itv = marcher.interval(orbit)
+        cy, c0, cc, cs = itv.events[0]
+        q0 = c0 - cy[:, :m] @ y_harm[:m].real  # y(t) = Re(y_harm (e^{iwt} - 1)) in q, Re(y_harm e^{iwt}) in q'
+        z = np.abs(cy @ y_harm + cc - 1j * cs)
+        low = q0 - z - 1e-12 * (np.abs(q0) + z)
+        return orbit, all(lo > tol for lo, tol in zip(low.tolist(), marcher._tolerances(itv)))
+
+    orbit, ok = build(x0, st.w)
+    if ok:
+        return orbit, None
+    if np.any(system.rigid):
+        return None  # a rigid slider's holding force has no position to shake down
+    d, k, fs = system.slider_direction, system.slider_stiffness, system.slip_force
+    amp = k * np.abs(d @ x_harm)
+    room = fs * (1 - 1e-9) - amp
+    if np.any(room <= 0):
+        return None  # some slider slips on every stuck orbit: no shakedown into stick
+    mean = k * (d @ x_static - st.w)
+    target = np.clip(mean, -room, room)
+    # static deflection of the stuck configuration per unit slider position: K_c dx = k_j d_j
+    try:
+        dx = np.linalg.solve(cfg.stiffness, (d * k[:, None]).T)
+        sens = k[:, None] * (d @ dx - np.eye(k.size))  # d(mean forces)/d(w)
+        dw = np.linalg.solve(sens, target - mean)
+    except np.linalg.LinAlgError:
+        return None
+    shift = dx @ dw
+    orbit, ok = build(x0 + shift, st.w + dw)
+    return (orbit, shift) if ok else None
 
 
 def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jacobian: str):
@@ -259,7 +315,7 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
     a1 = np.zeros(ndof)
     b1 = np.zeros(ndof)
     diss = [0.0]
-    stuck_all = [True]
+    slipped = np.zeros(system.n_sliders)  # |slip| of each slider over the period [m]
     w = system.omega
     z0 = [None]
     x_obs = displacement_observables(ndof)
@@ -279,9 +335,10 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
         b1[:] += sa
         slip = itv.status != 0
         if slip.any():
-            stuck_all[0] = False
             d = system.slider_direction[slip]
-            diss[0] += float(system.slip_force[slip] @ np.abs(d @ (x_end[:, 1] - x_end[:, 0])))
+            ds = np.abs(d @ (x_end[:, 1] - x_end[:, 0]))
+            slipped[slip] += ds
+            diss[0] += float(system.slip_force[slip] @ ds)
 
     if orbit is not None:
         _, _, pieces, log = orbit
@@ -289,7 +346,10 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
             on_interval(itv, tau)
     else:
         pmap(z, log=log, on_interval=on_interval)
-    return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all[0], z0[0], log
+    # stuck: no slider slips by more than rounding of its displacement over the period (a flank
+    # shaken down to its slip limit grazes it every cycle: a slip piece of ~1e-12 s, 1e-21 m)
+    stuck_all = bool(np.all(slipped <= 1e-12 * (np.abs(system.slider_direction) @ amp)))
+    return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all, z0[0], log
 
 
 def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
@@ -358,8 +418,11 @@ def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_sa
         return linear  # nothing slips: the linear orbit, without marching
     z_start = np.concatenate([st.x, st.v, st.w[~system.rigid]])
     pmap, z, pz, periods = _first_section(system, m, st, z_start, tol, jacobian)
+    pmap.closed_form = lambda z: _stuck_orbit(system, m, pmap.state(z), tol, n_samples)
     outcome = find_periodic_orbit(pmap, z, pz, tol=tol, max_newton=max_newton, max_periods=max_periods,
                                   z_start=z_start)
+    if outcome.closed is not None:  # shaken down into permanent stick: the linear orbit
+        return dataclasses.replace(outcome.closed, periods=periods + pmap.calls)
     converged, z, jac, jac_rnorm = outcome.converged, outcome.z, outcome.jac, outcome.jac_rnorm
 
     orbit = pmap.last if pmap.last is not None and np.array_equal(pmap.last[0], z) else None

@@ -53,9 +53,10 @@ class BladeAssembly:
     def from_model(cls, model, n_modes: int = 5, **blade_overrides) -> "BladeAssembly":
         """The assembly of a blade model definition (:func:`~frictionjoint.structures.load_blade_model`):
         its blade reduced by Craig-Bampton to the root DOFs, ``n_modes`` modes and the tip's
-        residual vector, the root slope held by the slot, a flat-flank
+        residual vector, the root slope held by the slot unless the root rocks, a flat-flank
         :class:`~frictionjoint.elements.DovetailRoot` (``[root]``) under the blade's centrifugal
-        force on ``w0``/``u0``, and ``[excitation] tip_force_amplitude`` at the tip.
+        force on ``w0``/``u0`` (and, with ``flank_half_width`` in ``[root]``, rocking on the root
+        slope ``t0``), and ``[excitation] tip_force_amplitude`` at the tip.
 
         Parameters
         ----------
@@ -75,10 +76,15 @@ class BladeAssembly:
 
         blade = model.blade(**blade_overrides)
         tip = f"w{blade.n_elements}"
-        reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], n_modes, loaded_dofs=[tip]).clamped(["t0"])
+        reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], n_modes, loaded_dofs=[tip])
+        root_args = dict(model.root)
+        if root_args.get("flank_half_width") is not None:
+            root_args["rocking_dof"] = "t0"  # the root rocks on its flanks
+        else:
+            reduced = reduced.clamped(["t0"])
         if not blade.centrifugal_force > 0:
             raise ParameterError("the model's rotor_speed must be > 0 (the dovetail is loaded by the centrifugal force)")
-        root = DovetailRoot(blade.centrifugal_force, tangential_dof="w0", radial_dof="u0", **model.root)
+        root = DovetailRoot(blade.centrifugal_force, tangential_dof="w0", radial_dof="u0", **root_args)
         return cls(reduced, [root], {tip: float(model.excitation.get("tip_force_amplitude", 1.0))})
 
     # ------------------------------------------------------------------ DOFs
@@ -171,6 +177,51 @@ class BladeAssembly:
         from ..sweep import sweep
 
         return sweep(self.system, omegas, progress=progress)
+
+    def with_root(self, **changes) -> "BladeAssembly":
+        """The assembly with its (single) root joint's parameters changed
+        (:meth:`~frictionjoint.elements.DovetailRoot.replace`, e.g. ``centrifugal_force`` [N] or
+        ``friction_coefficient``); structure and loads shared.
+
+        Parameters
+        ----------
+        **changes
+            The root's constructor arguments, by keyword.
+
+        Returns
+        -------
+        BladeAssembly
+        """
+        if len(self.joints) != 1 or not hasattr(self.joints[0], "replace"):
+            raise ParameterError("with_root needs an assembly with one root joint that has replace() (a DovetailRoot)")
+        return BladeAssembly(self.structure, [self.joints[0].replace(**changes)], self.loads)
+
+    def peak(self, omega_min: float, omega_max: float, dof: str, n_grid: int = 25,
+             xtol: float = 1e-6) -> tuple[float, float]:
+        """Resonance peak of the first-harmonic amplitude of ``dof`` (a DOF of the full model, e.g.
+        the tip) over ``[omega_min, omega_max]`` (:func:`frictionjoint.sweep.peak_response`).
+
+        Parameters
+        ----------
+        omega_min, omega_max : float
+            Frequency interval [rad/s].
+        dof : str
+            The DOF (of the full model or of the structure).
+        n_grid : int
+            Frequencies of the bracketing sweep, >= 3.
+        xtol : float
+            Tolerance of the peak frequency, relative.
+
+        Returns
+        -------
+        (omega_peak, amplitude_peak) : (float, float)
+            [rad/s], [m].
+        """
+        from ..sweep import peak_response
+
+        w, amp, _ = peak_response(self.system, omega_min, omega_max, n_grid=n_grid, xtol=xtol,
+                                  output=self._row(dof))
+        return w, amp
 
     def first_harmonic(self, response: PeriodicResponse, dof: str) -> complex:
         """First harmonic ``X`` of a DOF of the full model on a steady state, ``x = Re(X e^{i omega
