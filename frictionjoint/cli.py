@@ -193,7 +193,7 @@ def _add_map(sub) -> None:
 def _add_sweep(sub) -> None:
     sw = sub.add_parser(
         "sweep", allow_abbrev=False,
-        help="stepped-sine forced-response sweep through an FMU (fmpy) or the library model",
+        help="stepped-sine forced-response sweep through an FMU (fmpy), the library model or a blade model",
         description="Stepped-sine sweep of CoulombOscillator.fmu (or any FMU with its variables), "
                     "driven through fmpy, or of the library model 'CoulombOscillator' without the FMU "
                     "layer (frictionjoint.sweep): the periodic steady state at every frequency (the "
@@ -201,9 +201,15 @@ def _add_sweep(sub) -> None:
                     "Prints the table (peak, "
                     "first-harmonic amplitude and phase of each output) and writes the plot; with "
                     "--compare analytic, Den Hartog's amplitude and the relative error beside each "
-                    "point, or why the closed form does not apply there (stops, damping, resonance).")
+                    "point, or why the closed form does not apply there (stops, damping, resonance). "
+                    "A blade model definition (a name in models/, e.g. ti64_compressor_blade, or a "
+                    ".toml file) sweeps the Craig-Bampton blade on its dovetail root: the tip's first "
+                    "harmonic with the root's two linear limits (stuck, free slip) beside it; --set "
+                    "takes the root's parameters (centrifugal_force, friction_coefficient, ...) and "
+                    "tip_force_amplitude, --output a DOF of the blade (default the tip).")
     sw.add_argument("model", metavar="FMU_OR_MODEL",
-                    help="a .fmu file (e.g. fmus/build/CoulombOscillator.fmu) or 'CoulombOscillator'")
+                    help="a .fmu file (e.g. fmus/build/CoulombOscillator.fmu), 'CoulombOscillator' or a "
+                         "blade model (e.g. ti64_compressor_blade)")
     sw.add_argument("--set", dest="settings", action="append", default=[], type=_setting,
                     metavar="NAME=VALUE",
                     help="parameter value, repeatable: mass, stiffness, damping, slip_force, "
@@ -316,7 +322,7 @@ def _map(args, parser) -> int:
 
 
 def _sweep(args, parser) -> int:
-    from .sweep import sweep
+    from .sweep import _blade_definition, sweep
 
     params = {}
     for name, value in args.settings:
@@ -325,6 +331,18 @@ def _sweep(args, parser) -> int:
         params[name] = value
     w0, w1, n = args.omega
     omegas = np.linspace(w0, w1, n)
+    definition = _blade_definition(args.model)
+    if definition is not None:  # a blade model definition: the blade on its root
+        if args.compare:
+            parser.error("--compare analytic is for the single-DOF oscillator, not a blade model")
+        outputs = tuple(args.outputs or ["x"])
+        print(f"sweep of the blade model {definition.name} ({definition.path}) on its dovetail root, in the "
+              f"library: {n} frequencies, omega = {w0:g} ... {w1:g} rad/s, direction {args.direction}",
+              flush=True)
+        fr = sweep(args.model, omegas, params, direction=args.direction, outputs=outputs,
+                   progress=not args.no_progress)
+        print(fr.table())
+        return _write(fr, args)
     outputs = tuple(dict.fromkeys(["x"] + (args.outputs or [])))
     via = "the library (no FMU layer)" if args.model == "CoulombOscillator" else "fmpy"
     print(f"sweep of {args.model} through {via}: {n} frequencies, omega = {w0:g} ... {w1:g} rad/s, "

@@ -476,3 +476,43 @@ def plot_work_precision(wp, path=None, floor: float = 1e-17, ax=None):
                  fontsize=10)
     _save(fig, path)
     return fig
+
+
+def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
+    """Amplitude of an :class:`~frictionjoint.results.OutputSweep` against frequency (log scale):
+    the nonlinear points (stuck and slipping marked differently, unconverged points left out) and
+    the two linear limits as lines.
+
+    Parameters
+    ----------
+    sw : OutputSweep
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure if omitted).
+    path : str or os.PathLike, optional
+        Write the figure there.
+    label : str, optional
+        Legend label of the nonlinear curve (default: the output's name).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if ax is None:
+        fig = new_figure((8.0, 5.0))
+        ax = fig.subplots()
+    else:
+        fig = ax.figure
+    styles = {"stuck": dict(color="0.35", ls="--"), "slipping": dict(color="0.35", ls=":")}
+    for name, x in sw.limits.items():
+        ax.plot(sw.omega, np.abs(x), lw=1.0, label=f"linear limit: {name}", **styles.get(name, {}))
+    ok = np.asarray(sw.converged, bool)
+    ax.plot(sw.omega[ok], sw.amplitude[ok], "-", lw=1.5, color="C0", label=label or f"nonlinear, {sw.output}")
+    slip = ok & ~np.asarray(sw.stuck, bool)
+    ax.plot(sw.omega[slip], sw.amplitude[slip], ".", ms=4, color="C3", label="root slips")
+    ax.set_yscale("log")
+    ax.set_xlabel("omega [rad/s]")
+    ax.set_ylabel(f"first-harmonic amplitude of {sw.output} [m]")
+    ax.legend(fontsize="small")
+    ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+    return fig

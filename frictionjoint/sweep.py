@@ -16,6 +16,7 @@ import math
 import sys
 import warnings
 import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
@@ -23,9 +24,9 @@ from numpy.typing import ArrayLike
 
 from .analytic import den_hartog_curve
 from .errors import (ParameterError, check_count, check_grid, check_nonnegative, check_oscillator,
-                     check_positive, check_system)
+                     check_positive, check_real, check_system)
 from .regime import classify
-from .results.frequency import _HARMONIC_KEYS, FrequencyResponse, SystemSweep, _masked, _wrap
+from .results.frequency import _HARMONIC_KEYS, FrequencyResponse, OutputSweep, SystemSweep, _masked, _wrap
 from .system import FrictionSystem
 
 if TYPE_CHECKING:  # the drivers (and the FMU layer) are imported when a sweep runs
@@ -221,7 +222,7 @@ METHODS = ("time",)
 
 def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
           direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
-          method: str = "time") -> FrequencyResponse | SystemSweep:
+          method: str = "time") -> FrequencyResponse | SystemSweep | OutputSweep:
     """Stepped-sine sweep: the one entry point for the library's models, FMUs and drivers.
 
     ``model`` says what is swept:
@@ -232,7 +233,15 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
       (:class:`~frictionjoint.fmi.driver.FMUDriver`);
     - any :class:`~frictionjoint.drivers.Driver` (a stepping oscillator of the user's);
     - a callable ``build(omega) -> FrictionSystem``: a multi-DOF system
-      (:func:`system_sweep`; returns a :class:`~frictionjoint.results.SystemSweep`).
+      (:func:`system_sweep`; returns a :class:`~frictionjoint.results.SystemSweep`);
+    - a blade model definition (a name in ``models/``, e.g. ``"ti64_compressor_blade"``, or a
+      ``.toml`` path; :func:`~frictionjoint.structures.load_blade_model`): the Craig-Bampton blade
+      on its dovetail root (:meth:`BladeAssembly.from_model
+      <frictionjoint.structures.BladeAssembly.from_model>`), its tip (or ``outputs[0]``, a DOF of
+      the full model) with the root's two linear limits (returns an
+      :class:`~frictionjoint.results.OutputSweep`); ``parameters`` are the root's
+      (:class:`~frictionjoint.elements.DovetailRoot` arguments, e.g. ``centrifugal_force``,
+      ``friction_coefficient``) and ``tip_force_amplitude`` [N].
 
     The oscillator sweeps run one algorithm (:func:`frictionjoint.drivers.shoot`): the driver
     starts on the orbit where it can (the closed-form kernel's shooting with its exact Jacobian,
@@ -264,10 +273,8 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
 
     Returns
     -------
-    FrequencyResponse or SystemSweep
+    FrequencyResponse, SystemSweep or OutputSweep
     """
-    from pathlib import Path
-
     from .drivers import Driver, FMUDriver, LibraryDriver, shoot
     from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS
 
@@ -284,8 +291,11 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     driver = model if isinstance(model, Driver) else None
     if driver is None and str(model) != "CoulombOscillator" and not (Path(model).suffix == ".fmu"
                                                                      and Path(model).is_file()):
-        raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver or a "
-                             f"build(omega) callable, got {model!r}")
+        blade = _blade_definition(model)
+        if blade is None:
+            raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver, a "
+                                 f"build(omega) callable or a blade model definition, got {model!r}")
+        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress)
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
@@ -311,6 +321,40 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     finally:
         if own:  # a driver given by the caller stays the caller's
             driver.close()
+
+
+def _blade_definition(model):
+    """The blade model definition ``model`` names (a ``.toml`` file, or a name in ``models/``), or
+    None if it names none."""
+    from .structures import MODELS_DIR, load_blade_model
+
+    if not isinstance(model, (str, os.PathLike)):
+        return None
+    path = Path(model)
+    if not ((path.suffix == ".toml" and path.is_file()) or (MODELS_DIR / f"{path.stem}.toml").is_file()):
+        return None
+    return load_blade_model(model)
+
+
+def _blade_sweep(definition, omegas, parameters, direction, outputs, progress) -> OutputSweep:
+    """:func:`sweep` of a blade model definition (see there)."""
+    from .structures import BladeAssembly
+
+    if direction not in ("up", "down"):
+        raise ParameterError(f"direction must be 'up' or 'down' for a blade model, got {direction!r}")
+    outputs = tuple(outputs)
+    if len(outputs) != 1:
+        raise ParameterError(f"outputs: one output DOF for a blade model (default its tip), got {outputs!r}")
+    params = dict(parameters or {})
+    tip_force = params.pop("tip_force_amplitude", None)
+    asm = BladeAssembly.from_model(definition)
+    if params:
+        asm = asm.with_root(**params)
+    if tip_force is not None:
+        asm = BladeAssembly(asm.structure, asm.joints, {asm.tip: check_real("tip_force_amplitude", tip_force)})
+    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
+    return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress)
 
 
 def _check_build(build) -> None:

@@ -213,3 +213,23 @@ def test_build_fmus_structure(tmp_path, capsys):
         main(["build-fmus", "--out", str(tmp_path), "--structure", str(tmp_path / "none.toml")])
     assert exc.value.code == 2
     assert "none.toml' not found" in capsys.readouterr().err
+
+
+@pytest.mark.slow  # about 4 s: a subprocess sweeping the blade on its root
+def test_sweep_blade_model_with_its_linear_limits(tmp_path):
+    """``sweep ti64_compressor_blade``: the tip's first harmonic with the root's linear limits; far
+    from resonance the root sticks and the tip equals the stuck limit (the same linear solve, to
+    rounding); the CSV round trip keeps every number; bad input names itself."""
+    from frictionjoint.results import OutputSweep
+
+    png, table = tmp_path / "blade.png", tmp_path / "blade.csv"
+    proc = run("sweep", "ti64_compressor_blade", "--set", "centrifugal_force=200", "--omega", "1800:2100:4",
+               "--csv", str(table), "--plot", str(png), "--no-progress")
+    assert proc.returncode == 0, proc.stderr
+    assert "4 of 4 points converged" in proc.stdout
+    fr = OutputSweep.from_csv(table)
+    assert fr.output == "w30" and fr.stuck[0]
+    assert abs(fr.response[0] - fr.limits["stuck"][0]) <= 1e-9 * abs(fr.limits["stuck"][0])
+    assert png.read_bytes()[:8] == PNG_MAGIC
+    bad = run("sweep", "ti64_compressor_blade", "--set", "flank=1", "--omega", "1800:2100:2")
+    assert bad.returncode != 0 and "flank" in bad.stderr

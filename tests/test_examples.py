@@ -145,3 +145,14 @@ def test_readme_blade_example_runs():
     namespace = {"__name__": "readme"}
     exec(compile(block, str(README) + ":blade-example", "exec"), namespace)
     assert namespace["reduced"].dof_names[-1] == "r_w30" and namespace["model"].name == "Ti64CompressorBlade"
+
+
+@pytest.mark.slow  # about 30 s: three loads and three friction coefficients
+def test_blade_root_study_example(tmp_path):
+    out = tmp_path / "study.png"
+    env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "blade_root_study.py"), str(out)],
+                          capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert out.read_bytes()[:8] == PNG_MAGIC
+    assert proc.stdout.count("optimum:") == 2 and "121 of 121 points converged" in proc.stdout

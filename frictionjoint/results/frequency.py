@@ -1,6 +1,7 @@
 """Frequency-response results: stepped-sine sweeps of the single-DOF oscillator
-(:class:`FrequencyResponse`, with the analytic answer beside the simulated one) and of
-multi-DOF friction systems (:class:`SystemSweep`).
+(:class:`FrequencyResponse`, with the analytic answer beside the simulated one), of multi-DOF
+friction systems (:class:`SystemSweep`), and of one output of an assembly with its two linear
+limits beside it (:class:`OutputSweep`, e.g. a blade's tip on its dovetail root).
 
 Both hold only arrays, words and parameters (no functions), so a CSV round trip is lossless:
 the dense analytic curve of a plot is computed from :attr:`FrequencyResponse.parameters`.
@@ -23,7 +24,7 @@ if TYPE_CHECKING:  # computing never imports matplotlib
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["FrequencyResponse", "SystemSweep"]
+__all__ = ["FrequencyResponse", "SystemSweep", "OutputSweep"]
 
 
 _MASKED_COLUMNS = ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error")
@@ -454,3 +455,141 @@ class SystemSweep(PointsContract):
 
 
 
+
+
+_OUTPUT_COLUMNS = ("omega", "amplitude", "phase", "stuck", "converged", "dissipated_per_cycle")
+
+
+@dataclass(eq=False)
+class OutputSweep(PointsContract):
+    """Stepped-sine steady states of one output (e.g. a blade's tip), with the output's linear
+    frequency response in the limits of the joints (every slider stuck, every slider slipping).
+
+    Attributes
+    ----------
+    omega : (n,) ndarray
+        Excitation angular frequency [rad/s], in the order computed.
+    output : str
+        The output's name (a DOF of the full model).
+    response : (n,) complex ndarray
+        First harmonic ``X`` of the output, ``x = Re(X e^{i omega t})`` [m].
+    limits : dict
+        ``{name: (n,) complex ndarray}``: the output's first harmonic in each linear limit
+        (``'stuck'``, ``'slipping'``), same load [m].
+    stuck, converged : (n,) bool ndarray
+        Permanent stick; periodic orbit found.
+    dissipated_per_cycle : (n,) ndarray
+        Friction energy per period [J].
+    messages : tuple of str
+        The solver's message per point.
+    """
+
+    omega: np.ndarray
+    output: str
+    response: np.ndarray
+    limits: dict
+    stuck: np.ndarray
+    converged: np.ndarray
+    dissipated_per_cycle: np.ndarray
+    messages: tuple = ()
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """First-harmonic amplitude ``|X|`` [m] (n,)."""
+        return np.abs(self.response)
+
+    @property
+    def phase(self) -> np.ndarray:
+        """Lag of the first harmonic behind ``cos(omega t)``, ``-arg X`` [rad] (n,)."""
+        return -np.angle(self.response)
+
+    def peak(self) -> tuple[float, float]:
+        """``(omega, amplitude)`` of the largest converged amplitude [rad/s, m] (NaN if none)."""
+        amp = np.where(self.converged, self.amplitude, -np.inf)
+        if not np.any(self.converged):
+            return math.nan, math.nan
+        i = int(np.argmax(amp))
+        return float(self.omega[i]), float(amp[i])
+
+    def table(self) -> str:
+        """The points as text: omega, amplitude and phase of the output, the linear limits'
+        amplitudes, stuck/converged."""
+        names = list(self.limits)
+        head = f"{'omega [rad/s]':>14} {'|X| [m]':>12} {'phase [rad]':>11} " + \
+            " ".join(f"{n + ' [m]':>13}" for n in names) + f" {'stuck':>5} {'ok':>3}"
+        lines = [f"output {self.output}", head]
+        for k, w in enumerate(self.omega):
+            amp = f"{self.amplitude[k]:12.5e}" if self.converged[k] else f"{'--':>12}"
+            lines.append(f"{w:14.6g} {amp} {self.phase[k]:11.5f} "
+                         + " ".join(f"{abs(self.limits[n][k]):13.5e}" for n in names)
+                         + f" {'yes' if self.stuck[k] else 'no':>5} {'yes' if self.converged[k] else 'no':>3}")
+        w_p, a_p = self.peak()
+        lines.append(f"peak {a_p:.6g} m at {w_p:.6g} rad/s; {self.message}")
+        return "\n".join(lines)
+
+    def to_csv(self, path: str | os.PathLike) -> None:
+        """Write the points (and the limits' amplitudes and phases) as CSV.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+        """
+        names = list(self.limits)
+        with open(path, "w", newline="") as f:
+            wr = csv.writer(f)
+            wr.writerow([*_OUTPUT_COLUMNS, *[f"{n}_{q}" for n in names for q in ("amplitude", "phase")],
+                         "output", "message"])
+            for k in range(self.omega.size):
+                wr.writerow([repr(float(self.omega[k])), repr(float(self.amplitude[k])), repr(float(self.phase[k])),
+                             int(self.stuck[k]), int(self.converged[k]), repr(float(self.dissipated_per_cycle[k])),
+                             *[repr(float(q)) for n in names for q in (abs(self.limits[n][k]),
+                                                                         -np.angle(self.limits[n][k]))],
+                             self.output, self.messages[k] if k < len(self.messages) else ""])
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike) -> "OutputSweep":
+        """Read a sweep written by :meth:`to_csv`.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+
+        Returns
+        -------
+        OutputSweep
+        """
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+        if not rows:
+            raise ParameterError(f"{path}: no points")
+        names = [c[:-len("_amplitude")] for c in rows[0] if c.endswith("_amplitude") and c != "amplitude"]
+
+        def col(key, kind=float):
+            return np.array([kind(r[key]) for r in rows])
+
+        def harmonic(amp, ph):
+            return col(amp) * np.exp(-1j * col(ph))
+        return cls(omega=col("omega"), output=rows[0]["output"], response=harmonic("amplitude", "phase"),
+                   limits={n: harmonic(f"{n}_amplitude", f"{n}_phase") for n in names},
+                   stuck=col("stuck", lambda v: bool(int(v))), converged=col("converged", lambda v: bool(int(v))),
+                   dissipated_per_cycle=col("dissipated_per_cycle"), messages=tuple(r["message"] for r in rows))
+
+    def plot(self, ax: Axes | None = None, path: str | os.PathLike | None = None) -> Figure:
+        """The output's amplitude against frequency with its two linear limits
+        (:func:`frictionjoint.plotting.plot_output_sweep`).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Draw into these axes instead of a new figure.
+        path : str or os.PathLike, optional
+            Write the figure there.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_output_sweep, plot_target
+
+        ax, path = plot_target(ax, path)
+        return plot_output_sweep(self, ax=ax, path=path)

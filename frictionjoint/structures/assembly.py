@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_real
 from ..excitation import HarmonicForce
-from ..results import PeriodicResponse, SystemSweep, TimeResponse
+from ..results import OutputSweep, PeriodicResponse, SystemSweep, TimeResponse
 from ..structure import LinearStructure
 from ..system import FrictionSystem
 
@@ -177,6 +177,45 @@ class BladeAssembly:
         from ..sweep import sweep
 
         return sweep(self.system, omegas, progress=progress)
+
+    @property
+    def tip(self) -> str | None:
+        """The first loaded DOF (e.g. ``'w30'``, where :meth:`from_model` puts its tip force)."""
+        return next(iter(self.loads), None)
+
+    def frequency_response(self, omegas: ArrayLike, dof: str | None = None, progress: bool = False) -> OutputSweep:
+        """Stepped-sine sweep (:meth:`sweep`) of one DOF's first harmonic, with that DOF's linear
+        frequency response in the root's two limits (every slider stuck, every slider slipping:
+        :func:`~frictionjoint.linear_limits.limit_structures`) at the same frequencies.
+
+        Parameters
+        ----------
+        omegas : sequence of float
+            Angular frequencies [rad/s], > 0, in the order swept.
+        dof : str, optional
+            The output, a DOF of the full model or of the structure (default :attr:`tip`).
+        progress : bool
+            Show a progress bar.
+
+        Returns
+        -------
+        OutputSweep
+        """
+        from ..linear_limits import limit_structures
+
+        dof = self.tip if dof is None else str(dof)
+        if dof is None:
+            raise ParameterError("dof: the assembly has no loads, name the output DOF")
+        row = self._row(dof)
+        sw = self.sweep(omegas, progress=progress)
+        x = sw.harmonic_amplitude * np.exp(-1j * sw.phase)
+        limits = {}
+        for name, st in limit_structures(self.system(float(sw.omega[0]))).items():
+            limits[name] = np.array([row @ np.linalg.solve(st.stiffness + 1j * w * st.damping - w * w * st.mass,
+                                                           self._force.astype(complex)) for w in sw.omega])
+        return OutputSweep(omega=sw.omega, output=dof, response=x @ row, limits=limits, stuck=sw.stuck,
+                           converged=sw.converged, dissipated_per_cycle=sw.dissipated_per_cycle,
+                           messages=sw.messages)
 
     def with_root(self, **changes) -> "BladeAssembly":
         """The assembly with its (single) root joint's parameters changed
