@@ -15,10 +15,11 @@ The period map is any object with
 - ``pmap.amplitude(z) -> float``, a size of the motion, watched for unbounded growth;
 - optionally ``pmap.exact_jacobian = True``: the Jacobian comes with the map's last call at no
   marching cost (full Newton steps instead of chord steps);
-- optionally ``pmap.closed_form(z) -> orbit or None``: an exact periodic orbit that the state
-  ``z`` already determines, e.g. every slider stuck and the linear orbit of that configuration
-  within every slip limit (a friction oscillator shaken down into permanent stick). Marching tries
-  it after every period, so that a lightly damped transient need not decay to the tolerance.
+- optionally ``pmap.closed_form(z) -> orbit or None``: an exact periodic orbit found in closed
+  form from the state ``z``, e.g. with every slider stuck, the linear orbit of that configuration
+  for the sliders' positions, moved the least into the slip limits (a friction oscillator shaken
+  down into permanent stick: one member of the family of stuck orbits). Marching tries it after
+  every period, so that a lightly damped transient need not decay to the tolerance.
 
 The library's exact period map (:func:`frictionjoint.solvers.steady.periodic_response`) and the
 period map of a stepping driver (the library's or an FMU's, :func:`frictionjoint.drivers.shoot`)
