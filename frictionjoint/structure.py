@@ -200,6 +200,28 @@ class LinearStructure:
         lam = scipy.linalg.eigh(self.stiffness, self.mass, eigvals_only=True)
         return np.sqrt(np.clip(lam, 0.0, None))
 
+    def harmonic_response(self, omegas: ArrayLike, force: ArrayLike) -> np.ndarray:
+        """Complex amplitudes ``X`` of the steady response to ``Re(F e^{i omega t})``: ``(K + i
+        omega C - omega^2 M) X = F`` solved at each frequency (direct solves: exact to rounding
+        also where the stiffness is singular, e.g. a mechanism, unlike the state-space form).
+
+        Parameters
+        ----------
+        omegas : (k,) array_like
+            Angular frequencies [rad/s].
+        force : (n_dof,) array_like
+            Complex force amplitudes ``F`` [N].
+
+        Returns
+        -------
+        (k, n_dof) complex ndarray
+            ``X`` [m] per frequency.
+        """
+        ws = np.atleast_1d(np.asarray(omegas, dtype=float))
+        f = np.asarray(force, dtype=complex).reshape(self.n_dof)
+        return np.array([np.linalg.solve(self.stiffness + 1j * w * self.damping - w * w * self.mass, f)
+                         for w in ws])
+
     def to_statespace(self):
         """python-control state-space model, state ``[x, v]``, input force, output ``x``."""
         import control

@@ -209,10 +209,8 @@ class BladeAssembly:
         row = self._row(dof)
         sw = self.sweep(omegas, progress=progress)
         x = sw.harmonic_amplitude * np.exp(-1j * sw.phase)
-        limits = {}
-        for name, st in limit_structures(self.system(float(sw.omega[0]))).items():
-            limits[name] = np.array([row @ np.linalg.solve(st.stiffness + 1j * w * st.damping - w * w * st.mass,
-                                                           self._force.astype(complex)) for w in sw.omega])
+        limits = {name: st.harmonic_response(sw.omega, self._force) @ row
+                  for name, st in limit_structures(self.system(float(sw.omega[0]))).items()}
         return OutputSweep(omega=sw.omega, output=dof, response=x @ row, limits=limits, stuck=sw.stuck,
                            converged=sw.converged, dissipated_per_cycle=sw.dissipated_per_cycle,
                            messages=sw.messages)
