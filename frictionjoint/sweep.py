@@ -450,17 +450,13 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
     n_dof = check_system("build(omega)", build(lo), FrictionSystem).n_dof
     if dof >= n_dof:
         raise ParameterError(f"dof must be in [0, {n_dof - 1}] (the system's DOFs), got {dof}")
-    if output is None:
-        row = np.zeros(n_dof)
-        row[dof] = 1.0
-    else:
+    if output is not None:
         row = np.asarray(output, dtype=float).reshape(-1)
         if row.shape != (n_dof,) or not np.all(np.isfinite(row)) or not np.any(row):
             raise ParameterError(f"output must be {n_dof} finite coefficients, not all zero")
 
-    def first_harmonic(sw):  # |row . X| per point, X = a e^{-i phase}
-        x = np.atleast_2d(sw.harmonic_amplitude) * np.exp(-1j * np.atleast_2d(sw.phase))
-        return np.abs(x @ row)
+    def first_harmonic(sw):  # per point: DOF dof's amplitude, or |row . X|
+        return sw.harmonic_amplitude[:, dof] if output is None else np.abs(sw.harmonics @ row)
 
     grid = np.linspace(lo, hi, n_grid)
     sw = system_sweep(build, grid)

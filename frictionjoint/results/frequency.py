@@ -453,6 +453,12 @@ class SystemSweep(PointsContract):
     converged: np.ndarray
     messages: tuple = ()
 
+    @property
+    def harmonics(self) -> np.ndarray:
+        """First harmonics ``X = a e^{-i phase}`` of the DOFs, ``x = Re(X e^{i omega t})`` [m],
+        (n, n_dof) complex."""
+        return np.atleast_2d(self.harmonic_amplitude) * np.exp(-1j * np.atleast_2d(self.phase))
+
 
 
 

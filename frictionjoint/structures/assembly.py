@@ -208,10 +208,9 @@ class BladeAssembly:
             raise ParameterError("dof: the assembly has no loads, name the output DOF")
         row = self._row(dof)
         sw = self.sweep(omegas, progress=progress)
-        x = sw.harmonic_amplitude * np.exp(-1j * sw.phase)
         limits = {name: st.harmonic_response(sw.omega, self._force) @ row
                   for name, st in limit_structures(self.system(float(sw.omega[0]))).items()}
-        return OutputSweep(omega=sw.omega, output=dof, response=x @ row, limits=limits, stuck=sw.stuck,
+        return OutputSweep(omega=sw.omega, output=dof, response=sw.harmonics @ row, limits=limits, stuck=sw.stuck,
                            converged=sw.converged, dissipated_per_cycle=sw.dissipated_per_cycle,
                            messages=sw.messages)
 
