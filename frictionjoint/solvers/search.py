@@ -442,14 +442,14 @@ def _curvature(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu,
     ``tol + 1e-12 (|k0| + spread)`` the function must stay above for a step to be skipped (its zero
     band plus the rounding of terms of the function's size)."""
     return _curvature_bound(magnitudes(pa), lam, _growth(lam, horizon), k0, kp, km, cc, cs, w,
-                            harmonic, tol, pn, nlam, nmu, horizon)
+                            harmonic, tol, *_near_bounds(pn, nlam, nmu, horizon))
 
 
 @_jit
-def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, pn, nlam, nmu, horizon):
-    """:func:`_curvature` from ``apa = |pa|`` and ``grow`` (:func:`_growth`)."""
+def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, near_size, near_curv):
+    """:func:`_curvature` from ``apa = |pa|``, ``grow`` (:func:`_growth`) and the resonant terms'
+    bounds (:func:`_near_bounds`), all computed once per piece by :func:`first_event`."""
     nr, nm = apa.shape
-    near_size, near_curv = _near_bounds(pn, nlam, nmu, horizon)
     curv = np.empty(nr)
     level = np.empty(nr)
     # |pla_i| |lam_i| = |pa_i| |lam_i|^2 (no second complex modulus per row and mode; the
@@ -546,8 +546,8 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
     vmax = 0.0
     apa = magnitudes(pa)
     grow = _growth(lam, horizon)
+    near_size, near_curv = _near_bounds(pn, nlam, nmu, horizon)
     if horizon > 4 * h:
-        near_size = _near_bounds(pn, nlam, nmu, horizon)[0]
         skip, vmax = _bounded_away(apa, abs_p, b0, grow, k0, kp, km, cc, cs, w, t0, tol, atzero, vrows,
                                    near_size)
         if skip:
@@ -562,7 +562,7 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
             g[r, 0] = 0.0
         if vrows[r]:
             vmax = max(vmax, abs(g[r, 0]))
-    curv, level = _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, pn, nlam, nmu, horizon)
+    curv, level = _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, near_size, near_curv)
     t_prev = 0.0
     prev, cur = 0, 1
     k = 0
