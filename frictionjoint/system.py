@@ -74,7 +74,7 @@ class FrictionSystem:
         self.external = [(structure.dof_index(e.dof), e) for e in self.excitation
                          if isinstance(e, ExternalForce)]
 
-        d_rows, fsl, ksl, owner, pre = [], [], [], [], []
+        d_rows, fsl, ksl, owner, pre, on_contact, contacts = [], [], [], [], [], [], []
         self.constant_force = np.zeros(n)
         for ie, el in enumerate(self.elements):
             if hasattr(el, "attach"):
@@ -85,12 +85,18 @@ class FrictionSystem:
                 if att.damping is not None:
                     c = c + att.damping
                 self.constant_force += att.force
-                for d, s, p in zip(att.directions, att.sliders, att.preload):
+                sc = att.slider_contact if att.slider_contact is not None else [-1] * len(att.sliders)
+                for d, s, p, ic in zip(att.directions, att.sliders, att.preload, sc):
                     d_rows.append(d)
                     fsl.append(s.slip_force)
                     ksl.append(s.stiffness)
                     pre.append(p)
                     owner.append(ie)
+                    if ic >= 0 and s.rigid:
+                        raise ParameterError(f"elements[{ie}]: a slider on a contact with a varying normal "
+                                             "load must have a finite stiffness (Jenkins)")
+                    on_contact.append(ic + len(contacts) if ic >= 0 else -1)
+                contacts += list(att.contacts)
                 continue
             if not hasattr(el, "sliders"):
                 raise ParameterError(f"elements[{ie}] is not a joint element: {el!r}")
@@ -101,6 +107,7 @@ class FrictionSystem:
                 ksl.append(s.stiffness)
                 pre.append(0.0)
                 owner.append(ie)
+                on_contact.append(-1)
         self.stiffness = k  # structure + base springs + the elements' linear springs
         self.damping = c  # structure + base dashpots + the elements' dashpots
         self.slider_direction = np.array(d_rows, dtype=float).reshape(len(d_rows), n)
@@ -111,7 +118,64 @@ class FrictionSystem:
         #: Jenkins spring forces [N] in the initial state ``x = 0`` (static preload, e.g. of a
         #: dovetail flank after spin-up); the default initial slider positions carry them
         self.slider_preload = np.array(pre, dtype=float)
+        #: normal-load variation: the contacts (normal over the DOFs, kn, dashpot, preload N0) and
+        #: each slider's contact (-1: constant slip limit). A slider on contact c slips at
+        #: ``slip_force + slip_gradient . x = mu (N0 - kn normal . x)`` while c is closed, and
+        #: slips freely (status 2, no force) while c is open (lift-off, ``N0 - kn normal . x <= 0``)
+        self.slider_contact = np.array(on_contact, dtype=np.intp)
+        self.varying = self.slider_contact >= 0
+        self.n_contacts = len(contacts)
+        self.contact_normal = np.array([c.normal for c in contacts], dtype=float).reshape(len(contacts), n)
+        self.contact_stiffness = np.array([c.stiffness for c in contacts], dtype=float)
+        self.contact_damping = np.array([c.damping for c in contacts], dtype=float)
+        self.contact_preload = np.array([c.preload for c in contacts], dtype=float)
+        if self.n_contacts and np.any(np.bincount(self.slider_contact[self.varying], minlength=self.n_contacts) != 1):
+            raise ParameterError("each contact with a varying normal load carries exactly one slider")
+        self.slip_gradient = np.zeros((self.n_sliders, n))
+        for i in np.flatnonzero(self.varying):
+            c = contacts[self.slider_contact[i]]
+            self.slip_gradient[i] = -c.friction_coefficient * c.stiffness * np.asarray(c.normal, float)
+            if not np.isclose(self.slip_force[i], c.friction_coefficient * c.preload, rtol=1e-12, atol=0.0):
+                raise ParameterError("a slider on a contact must slip at friction_coefficient * preload "
+                                     f"= {c.friction_coefficient * c.preload:g} N at x = 0, got {self.slip_force[i]:g} N")
 
+    def normal_loads(self, x: ArrayLike) -> np.ndarray:
+        """Normal loads ``kn max(N0/kn - normal . x, 0)`` [N] of the contacts (normal-load
+        variation; :class:`~frictionjoint.elements.base.Contact`).
+
+        Parameters
+        ----------
+        x : (n_dof, ...) array_like
+            Displacement(s) [m] from the static state.
+
+        Returns
+        -------
+        (n_contacts, ...) ndarray
+            Normal load of each contact [N], zero where it is open.
+        """
+        x = np.asarray(x, dtype=float)
+        n = self.contact_preload.reshape((-1,) + (1,) * (x.ndim - 1)) - self.contact_stiffness.reshape(
+            (-1,) + (1,) * (x.ndim - 1)) * np.tensordot(self.contact_normal, x, axes=(1, 0))
+        return np.maximum(n, 0.0)
+
+    def config_key(self, status: np.ndarray) -> bytes:
+        """Key of the configuration of a stick/slip status: which sliders stick and, for sliders
+        on contacts (their slip direction enters the stiffness), the status itself.
+
+        Parameters
+        ----------
+        status : (n_sliders,) int8 ndarray
+            0 stuck, +1/-1 slipping, 2 on an open contact.
+
+        Returns
+        -------
+        bytes
+        """
+        if not self.n_contacts:
+            return (status == 0).tobytes()
+        key = (status != 0).astype(np.int8)
+        key[self.varying] = status[self.varying] + 3
+        return key.tobytes()
     @property
     def n_dof(self) -> int:
         """Number of structural DOFs."""

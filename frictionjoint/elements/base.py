@@ -13,7 +13,7 @@ import math
 
 from ..errors import check_nonnegative
 
-__all__ = ["Attachment", "Slider", "MasingCycles"]
+__all__ = ["Attachment", "Contact", "Slider", "MasingCycles"]
 
 
 class MasingCycles:
@@ -78,6 +78,12 @@ class Attachment:
         Constant force [N] on the structure (e.g. the load that makes ``x = 0`` a static state).
     damping : (n_dof, n_dof) ndarray or None
         Linear viscous damping [N s/m] the element adds (e.g. contact dashpots); None: none.
+    contacts : list of Contact
+        Unilateral normal contacts whose load sets the slip limits of some sliders (normal-load
+        variation); empty: the slip limits are constant.
+    slider_contact : (k,) int sequence or None
+        Index into ``contacts`` of each slider's contact, -1 for a constant slip limit (None: all
+        constant).
     """
 
     directions: object
@@ -86,3 +92,37 @@ class Attachment:
     stiffness: object
     force: object
     damping: object = None
+    contacts: tuple = ()
+    slider_contact: object = None
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A unilateral normal contact (spring and dashpot) whose normal load sets the slip limit of
+    the sliders attached to it: ``N = preload - stiffness * normal . x`` while ``N > 0`` (closed),
+    no force once it reaches 0 (lift-off); a slider on it slips at ``friction_coefficient * N``.
+
+    The contact's closed-state spring ``stiffness normal normal^T``, dashpot ``damping normal
+    normal^T`` and constant force ``preload normal`` are part of the :class:`Attachment`'s
+    ``stiffness``, ``damping`` and ``force`` (the structure's coordinates are measured from the
+    static state, where ``N = preload``); the marcher removes them while the contact is open.
+
+    Parameters
+    ----------
+    normal : (n_dof,) ndarray
+        Normal direction over the structure DOFs (the contact force on the structure is ``N normal``).
+    stiffness : float
+        Normal stiffness ``kn`` [N/m], > 0.
+    damping : float
+        Normal dashpot [N s/m], >= 0, acting only while the contact is closed.
+    preload : float
+        Normal load ``N0`` [N], > 0, at ``x = 0``.
+    friction_coefficient : float
+        ``mu`` [-] of the sliders on the contact, > 0.
+    """
+
+    normal: object
+    stiffness: float
+    damping: float
+    preload: float
+    friction_coefficient: float

@@ -35,9 +35,9 @@ Dynamics around the static state (the structure's coordinates are measured from 
 a joint element along its own tangent -- one Jenkins slider (``kt``, ``mu N0``) for a flat flank
 with sharp edges, which sticks or slips as a whole, or the Iwan sliders of a microslip contact
 (rounded edges) built by ``flank_contact``; the normal flank springs ``kn`` act along the
-normals. In the marched model the slip limit uses the static normal load ``N0`` (frozen); the
-displacement-driven :class:`DrivenDovetail` lets the normal load follow the root motion,
-``N = kn max(N0/kn - n . u, 0)``, with lift-off.
+normals. In the marched model the slip limit uses the static normal load ``N0`` (frozen), or,
+with ``normal_load_variation=True`` (flat flanks), follows the root motion, ``N = kn max(N0/kn -
+n . u, 0)``, with lift-off, as in the displacement-driven :class:`DrivenDovetail`.
 
 For purely tangential root motion ``X`` and a frozen ``N0``, the two flanks in steady cycles are
 the equivalent Jenkins element of stiffness ``2 kt cos^2 g`` and slip force ``2 mu N0 cos g``
@@ -57,7 +57,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_positive, check_real
 from ..structure import LinearStructure
-from .base import Attachment, Slider
+from .base import Attachment, Contact, Slider
 from .driven import DrivenSliders
 from .jenkins import Jenkins
 
@@ -114,6 +114,12 @@ class DovetailRoot:
         normal beside ``kn`` (contact damping; without it the blade's rigid-body motions on its
         root are undamped). The displacement-driven :class:`DrivenDovetail` is rate-independent:
         it carries no dashpot.
+    normal_load_variation : bool
+        If true (flat flanks only), the slip limit of each flank follows its normal load in the
+        marched dynamics, ``mu N`` with ``N = kn max(N0/kn - n . u, 0)``: the flank lifts off
+        (no normal or friction force, the dashpot off too) where ``N`` reaches 0 and closes again
+        (stuck, unstressed) where it comes back; the dynamics stay piecewise linear. Otherwise
+        the slip limit is the static ``mu N0`` (frozen) and the normal springs are bilateral.
     flank_contact : callable, optional
         ``flank_contact(normal_load)`` -> a microslip contact (e.g.
         :class:`~frictionjoint.contact.MindlinContact` or a half-plane contact of a rounded
@@ -128,13 +134,13 @@ class DovetailRoot:
                  tangential_dof: str | int | None = None, radial_dof: str | int | None = None,
                  flank_contact: Callable[[float], Any] | None = None, n_sliders: int = 16,
                  rocking_dof: str | int | None = None, flank_half_width: float | None = None,
-                 normal_damping: float = 0.0):
+                 normal_damping: float = 0.0, normal_load_variation: bool = False):
         self._args = dict(centrifugal_force=centrifugal_force, flank_angle=flank_angle,
                           friction_coefficient=friction_coefficient, normal_stiffness=normal_stiffness,
                           tangential_stiffness=tangential_stiffness, tangential_dof=tangential_dof,
                           radial_dof=radial_dof, flank_contact=flank_contact, n_sliders=n_sliders,
                           rocking_dof=rocking_dof, flank_half_width=flank_half_width,
-                          normal_damping=normal_damping)
+                          normal_damping=normal_damping, normal_load_variation=normal_load_variation)
         self.centrifugal_force = check_positive("centrifugal_force", centrifugal_force)
         g = check_real("flank_angle", flank_angle)
         if not 0.0 <= g < 0.5 * math.pi:
@@ -154,6 +160,11 @@ class DovetailRoot:
         self.normal_damping = check_real("normal_damping", normal_damping)
         if self.normal_damping < 0:
             raise ParameterError(f"normal_damping must be >= 0 N s/m, got {normal_damping!r}")
+        if not isinstance(normal_load_variation, (bool, np.bool_)):
+            raise ParameterError(f"normal_load_variation must be True or False, got {normal_load_variation!r}")
+        self.normal_load_variation = bool(normal_load_variation)
+        if self.normal_load_variation and flank_contact is not None:
+            raise ParameterError("normal_load_variation needs flat flanks (flank_contact is None)")
         self.flank_contact = flank_contact
         if flank_contact is None:
             if tangential_stiffness is None:
@@ -402,6 +413,9 @@ class DovetailRoot:
         for i in range(2):
             d = self.tangent_rows[i] @ a
             if not np.any(d):  # a flank tangent normal to the attached DOFs moves nothing
+                if self.normal_load_variation:
+                    raise ParameterError("normal_load_variation needs both flank tangents to move the "
+                                         "attached root DOFs (attach tangential_dof)")
                 continue
             for sl, p in table:
                 directions.append(d)
@@ -415,9 +429,15 @@ class DovetailRoot:
         radial[1] = 1.0
         f_root = self.centrifugal_force * radial + self.static.normal_force * self.normal_rows.sum(axis=0)
         force = f_root @ a
+        contacts, slider_contact = (), None
+        if self.normal_load_variation:  # one flat slider per flank, on that flank's contact
+            contacts = tuple(Contact(self.normal_rows[i] @ a, self.normal_stiffness, self.normal_damping,
+                                     self.static.normal_force, self.friction_coefficient) for i in range(2))
+            slider_contact = [0, 1]
         return Attachment(np.array(directions).reshape(len(directions), structure.n_dof), sliders,
                           np.array(preload), kn, force,
-                          self.normal_damping * nn if self.normal_damping > 0 else None)
+                          self.normal_damping * nn if self.normal_damping > 0 else None,
+                          contacts, slider_contact)
 
     def driven(self, normal_load_variation: bool = False) -> "DrivenDovetail":
         """Displacement-driven flanks starting in the static state (:class:`DrivenDovetail`).

@@ -24,10 +24,12 @@ import numpy as np
 
 from .search import ENABLED, _jit
 
-__all__ = ["check", "pack", "unpack", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS"]
+__all__ = ["check", "pack", "unpack", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS",
+           "KIND_OPEN", "KIND_CLOSE"]
 
-#: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit
-KIND_V, KIND_PLUS, KIND_MINUS = 0, 1, 2
+#: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
+#: normal load (lift-off) and an open contact's closure
+KIND_V, KIND_PLUS, KIND_MINUS, KIND_OPEN, KIND_CLOSE = 0, 1, 2, 3, 4
 
 
 @_jit

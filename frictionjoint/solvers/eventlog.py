@@ -7,7 +7,7 @@ import numpy as np
 
 __all__ = ["EventLog", "MarchState", "EVENT_KINDS"]
 
-EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
+EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop", "lift-off", "closure")
 
 
 class EventLog:
@@ -15,7 +15,8 @@ class EventLog:
 
     Kinds: ``'stick'`` (slip -> stick, a stop of finite duration begins), ``'slip'``
     (stick -> slip, start to slide), ``'normal stop'`` (zero-duration stop with reversal),
-    ``'abnormal stop'`` (zero-duration stop, same direction).
+    ``'abnormal stop'`` (zero-duration stop, same direction), and with normal-load variation
+    ``'lift-off'`` (the slider's contact opens) and ``'closure'`` (it closes again).
     """
 
     def __init__(self):

@@ -32,6 +32,9 @@ from . import consistency, piece_kernels, search
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
 _SAMPLES_PER_PERIOD = 16
+#: the status a slider takes when its event row of kind ``v`` (stop), ``o`` (lift-off) or ``c``
+#: (closure) is violated
+_AFTER = {"v": 0, "o": 2, "c": 0}
 
 
 def _absmax(a: np.ndarray) -> float:
@@ -103,11 +106,10 @@ class Marcher:
         ConfigData
             The decomposition of the configuration in which the sliders of status 0 stick.
         """
-        stuck = status == 0
-        key = stuck.tobytes()
+        key = self.system.config_key(status)
         cfg = self._configs.get(key)
         if cfg is None:
-            cfg = self._configs[key] = ConfigData(self.system, stuck)
+            cfg = self._configs[key] = ConfigData(self.system, status)
         return cfg
 
     def _pattern(self, status: np.ndarray) -> StatusPattern:
@@ -164,10 +166,18 @@ class Marcher:
             w0[pre] -= sysm.slider_preload[pre] / sysm.slider_stiffness[pre]
         w0 = check_vector("w0", w0, s.size, "n_sliders")
         jen = ~sysm.rigid
+        # slip limits at x0 (normal-load variation: mu N(x0), zero on an open contact)
+        limit = sysm.slip_force.copy()
+        opened = np.zeros(s.size, bool)
+        if sysm.n_contacts:
+            var = sysm.varying
+            limit[var] = np.maximum(limit[var] + sysm.slip_gradient[var] @ x0, 0.0)
+            opened[var] = sysm.normal_loads(x0)[sysm.slider_contact[var]] <= 0.0
+            w0[opened] = s[opened]
         # rounding of s - w0 (both may be far larger than the slip reach F/k) is allowed for
         k_jen = sysm.slider_stiffness[jen]
         over = (np.abs(k_jen * (s[jen] - w0[jen]))
-                > sysm.slip_force[jen] * (1 + 1e-12) + 4 * np.finfo(float).eps * k_jen * np.abs(s[jen]))
+                > limit[jen] * (1 + 1e-12) + 4 * np.finfo(float).eps * k_jen * np.abs(s[jen]))
         if np.any(over):
             raise ParameterError("w0 must keep every Jenkins spring force within its slip force "
                                  "(|stiffness (d.x0 - w0)| <= slip_force)")
@@ -177,9 +187,10 @@ class Marcher:
         self.v_scale = float(np.max(np.abs(v0), initial=0.0))
         # a moving Jenkins slider slips only if its spring is at the limit in the direction of motion
         tj = sysm.slider_stiffness[jen] * (s[jen] - w0[jen])
-        at_limit = np.abs(np.abs(tj) - sysm.slip_force[jen]) <= 1e-12 * sysm.slip_force[jen]
+        at_limit = np.abs(np.abs(tj) - limit[jen]) <= 1e-12 * sysm.slip_force[jen]
         moving_out = np.sign(tj) == status[jen]
         status[jen] = np.where(at_limit & moving_out, status[jen], 0)
+        status[opened] = 2
         state = MarchState(t0, x0, v0, w0, status, self.v_scale)
         self._project(state)
         self.settle(state, log)
@@ -235,15 +246,18 @@ class Marcher:
         d = sysm.slider_direction
         rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
         for i, s in enumerate(state.status):
+            if s == 2:
+                continue  # open contact: no force
             if s != 0:
                 a0[i] = s * sysm.slip_force[i]
+                ax[i] = s * sysm.slip_gradient[i]  # zero unless the limit follows a normal load
             elif not sysm.rigid[i]:
                 k = sysm.slider_stiffness[i]
                 ax[i] = k * d[i]
                 a0[i] = -k * state.w[i]
             else:
                 lr = cfg.L[rigid_row[i]]
-                ax[i] = lr @ cfg.stiffness; av[i] = lr @ sysm.damping; af[i] = -lr
+                ax[i] = lr @ cfg.stiffness; av[i] = lr @ cfg.damping; af[i] = -lr
         return Observables(ax, av, af, a0)
 
     def interval(self, state: MarchState, f_ext: np.ndarray | None = None) -> Interval:
@@ -273,7 +287,7 @@ class Marcher:
             # scalar along d (its rounding is ~ eps k |d.x|, not eps k |x|); the k w d terms stay
             # apart (constant in x: the period map stays smooth when a spring carries a preload)
             jd = pat.jst_dt
-            rhs = f_ext - self.system.stiffness @ state.x
+            rhs = f_ext - pat.cfg.base_stiffness @ state.x
             if pat.f_slip is not None:
                 rhs -= pat.f_slip
             rhs -= jd @ (pat.jst_k * (jd.T @ state.x))
@@ -415,8 +429,8 @@ class Marcher:
             if j < 0:
                 break
             i, kind = meta[j]
-            if kind == "v":
-                state.status[i] = 0
+            if kind in "voc":  # a slipping slider stops, a contact opens or closes
+                state.status[i] = _AFTER[kind]
                 forced[i] = False
             else:
                 # a cycle stick -> slip -> stick at one instant: every function is within its
@@ -457,8 +471,8 @@ class Marcher:
                                                          self.v_scale, forced)
             if j >= 0:
                 i, kind = pat.meta[j]
-                if kind == "v":
-                    state.status[i] = 0
+                if kind in "voc":
+                    state.status[i] = _AFTER[kind]
                     forced[i] = False
                     continue  # the next check projects the state on the new status
                 # the stick -> slip -> stick cycle at one instant of settle: stay stuck
@@ -483,7 +497,8 @@ class Marcher:
         new = state.status.tolist()
         for i, (a, b) in enumerate(zip(old, new)):
             if a != b:
-                kind = "stick" if b == 0 else ("slip" if a == 0 else "normal stop")
+                kind = ("lift-off" if b == 2 else "closure" if a == 2 and b == 0 else "stick" if b == 0
+                        else "slip" if a in (0, 2) else "normal stop")
                 log.append(state.t, owner[i], i, kind)
         if trigger is not None:
             i, k = trigger

@@ -1,8 +1,11 @@
 """What the marcher needs of a stick/slip status that does not depend on the state: built once
 per status and cached by :class:`.events.Marcher`.
 
-For a status (0 stuck, +1/-1 slipping) :class:`StatusPattern` holds the event functions (one row
-per slipping slider: its velocity; two per stuck slider: its force against +limit and -limit),
+For a status (0 stuck, +1/-1 slipping, 2 on an open contact) :class:`StatusPattern` holds the
+event functions (one row per slipping slider: its velocity; two per stuck slider: its force
+against +limit and -limit; with normal-load variation, the limit is ``mu N(x)`` and a slipping
+slider on a contact has a second row, its normal load (lift-off), and one on an open contact the
+single row ``-N(x)`` (closure)),
 their reduced form on the configuration's coordinates, the constant forces of the status
 (slipping sliders' friction, stuck Jenkins springs), the projection of a state onto the status,
 and the packed constant arrays of the compiled consistency test (:mod:`.consistency`).
@@ -36,7 +39,7 @@ class StatusPattern:
     __slots__ = ("system", "cfg", "meta", "obs", "red_cy", "red_cc", "red_cs", "a0c", "a0k", "widx", "has_w",
                  "has_af", "vrows", "any_v", "row_slider", "row_fs", "row_v_list", "f_slip", "jst_dt",
                  "jst_k", "jst", "has_jst", "slip_j", "slip_j_dir", "slip_j_off", "has_slip_j",
-                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern")
+                 "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern", "w_dir")
 
     def __init__(self, sysm, status: np.ndarray, cfg: ConfigData) -> None:
         n = sysm.n_dof
@@ -51,9 +54,29 @@ class StatusPattern:
         rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
         zero = np.zeros(n)
         rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
+        grad = sysm.slip_gradient
         for i, s in enumerate(status):
             fs = sysm.slip_force[i]
-            if s != 0:
+            if sysm.varying[i]:
+                # slip limit mu N(x) = fs + g.x; normal load N(x) = N0 - kn n.x (the contact's row)
+                c = sysm.slider_contact[i]
+                nrow = -sysm.contact_stiffness[c] * sysm.contact_normal[c]
+                n0 = sysm.contact_preload[c]
+                k = sysm.slider_stiffness[i]
+                if s == 2:  # open: closes when N(x) reaches 0 from below
+                    rows_x.append(-nrow); rows_v.append(zero); rows_f.append(zero)
+                    a0c.append(-n0); a0k.append(0.0); widx.append(i)
+                    meta.append((i, "c"))
+                elif s != 0:  # slipping: s w' = (s d - g/k).v >= 0, and N(x) >= 0 (lift-off)
+                    rows_x += [zero, nrow]; rows_v += [s * d[i] - grad[i] / k, zero]; rows_f += [zero, zero]
+                    a0c += [0.0, n0]; a0k += [0.0, 0.0]; widx += [i, i]
+                    meta += [(i, "v"), (i, "o")]
+                else:  # stuck: fs + g.x -+ k (d.x - w) >= 0
+                    rows_x += [grad[i] - k * d[i], grad[i] + k * d[i]]; rows_v += [zero, zero]
+                    rows_f += [zero, zero]
+                    a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
+                    meta += [(i, "+"), (i, "-")]
+            elif s != 0:
                 rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero)
                 a0c.append(0.0); a0k.append(0.0); widx.append(i)
                 meta.append((i, "v"))
@@ -65,7 +88,7 @@ class StatusPattern:
             else:
                 lr = cfg.L[rigid_row[i]]
                 hx = lr @ cfg.stiffness
-                hv = lr @ sysm.damping
+                hv = lr @ cfg.damping
                 # holding force T = -lr F + lr C v + lr Kc x
                 rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
                 a0c += [fs, fs]; a0k += [0.0, 0.0]; widx += [i, i]
@@ -96,9 +119,19 @@ class StatusPattern:
             pat.row_slider, pat.row_v_list, pat.row_fs = [], [], []
         pat.vrows = np.array(pat.row_v_list, dtype=bool)
         pat.any_v = bool(pat.vrows.any())
-        # constant force of the status: slipping sliders' friction; stuck Jenkins springs' k w d
+        # constant force of the status: slipping sliders' friction (on contacts its constant part;
+        # the part g.x is in the configuration's stiffness); open contacts take their preload off;
+        # stuck Jenkins springs' k w d
         slip = status != 0
-        pat.f_slip = d[slip].T @ (status[slip] * sysm.slip_force[slip]) if np.any(slip) else None
+        sliding = slip & (status != 2)
+        opened = status == 2
+        pat.f_slip = None
+        if np.any(sliding):
+            pat.f_slip = d[sliding].T @ (status[sliding] * sysm.slip_force[sliding])
+        if np.any(opened):
+            cs = sysm.slider_contact[opened]
+            f_open = sysm.contact_normal[cs].T @ sysm.contact_preload[cs]
+            pat.f_slip = f_open if pat.f_slip is None else pat.f_slip + f_open
         jst = (status == 0) & ~sysm.rigid
         pat.has_jst = bool(np.any(jst))
         pat.jst = jst
@@ -109,8 +142,16 @@ class StatusPattern:
         slip_j = slip & ~sysm.rigid
         pat.has_slip_j = bool(np.any(slip_j))
         pat.slip_j = slip_j
-        pat.slip_j_dir = d[slip_j]
-        pat.slip_j_off = status[slip_j] * sysm.slip_force[slip_j] / sysm.slider_stiffness[slip_j]
+        # moving Jenkins sliders: w = dir . x - off; on a contact dir = d - sig g/k (the spring
+        # force follows mu N(x)), on an open contact w = d . x
+        sig = np.where(status == 2, 0, status).astype(float)
+        kj = sysm.slider_stiffness[slip_j]
+        pat.slip_j_dir = d[slip_j] - (sig[slip_j] / kj)[:, None] * sysm.slip_gradient[slip_j]
+        pat.slip_j_off = sig[slip_j] * sysm.slip_force[slip_j] / kj
+        #: rows of w' = w_dir . v of every slider not stuck (stuck Jenkins sliders: zero rows)
+        pat.w_dir = d.copy()
+        pat.w_dir[slip_j] = pat.slip_j_dir
+        pat.w_dir[jst] = 0.0
 
     def pack(self, fscale_fixed: float, mass_scale: float) -> tuple:
         """The constant arrays of :func:`.consistency.check` for this status, packed
@@ -133,11 +174,12 @@ class StatusPattern:
         rigid_idx = np.flatnonzero(sysm.rigid)
         m = cfg.m
         n = sysm.n_dof
-        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS}
+        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS,
+                 "o": consistency.KIND_OPEN, "c": consistency.KIND_CLOSE}
         obs = pat.obs
         cy = pat.red_cy
         pat.kern = consistency.pack(
-            (sysm.stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
+            (cfg.base_stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
              pat.jst_k, cfg.N.T, cfg.mr_inv_nt, cfg.A[m:, :m], cfg.A[m:, m:], cfg.bc[m:], cfg.bs[m:],
              cy[:, :m], cy[:, m:], obs.ax, obs.af, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
              pat.row_fs, [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),

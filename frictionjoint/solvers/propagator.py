@@ -110,17 +110,43 @@ class ConfigData:
     Parameters
     ----------
     system : FrictionSystem
-    stuck : (n_sliders,) bool ndarray
-        Which sliders stick.
+    status : (n_sliders,) int ndarray
+        Stick/slip status (0 stuck, +-1 slipping, 2 on an open contact). Which sliders stick sets
+        the configuration; with normal-load variation (:attr:`FrictionSystem.varying`) so do the
+        slip directions of the sliders on contacts (their slip force ``sig mu N(x)`` is a stiffness
+        ``sig d g^T``) and the open contacts (their spring and dashpot are off).
+
+    Attributes
+    ----------
+    base_stiffness, damping : (n_dof, n_dof) ndarray
+        Stiffness without the stuck Jenkins springs (the system's, with the slip-force gradients
+        of slipping sliders on contacts and without open contacts' springs) and damping (without
+        open contacts' dashpots); the system's own arrays when there are no contacts.
+    stiffness : (n_dof, n_dof) ndarray
+        ``K_c``: ``base_stiffness`` plus the stuck Jenkins springs.
     """
 
-    def __init__(self, system, stuck: np.ndarray):
+    def __init__(self, system, status: np.ndarray):
         n = system.n_dof
         d = system.slider_direction
-        stuck = np.asarray(stuck, dtype=bool)
+        status = np.asarray(status)
+        stuck = status == 0
         rigid_stuck = stuck & system.rigid
         jen_stuck = stuck & ~system.rigid
-        kc = system.stiffness.copy()
+        kb, cb = system.stiffness, system.damping
+        if system.n_contacts:
+            kb, cb = kb.copy(), cb.copy()
+            for i in np.flatnonzero(system.varying):
+                c = system.slider_contact[i]
+                if status[i] == 2:
+                    nn = np.outer(system.contact_normal[c], system.contact_normal[c])
+                    kb -= system.contact_stiffness[c] * nn
+                    cb -= system.contact_damping[c] * nn
+                elif status[i] != 0:
+                    kb += status[i] * np.outer(d[i], system.slip_gradient[i])
+        self.base_stiffness = kb
+        self.damping = cb
+        kc = kb.copy()
         for i in np.flatnonzero(jen_stuck):
             kc += system.slider_stiffness[i] * np.outer(d[i], d[i])
         self.stiffness = kc
@@ -137,7 +163,7 @@ class ConfigData:
         mass = system.mass
         mr = nb.T @ mass @ nb
         kr = nb.T @ kc @ nb
-        cr = nb.T @ system.damping @ nb
+        cr = nb.T @ cb @ nb
         if m:
             mr_inv = np.linalg.inv(mr)
             self.mr_inv_nt = mr_inv @ nb.T
@@ -175,7 +201,7 @@ class ConfigData:
                 # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
                 # it restores digits
                 if kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref:
-                    lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ system.stiffness @ nb,
+                    lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ kb @ nb,
                                            nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
                 w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
         else:

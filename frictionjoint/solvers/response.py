@@ -237,33 +237,55 @@ class _EnergyRecord:
         self.acc = {"work": 0.0, "fric": 0.0, "visc": 0.0}
         for key in ("work", "stored", "fric", "visc"):
             out[key] = np.empty(n_t)
+        # unilateral contacts (normal-load variation): their springs' energy is
+        # kn max(N0/kn - n.x, 0)^2 / 2 (less its static value), and their preloads N0 n, internal
+        # forces, do no work; the structure's own springs are the rest of the stiffness
+        self.k_linear = system.stiffness
+        self.f_internal = None
+        if system.n_contacts:
+            nrm, kn = system.contact_normal, system.contact_stiffness
+            self.k_linear = system.stiffness - (nrm.T * kn) @ nrm
+            self.f_internal = nrm.T @ system.contact_preload
 
     def _stored(self, x, v, w):
         system = self.system
         e = 0.5 * np.einsum("ik,ij,jk->k", v, system.mass, v) + 0.5 * np.einsum(
-            "ik,ij,jk->k", x, system.stiffness, x)
+            "ik,ij,jk->k", x, self.k_linear, x)
         jen = ~system.rigid
         if np.any(jen):
             s = system.slider_direction[jen] @ x
             e = e + 0.5 * system.slider_stiffness[jen] @ (s - w[jen]) ** 2
+        if system.n_contacts:
+            kn = system.contact_stiffness[:, None]
+            e = e + np.sum((0.5 / kn) * (system.normal_loads(x) ** 2 - system.contact_preload[:, None] ** 2), axis=0)
         return e
 
     def _w_at(self, itv, x):
         """Slider positions (n_sliders, k) along the interval."""
-        system = self.system
-        s = system.slider_direction @ x
+        pat = itv.pattern
         w = np.repeat(itv.w[:, None], x.shape[1], axis=1)
-        slip = itv.status != 0
-        w[slip] = s[slip] - (itv.status[slip] * system.slip_force[slip]
-                             / system.slider_stiffness[slip])[:, None]
+        if pat.has_slip_j:
+            w[pat.slip_j] = pat.slip_j_dir @ x - pat.slip_j_off[:, None]
         return w
+
+    def _varying_friction(self, itv, nodes, wts, xq, vq) -> float:
+        """Dissipation ``int mu N |w'|`` of the slipping sliders on contacts over Gauss nodes."""
+        system = self.system
+        sl = system.varying & (itv.status != 0) & (itv.status != 2)
+        if not sl.any():
+            return 0.0
+        sig = itv.status[sl].astype(float)
+        limit = system.slip_force[sl][:, None] + system.slip_gradient[sl] @ xq
+        rate = (sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl]
+                / system.slider_stiffness[sl][:, None]) @ vq
+        return float(np.sum(wts * np.sum(limit * rate, axis=0)))
 
     def piece(self, itv, k0: int, taus: np.ndarray, tau_end: float) -> None:
         """Accumulate over the piece ``[0, tau_end]`` of ``itv``; record at the output times
         ``taus`` (local), the first of which has index ``k0``."""
         system, out, acc = self.system, self.out, self.acc
         bounds = np.concatenate([[0.0], taus, [tau_end]])
-        slip = itv.status != 0
+        slip = (itv.status != 0) & ~system.varying  # constant slip limits: slip force x slip
         fsl = system.slip_force[slip]
         d_slip = system.slider_direction[slip]
         s_start = d_slip @ itv.x0
@@ -273,8 +295,12 @@ class _EnergyRecord:
                 nodes, wts = gauss_pieces(itv, a, b)
                 xq, vq = itv.state(nodes)
                 f = system.harmonic_force(itv.t0 + nodes) + itv.f_ext[:, None]
+                if self.f_internal is not None:
+                    f -= self.f_internal[:, None]
                 acc["work"] += float(np.sum(wts * np.einsum("ik,ik->k", f, vq)))
-                acc["visc"] += float(np.sum(wts * np.einsum("ik,ij,jk->k", vq, system.damping, vq)))
+                acc["visc"] += float(np.sum(wts * np.einsum("ik,ij,jk->k", vq, itv.config.damping, vq)))
+                if system.n_contacts:
+                    acc["fric"] += self._varying_friction(itv, nodes, wts, xq, vq)
             if k < taus.size:
                 idx = k0 + k
                 xb, vb = itv.state(b)
