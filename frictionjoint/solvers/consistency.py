@@ -3,7 +3,11 @@
 The marcher settles the status at an event by testing a status, changing the most violated slider,
 and testing again (:meth:`.Marcher.settle`). Each test needs the event functions of the status and
 their first two time derivatives at the state, ``g = cy y + ax x + af F + a0`` with ``y = [0, N^T
-v]`` and ``y', y''`` from the configuration's first-order matrix ``A``, and their zero bands. In
+v]`` and ``y', y''`` from the configuration's first-order matrix ``A``, and their zero bands. The
+row of the event that brought the march here is at zero by construction (the search located its
+root): where the direct evaluation puts it slightly above zero, it is taken as zero; so are the rows
+that vanish with it (a contact closing: its slider's force and slip limit are both zero), either
+side of zero. In
 NumPy that is some thirty small array operations per test, each a few microseconds of call
 overhead for a few nanoseconds of arithmetic; :func:`check` does one test in one compiled call, and
 hands back what the closed-form piece of a consistent status starts from (``y0``, ``b0``, the
@@ -25,7 +29,7 @@ import numpy as np
 from .search import ENABLED, _jit
 
 __all__ = ["check", "pack", "unpack", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS",
-           "KIND_OPEN", "KIND_CLOSE"]
+           "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
 #: normal load (lift-off) and an open contact's closure
@@ -43,6 +47,13 @@ def _matvec(a, x):
         out[i] = s
     return out
 
+
+#: an event row located by the search (on the piece's modal closed form) that the direct
+#: evaluation here puts above zero by at most this many zero bands is at zero: the two
+#: evaluations differ by their rounding, which for a row of large terms (a contact's ``kn n.x``
+#: beside ``N0``) on a configuration with ill-conditioned modes can exceed the band; judged
+#: positive, the row would be found again at the same instant, forever
+EVENT_ROW_SLACK = 1e4
 
 #: the float and int arrays of a status, in the order :func:`pack` takes them and :func:`check` reads them
 FLOATS = ("K", "K_c", "f_slip", "jst_dt", "jst_k", "N^T", "M_r^-1 N^T", "A21", "A22", "bc", "bs", "cy_q", "cy_v",
@@ -109,7 +120,7 @@ def _positions(w, x, d, off, idx):
 
 
 @_jit
-def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced):
+def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
     """Consistency test of a status (its constant arrays ``kern``, see :meth:`.patterns.StatusPattern.pack`).
 
     Parameters
@@ -132,6 +143,13 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced):
         The marcher's velocity scale.
     forced : (n_sliders,) bool ndarray
         Sliders set slipping by this settling because their force exceeded the limit.
+    event_row : int
+        Row whose zero the event search located at ``t0`` (-1: none): taken as zero where it
+        comes out above zero by at most :data:`EVENT_ROW_SLACK` of its band (module docstring).
+    zero_rows : (k,) intp ndarray
+        Rows that vanish at the event by construction (a contact that closes: its slider's
+        force and slip limit; one that opens: its closure row): taken as zero where they come
+        out within :data:`EVENT_ROW_SLACK` of their bands, either side.
 
     Returns
     -------
@@ -226,6 +244,11 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced):
     for q in range(nr):
         tol[q] = tv if row_kind[q] == KIND_V else 1e-12 * max(row_fs[q], fscale)
     # Hong & Liu: the most violated row, normalised by its band (first of equals)
+    if event_row >= 0 and 0.0 < g[event_row] <= EVENT_ROW_SLACK * tol[event_row]:
+        g[event_row] = 0.0
+    for q in zero_rows:
+        if abs(g[q]) <= EVENT_ROW_SLACK * tol[q]:
+            g[q] = 0.0
     atzero = np.zeros(nr, np.bool_)
     best = math.inf
     j = -1

@@ -37,6 +37,20 @@ _SAMPLES_PER_PERIOD = 16
 _AFTER = {"v": 0, "o": 2, "c": 0}
 
 
+_NO_ROWS = np.zeros(0, np.intp)
+
+
+def _zero_rows(meta, trigger) -> np.ndarray:
+    """Rows of a status (``meta``) that vanish at the event ``trigger`` by construction: where a
+    contact closed (kind ``c``), its slider's force and slip limit (rows ``+``, ``-``) and its
+    normal load (row ``o``, once it slips); where one opened (``o``), its closure row."""
+    if trigger is None or trigger[1] not in "oc":
+        return _NO_ROWS
+    i, kind = trigger
+    kinds = ("+", "-", "o") if kind == "c" else ("c",)
+    return np.array([r for r, (j, k) in enumerate(meta) if j == i and k in kinds], dtype=np.intp)
+
+
 def _absmax(a: np.ndarray) -> float:
     """``max |a|`` (0 for an empty array); plain Python for the tiny arrays of the marcher."""
     if a.size <= 16:
@@ -380,7 +394,7 @@ class Marcher:
         max_iter = 4 * sysm.n_sliders + 4
         f_ext = self._f_ext(state.t)
         if self.jit:
-            itv = self._settle_compiled(state, f_ext, max_iter)
+            itv = self._settle_compiled(state, f_ext, max_iter, trigger)
             if log is not None:
                 self._log(state, old, log, trigger)
             return itv
@@ -399,6 +413,15 @@ class Marcher:
                 break
             g, dg, ddg = (a.tolist() for a in itv.start_values(red))
             tol = self._tolerances(itv)
+            if trigger is not None:
+                # the event's row is at zero, and so are the rows that vanish with it
+                # (consistency.EVENT_ROW_SLACK)
+                r = meta.index(trigger) if trigger in meta and np.array_equal(state.status, old) else -1
+                if r >= 0 and 0.0 < g[r] <= consistency.EVENT_ROW_SLACK * tol[r]:
+                    g[r] = 0.0
+                for r in _zero_rows(meta, trigger).tolist():
+                    if abs(g[r]) <= consistency.EVENT_ROW_SLACK * tol[r]:
+                        g[r] = 0.0
             rate = max(omega, itv.config.max_rate, 1e-300)
             atzero = []
             best, j = math.inf, -1
@@ -452,12 +475,13 @@ class Marcher:
             self._log(state, old, log, trigger)
         return itv
 
-    def _settle_compiled(self, state: MarchState, f_ext: np.ndarray, max_iter: int) -> Interval:
+    def _settle_compiled(self, state: MarchState, f_ext: np.ndarray, max_iter: int,
+                         trigger: tuple[int, str] | None = None) -> Interval:
         """The settling loop of :meth:`settle`, each status tested by :func:`.consistency.check`
         (one compiled call; the interval is built once, for the consistent status)."""
         forced = np.zeros(self.system.n_sliders, bool)
         visited = set()
-        for _ in range(max_iter):
+        for it in range(max_iter):
             visited.add(state.status.tobytes())
             pat = self._pattern(state.status)
             if pat.obs is None:
@@ -467,8 +491,12 @@ class Marcher:
                 cfg = pat.cfg       # the slider positions in check
                 state.v = cfg.N @ (cfg.N.T @ state.v)
             fk, ik = pat.kern if pat.kern is not None else pat.pack(self._fscale_fixed, self._mass_scale)
+            # the event's row (in the status of the piece it ended: the first test only) and the
+            # rows that vanish with it
+            er = pat.meta.index(trigger) if it == 0 and trigger is not None and trigger in pat.meta else -1
+            zr = _zero_rows(pat.meta, trigger)
             j, gj, tolj, atzero, buf = consistency.check(fk, ik, state.x, state.v, state.w, f_ext, state.t,
-                                                         self.v_scale, forced)
+                                                         self.v_scale, forced, er, zr)
             if j >= 0:
                 i, kind = pat.meta[j]
                 if kind in "voc":

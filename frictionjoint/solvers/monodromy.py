@@ -14,7 +14,8 @@ from the configuration's modal decomposition (or the matrix exponential of ``[[A
 where it is defective). The reduced coordinates ``q`` of a configuration with stuck rigid
 sliders carry the constraint: a variation off the constraint is projected away at the piece's
 start. Stuck Jenkins sliders keep their ``w``; slipping Jenkins and rigid sliders follow
-``w = d . x`` (minus the slip offset).
+``w = d . x`` (minus the slip offset; a slider on a contact, normal-load variation, ``w = (d - sig
+g/k) . x`` minus its offset, and ``w = d . x`` while the contact is open).
 
 An event ``g(Z, t) = 0`` ending a piece moves with the state; the variation just after it is the
 saltation matrix times the variation just before (Aizerman & Gantmacher; e.g. Leine & Nijmeijer,
@@ -107,12 +108,12 @@ def piece_matrix(marcher, itv, tau: float) -> np.ndarray:
         phi[:n] += cfg.N @ ymap[:m]
         phi[n:2 * n] = cfg.N @ ymap[m:]
     jst = itv.pattern.jst
-    d = marcher.system.slider_direction
+    wd = itv.pattern.w_dir  # moving sliders: w = w_dir . x - offset
     for i in range(nz - 2 * n):
         if jst[i]:
             phi[2 * n + i, 2 * n + i] = 1.0
         else:
-            phi[2 * n + i] = d[i] @ phi[:n]
+            phi[2 * n + i] = wd[i] @ phi[:n]
     return phi
 
 
@@ -147,7 +148,7 @@ def _field(system, itv, tau: float, row: int | None = None):
     else:
         v = np.zeros(n)
     moving = ~itv.pattern.jst
-    out[n:][moving] = system.slider_direction[moving] @ v
+    out[n:][moving] = itv.pattern.w_dir[moving] @ v
     if row is None:
         return out
     # g' = cy y' + w (cs cos - cc sin), as Interval.evaluate with order 1

@@ -22,7 +22,7 @@ from .events import EventLog, Marcher
 from .propagator import Observables, _phi1
 
 __all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
-           "displacement_observables"]
+           "displacement_observables", "varying_friction"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
 #: Newton iterations at most of :func:`piece_peaks` (each halves the bracket at worst)
@@ -226,6 +226,21 @@ def _check_record(record):
     return record
 
 
+def varying_friction(system, itv, wts, xq, vq) -> float:
+    """Energy [J] dissipated on the piece ``itv`` by its slipping sliders on contacts (normal-load
+    variation): ``int mu N(x) |w'| dt`` from the state ``xq, vq`` at Gauss nodes with weights
+    ``wts`` (:func:`gauss_pieces`; the integrand is smooth on a piece: exact to rounding), with
+    ``|w'| = (sig d - g/k) . v``."""
+    sl = system.varying & (itv.status != 0) & (itv.status != 2)
+    if not sl.any():
+        return 0.0
+    sig = itv.status[sl].astype(float)
+    limit = system.slip_force[sl][:, None] + system.slip_gradient[sl] @ xq
+    rate = (sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl]
+            / system.slider_stiffness[sl][:, None]) @ vq
+    return float(np.sum(wts * np.sum(limit * rate, axis=0)))
+
+
 class _EnergyRecord:
     """The energy accounting of :func:`simulate` (``record`` with ``'energy'``): work of the
     applied forces and viscous dissipation integrated by Gauss rules on each piece, friction
@@ -268,18 +283,6 @@ class _EnergyRecord:
             w[pat.slip_j] = pat.slip_j_dir @ x - pat.slip_j_off[:, None]
         return w
 
-    def _varying_friction(self, itv, nodes, wts, xq, vq) -> float:
-        """Dissipation ``int mu N |w'|`` of the slipping sliders on contacts over Gauss nodes."""
-        system = self.system
-        sl = system.varying & (itv.status != 0) & (itv.status != 2)
-        if not sl.any():
-            return 0.0
-        sig = itv.status[sl].astype(float)
-        limit = system.slip_force[sl][:, None] + system.slip_gradient[sl] @ xq
-        rate = (sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl]
-                / system.slider_stiffness[sl][:, None]) @ vq
-        return float(np.sum(wts * np.sum(limit * rate, axis=0)))
-
     def piece(self, itv, k0: int, taus: np.ndarray, tau_end: float) -> None:
         """Accumulate over the piece ``[0, tau_end]`` of ``itv``; record at the output times
         ``taus`` (local), the first of which has index ``k0``."""
@@ -300,7 +303,7 @@ class _EnergyRecord:
                 acc["work"] += float(np.sum(wts * np.einsum("ik,ik->k", f, vq)))
                 acc["visc"] += float(np.sum(wts * np.einsum("ik,ij,jk->k", vq, itv.config.damping, vq)))
                 if system.n_contacts:
-                    acc["fric"] += self._varying_friction(itv, nodes, wts, xq, vq)
+                    acc["fric"] += varying_friction(system, itv, wts, xq, vq)
             if k < taus.size:
                 idx = k0 + k
                 xb, vb = itv.state(b)
