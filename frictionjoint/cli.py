@@ -322,7 +322,7 @@ def _map(args, parser) -> int:
 
 
 def _sweep(args, parser) -> int:
-    from .sweep import _blade_definition, sweep
+    from .sweep import _blade_definition, _is_blade_fmu, sweep
 
     params = {}
     for name, value in args.settings:
@@ -341,6 +341,14 @@ def _sweep(args, parser) -> int:
               flush=True)
         fr = sweep(args.model, omegas, params, direction=args.direction, outputs=outputs,
                    progress=not args.no_progress)
+        print(fr.table())
+        return _write(fr, args)
+    if _is_blade_fmu(args.model):  # BladeDovetail.fmu: the blade on its root through fmpy
+        if args.compare or args.outputs:
+            parser.error("--compare and --outputs are for the single-DOF oscillator, not a blade FMU")
+        print(f"sweep of the blade FMU {args.model} through fmpy: {n} frequencies, omega = {w0:g} ... {w1:g} "
+              f"rad/s, direction {args.direction}", flush=True)
+        fr = sweep(args.model, omegas, params, direction=args.direction, progress=not args.no_progress)
         print(fr.table())
         return _write(fr, args)
     outputs = tuple(dict.fromkeys(["x"] + (args.outputs or [])))

@@ -289,6 +289,8 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
                                  "direction (the system is built at each omega, in the given order)")
         return system_sweep(model, omegas, progress=progress)
     driver = model if isinstance(model, Driver) else None
+    if driver is None and _is_blade_fmu(model):
+        return _blade_fmu_sweep(model, omegas, parameters, direction, outputs, progress)
     if driver is None and str(model) != "CoulombOscillator" and not (Path(model).suffix == ".fmu"
                                                                      and Path(model).is_file()):
         blade = _blade_definition(model)
@@ -355,6 +357,69 @@ def _blade_sweep(definition, omegas, parameters, direction, outputs, progress) -
     ws = check_grid("omegas", omegas, unit="rad/s")
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress)
+
+
+#: variables that make an FMU a blade FMU for :func:`sweep` (those of BladeDovetail.fmu)
+BLADE_FMU_VARIABLES = ("omega", "start_on_orbit", "orbit_found", "tip_displacement", "tip_velocity",
+                       "tip_cos_integral", "tip_sin_integral", "dissipated_energy")
+
+
+def _is_blade_fmu(model) -> bool:
+    if not isinstance(model, (str, os.PathLike)) or Path(model).suffix != ".fmu" or not Path(model).is_file():
+        return False
+    from fmpy import read_model_description
+
+    try:
+        names = {v.name for v in read_model_description(str(model)).modelVariables}
+    except Exception:  # noqa: BLE001 -- not readable: the oscillator path reports it
+        return False
+    return set(BLADE_FMU_VARIABLES) <= names
+
+
+def _blade_fmu_sweep(path, omegas, parameters, direction, outputs, progress) -> OutputSweep:
+    """:func:`sweep` of ``BladeDovetail.fmu`` through fmpy: per frequency one (re)initialisation
+    that starts on the periodic orbit (the FMU's shooting), then one communication step of a
+    period, in which the FMU integrates the tip's first harmonic exactly; the orbit is accepted
+    when the tip's displacement and velocity come back to their start values to 1e-8 of the
+    harmonic (the FMU's own check of periodicity, through the FMI interface only)."""
+    from tqdm import tqdm
+
+    from .fmi.master import FMUInstance
+
+    if direction not in ("up", "down"):
+        raise ParameterError(f"direction must be 'up' or 'down' for a blade FMU, got {direction!r}")
+    if tuple(outputs) != ("x",):
+        raise ParameterError("outputs: a blade FMU sweep reports its tip (outputs takes no other)")
+    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
+    params = dict(parameters or {})
+    inst = FMUInstance(path)
+    try:
+        unknown = [k for k in params if k not in inst.vr or k in ("omega", "start_on_orbit")]
+        if unknown:
+            raise ParameterError(f"parameters: {unknown} are not parameters of {Path(path).name} that a sweep "
+                                 "sets (omega and start_on_orbit are the sweep's)")
+        response, converged, diss, messages = [], [], [], []
+        for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
+            inst.initialize(dict(params, omega=float(w), start_on_orbit=True))
+            found, x0, v0 = inst.get(["orbit_found", "tip_displacement", "tip_velocity"])
+            period = 2 * math.pi / w
+            inst.step_to(period)
+            xc, xs, e, x1, v1 = inst.get(["tip_cos_integral", "tip_sin_integral", "dissipated_energy",
+                                          "tip_displacement", "tip_velocity"])
+            x = (xc - 1j * xs) * (2 / period)
+            closed = abs(x1 - x0) <= 1e-8 * abs(x) and abs(v1 - v0) <= 1e-8 * w * abs(x)
+            ok = bool(found) and closed
+            response.append(x)
+            converged.append(ok)
+            diss.append(e)
+            messages.append("periodic orbit (FMU)" if ok else "no periodic orbit found by the FMU" if not found
+                            else f"the FMU's orbit does not close over a period ({abs(x1 - x0):.3g} m)")
+    finally:
+        inst.close()
+    diss = np.array(diss)
+    return OutputSweep(omega=ws, output="tip", response=np.array(response), limits={}, stuck=diss == 0.0,
+                       converged=np.array(converged), dissipated_per_cycle=diss, messages=tuple(messages))
 
 
 def _check_build(build) -> None:

@@ -6,6 +6,7 @@ independent FMI importer. Usage:
                          -> two instances of the FMU in one execution, rows of each
     python tests/cosim_check.py dovetail|microslip FMU_PATH SUBSTEPS       -> DovetailRoot.fmu or
                          MicroslipJoint.fmu driven along tests/fmu_checks.py's paths
+    python tests/cosim_check.py blade FMU_PATH STEP_NS N_STEPS [VARY]    -> BladeDovetail.fmu from rest
 
 libcosim counts time in integer nanoseconds: communication points are k * STEP_NS * 1e-9 s.
 """
@@ -97,6 +98,20 @@ def dovetail(path, substeps):
     return {"rows": rows}
 
 
+def blade(path, step_ns, n_steps, vary=0):
+    """BladeDovetail.fmu in libcosim, from its static state, with ``fmu_checks.BLADE_PARAMETERS``
+    (rows of ``fmu_checks.BLADE_OUT`` after each step)."""
+    from fmu_checks import BLADE_OUT, BLADE_PARAMETERS
+
+    ex, idx, vr, obs, _ = _execution(path, int(step_ns), "blade", BLADE_PARAMETERS)
+    assert ex.boolean_initial_value(idx, vr["normal_load_variation"], bool(int(vary)))
+    rows = []
+    for _ in range(int(n_steps)):
+        assert ex.step()
+        rows.append(obs.last_real_values(idx, [vr[n] for n in BLADE_OUT]))
+    return {"rows": rows}
+
+
 def microslip(path, substeps):
     """MicroslipJoint.fmu along ``fmu_checks.microslip_loop``'s triangles, inputs set by libcosim's
     override manipulator (rows at the turning points)."""
@@ -120,6 +135,8 @@ def microslip(path, substeps):
 if __name__ == "__main__":
     if sys.argv[1] == "two":
         print(json.dumps(two(*sys.argv[2:])), flush=True)
+    elif sys.argv[1] == "blade":
+        print(json.dumps(blade(*sys.argv[2:])), flush=True)
     elif sys.argv[1] in ("dovetail", "microslip"):
         print(json.dumps(globals()[sys.argv[1]](sys.argv[2], int(sys.argv[3]))), flush=True)
     else:

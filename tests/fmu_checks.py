@@ -208,5 +208,29 @@ def microslip_loop(path, substeps):
     return {"amplitudes": amps, "rows": rows}
 
 
+#: BladeDovetail.fmu's case for the checks: the damper optimum's root load, a tip force that slips
+#: the flanks every cycle, near the first resonance (tests/test_blade_fmu.py)
+BLADE_PARAMETERS = dict(centrifugal_force=46.0, omega=2000.0, tip_force_amplitude=1.0)
+BLADE_OUT = ("tip_displacement", "tip_velocity", "root_tangential", "root_radial", "root_rocking",
+             "normal_force_right", "normal_force_left", "friction_force_right", "friction_force_left",
+             "dissipated_energy", "tip_cos_integral", "tip_sin_integral")
+
+
+def blade_steps(path, step, n_steps, vary=0):
+    """BladeDovetail.fmu from its static state, ``n_steps`` communication steps of ``step`` [s]
+    (points ``k * step``); rows of :data:`BLADE_OUT` (and the event count, the slip and lift-off
+    flags) after each step."""
+    step, n_steps = float(step), int(n_steps)
+    rows = []
+    with FMUInstance(path) as inst:
+        inst.initialize(dict(BLADE_PARAMETERS, normal_load_variation=bool(int(vary))))
+        for _ in range(n_steps):
+            inst.step(step)
+            rows.append(inst.get(list(BLADE_OUT)) + [float(v) for v in inst.get(
+                ["event_count", "slipping_right", "slipping_left", "lifted_right", "lifted_left"])])
+        messages = inst.messages
+    return {"rows": rows, "messages": messages}
+
+
 if __name__ == "__main__":
     print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])), flush=True)

@@ -31,7 +31,8 @@ from fmpy.fmi2 import FMU2Slave
 
 #: FMU -> a parameter value that exitInitializationMode rejects
 BAD = {"CoulombOscillator": ("mass", -1.0), "JenkinsJoint": ("slip_force", -1.0), "IwanJoint": ("chi", 2.0),
-       "MicroslipJoint": ("radius", 0.0), "DovetailRoot": ("flank_angle", 2.0)}
+       "MicroslipJoint": ("radius", 0.0), "DovetailRoot": ("flank_angle", 2.0),
+       "BladeDovetail": ("friction_coefficient", 0.0)}
 #: FMU -> (parameter varied per instance: name -> value for instance i; input signals: name -> u(i, t))
 CASES = {
     "CoulombOscillator": ({"slip_force": lambda i: 0.1 + 0.05 * i},
@@ -45,6 +46,9 @@ CASES = {
     "DovetailRoot": ({"centrifugal_force": lambda i: 1e4 * (1 + 0.1 * i)},
                      {"u_tangential": lambda i, t: (1 + 0.1 * i) * 3e-5 * math.sin(t),
                       "u_radial": lambda i, t: 1e-5 * math.sin(0.5 * t + i)}),
+    # the root stuck (its full centrifugal load): 6 s of a 2000 rad/s response stay cheap
+    "BladeDovetail": ({"centrifugal_force": lambda i: 2e4 * (1 + 0.1 * i)},
+                      {"tip_force": lambda i, t: 0.2 * math.sin(0.7 * t + i)}),
 }
 N_STEPS = 24  # communication steps of H; the state is saved at SAVE and restored at RESTORE
 H = 0.25

@@ -13,7 +13,7 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
-__all__ = ["FMUS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "build_fmus", "postprocess", "validate",
+__all__ = ["FMUS", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "build_fmus", "postprocess", "validate",
            "default_source_dir"]
 
 BUNDLE_NAME = "_frictionjoint_bundle"
@@ -24,7 +24,11 @@ FMUS = {
     "IwanJoint": "fj_iwan_joint_fmu.py",
     "MicroslipJoint": "fj_microslip_joint_fmu.py",
     "DovetailRoot": "fj_dovetail_root_fmu.py",
+    "BladeDovetail": "fj_blade_dovetail_fmu.py",
 }
+#: FMUs that carry a blade model definition in their resources: FMU name -> the definition
+#: (a name in the repository's ``models/``)
+BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
 #: the script of LinearStructure.fmu (one per structure definition, built by ``structures=``)
 STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
 
@@ -117,13 +121,31 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # the builder imports each script, and so the bundle: set aside a bundle this process has
     # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
     # it back afterwards, for those FMUs
-    loaded = {m: sys.modules.pop(m) for m in list(sys.modules) if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")}
+    # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
+    # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
+    # later in this process would reuse the build's script, bound to the removed build bundle
+    scripts = {Path(f).stem for f in (*FMUS.values(), STRUCTURE_SCRIPT)}
+
+    def ours(m):
+        return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
+    loaded = {m: sys.modules.pop(m) for m in list(sys.modules) if ours(m)}
     with tempfile.TemporaryDirectory(prefix="frictionjoint_fmu_") as tmpd:
         tmp = Path(tmpd)
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            jobs = [(FMUS[n], out / f"{n}.fmu", [bundle]) for n in names]
+            jobs = []
+            for n in names:
+                files = [bundle]
+                if n in BLADE_MODELS:  # the definition travels in the resources
+                    from ..structures import load_blade_model
+                    from .slaves import BLADE_RESOURCE
+
+                    data = tmp / n / BLADE_RESOURCE
+                    data.parent.mkdir()
+                    shutil.copyfile(load_blade_model(BLADE_MODELS[n]).path, data)
+                    files.append(data)
+                jobs.append((FMUS[n], out / f"{n}.fmu", files))
             for d in structures:
                 data = tmp / d.name / STRUCTURE_RESOURCE
                 data.parent.mkdir()
@@ -142,7 +164,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
                 built.append(Path(path))
         finally:
             sys.path.remove(str(tmp))
-            for mod in [m for m in sys.modules if m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".")]:
+            for mod in [m for m in sys.modules if ours(m)]:
                 del sys.modules[mod]
             sys.modules.update(loaded)
     return built

@@ -32,13 +32,18 @@ from ..errors import ParameterError, check_positive
 from ..solvers.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 from ..structure_file import StructureDefinition
+from ..structures.blade_run import BLADE_OUTPUTS, BladeRun, blade_parameters
+from ..structures.models import load_blade_model
 from .wrapper import BalancedSlave
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
-           "DovetailRootSlave", "LinearStructureSlave", "STRUCTURE_RESOURCE"]
+           "DovetailRootSlave", "LinearStructureSlave", "BladeDovetailSlave", "STRUCTURE_RESOURCE",
+           "BLADE_RESOURCE"]
 
 #: file name of the structure definition in LinearStructure.fmu's resources
 STRUCTURE_RESOURCE = "structure.json"
+#: file name of the blade model definition in BladeDovetail.fmu's resources
+BLADE_RESOURCE = "blade_model.toml"
 
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 
@@ -582,3 +587,49 @@ class LinearStructureSlave(_Slave):
         for kind, values in snap["inputs"].items():
             for dof, value in zip(self._definition.ports, values):
                 setattr(self, f"joint_{kind}_{dof}", value)
+
+
+class BladeDovetailSlave(_Slave):
+    """A blade model definition on its dovetail root (the definition in the FMU's resources),
+    marched exactly inside ``do_step`` (:class:`~frictionjoint.structures.blade_run.BladeRun`)."""
+
+    description = ("Blade (Craig-Bampton beam, rotating) on a dovetail root with two flat flanks under the "
+                   "centrifugal load, harmonic tip force; exact event-driven stick/slip (and lift-off with "
+                   "normal_load_variation) located inside do_step")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._model = load_blade_model(os.path.join(kwargs["resources"], BLADE_RESOURCE))
+        for name, (default, text) in blade_parameters(self._model).items():
+            self._parameter(name, default, text, kind=type(default))
+        self._input("tip_force", 0.0, "extra force at the tip, added to the harmonic one, held over a step [N]")
+        for name, (kind, text) in BLADE_OUTPUTS.items():
+            self._output(name, text, kind=kind)
+        self._run = None
+
+    def _initialise(self):
+        params = {k: getattr(self, k) for k in blade_parameters(self._model)}
+        self._run = BladeRun(self._model, params, start_time=self.start_time, tip_force=self.tip_force)
+
+    def _out(self, name):
+        if self._run is None:
+            return BLADE_OUTPUTS[name][0]()
+        return self._run.output(name)
+
+    def _do_step(self, current_time, step_size):
+        try:
+            if self.tip_force != self._run.tip_force:
+                self._run.hold(self.tip_force)
+            self._run.advance(current_time + step_size)
+        except ParameterError as exc:
+            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
+            return False
+        return True
+
+    def _snapshot(self):
+        return None if self._run is None else self._run.snapshot()
+
+    def _restore(self, snap):
+        if snap is not None:
+            self._run.restore(snap)
+            self.tip_force = snap["tip_force"]

@@ -22,7 +22,7 @@ from .events import EventLog, Marcher
 from .propagator import Observables, _phi1
 
 __all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
-           "displacement_observables", "varying_friction"]
+           "displacement_observables", "varying_friction", "piece_slip"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
 #: Newton iterations at most of :func:`piece_peaks` (each halves the bracket at worst)
@@ -239,6 +239,25 @@ def varying_friction(system, itv, wts, xq, vq) -> float:
     rate = (sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl]
             / system.slider_stiffness[sl][:, None]) @ vq
     return float(np.sum(wts * np.sum(limit * rate, axis=0)))
+
+
+def piece_slip(system, itv, tau_end: float, dx: np.ndarray) -> tuple[np.ndarray, float]:
+    """Slip ``|dw|`` [m] of each slider over the piece ``[0, tau_end]`` of ``itv`` (zero where it
+    sticks or its contact is open; ``w`` is monotonic on a slipping piece), from the piece's
+    displacement change ``dx``, and the friction energy [J] dissipated on it: ``slip_force |dw|``,
+    or ``int mu N |w'|`` for sliders on contacts (:func:`varying_friction`)."""
+    ds = np.zeros(system.n_sliders)
+    slip = (itv.status != 0) & (itv.status != 2)
+    if not slip.any():
+        return ds, 0.0
+    ds[slip] = np.abs(itv.pattern.w_dir[slip] @ dx)
+    const = slip & ~system.varying
+    energy = float(system.slip_force[const] @ ds[const])
+    if np.any(slip & system.varying):
+        nodes, wts = gauss_pieces(itv, 0.0, tau_end)
+        xq, vq = itv.state(nodes)
+        energy += varying_friction(system, itv, wts, xq, vq)
+    return ds, energy
 
 
 class _EnergyRecord:

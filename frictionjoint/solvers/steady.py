@@ -23,7 +23,7 @@ from ..system import FrictionSystem
 from ..results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
-from .response import displacement_observables, gauss_pieces, piece_fourier, piece_peaks, varying_friction
+from .response import displacement_observables, piece_fourier, piece_peaks, piece_slip
 from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT"]
@@ -336,18 +336,9 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
         ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
         a1[:] += ca
         b1[:] += sa
-        slip = (itv.status != 0) & (itv.status != 2)
-        if slip.any():
-            # slip |dw| (monotonic on a piece): d . dx, or on a contact (d - sig g/k) . dx
-            d = itv.pattern.w_dir[slip]
-            ds = np.abs(d @ (x_end[:, 1] - x_end[:, 0]))
-            slipped[slip] += ds
-            const = ~system.varying[slip]
-            diss[0] += float(system.slip_force[slip][const] @ ds[const])
-            if not const.all():  # mu N(x) |w'| integrated on the piece
-                nodes, wts = gauss_pieces(itv, 0.0, tau_end)
-                xq, vq = itv.state(nodes)
-                diss[0] += varying_friction(system, itv, wts, xq, vq)
+        ds, energy = piece_slip(system, itv, tau_end, x_end[:, 1] - x_end[:, 0])
+        slipped[:] += ds
+        diss[0] += energy
 
     if orbit is not None:
         _, _, pieces, log = orbit

@@ -15,11 +15,15 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+# imported here, not in from_model: BladeDovetail.fmu builds its assembly there, and in an FMU a
+# late import may resolve against another FMU's bundle (see frictionjoint.fmi.slaves)
+from ..elements.dovetail import DovetailRoot
 from ..errors import ParameterError, check_real
 from ..excitation import HarmonicForce
 from ..results import OutputSweep, PeriodicResponse, SystemSweep, TimeResponse
 from ..structure import LinearStructure
 from ..system import FrictionSystem
+from .reduction import craig_bampton
 
 __all__ = ["BladeAssembly"]
 
@@ -71,9 +75,6 @@ class BladeAssembly:
         -------
         BladeAssembly
         """
-        from ..elements.dovetail import DovetailRoot
-        from .reduction import craig_bampton
-
         blade = model.blade(**blade_overrides)
         tip = f"w{blade.n_elements}"
         reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], n_modes, loaded_dofs=[tip])

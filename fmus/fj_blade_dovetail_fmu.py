@@ -1,0 +1,6 @@
+"""FMU script: BladeDovetail.fmu (thin adapter; physics in the bundled frictionjoint)."""
+from _frictionjoint_bundle.fmi.slaves import BladeDovetailSlave
+
+
+class BladeDovetail(BladeDovetailSlave):
+    """Craig-Bampton blade on its dovetail root, harmonic tip force, exact stick/slip inside do_step."""

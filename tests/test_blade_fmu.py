@@ -1,0 +1,124 @@
+"""BladeDovetail.fmu: the Ti compressor blade (models/ti64_compressor_blade.toml) on its dovetail
+root as one FMU. References: the library's march of the same assembly (fj.simulate), the library's
+sweep of the definition (BladeAssembly.frequency_response), and the other importers (libcosim,
+Ecos) against fmpy. Each fmpy run is a subprocess (tests/fmu_checks.py)."""
+import json
+import math
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from fmu_checks import BLADE_OUT, BLADE_PARAMETERS
+from frictionjoint.structures import BladeAssembly, load_blade_model
+
+HERE = Path(__file__).parent
+OMEGA = BLADE_PARAMETERS["omega"]
+PERIOD = 2 * math.pi / OMEGA
+
+
+def run(check, path, *args):
+    proc = subprocess.run([sys.executable, str(HERE / "fmu_checks.py"), check, str(path), *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def library_system(vary: bool):
+    asm = BladeAssembly.from_model(load_blade_model("ti64_compressor_blade")).with_root(
+        centrifugal_force=BLADE_PARAMETERS["centrifugal_force"], normal_load_variation=vary)
+    return asm, asm.system(OMEGA)
+
+
+@pytest.mark.parametrize("vary", [0, 1])
+def test_blade_fmu_is_step_independent_and_is_the_library_march(fmus, vary):
+    """Three periods from the static state in 1 and in 40 communication steps per period: events
+    are located inside do_step, so the outputs at the common points agree to 1e-9 (measured
+    ~1e-13), and they are the library's march of the same assembly (tip, root coordinates)."""
+    coarse = np.array(run("blade_steps", fmus["BladeDovetail"], PERIOD, 3, vary)["rows"])
+    fine = np.array(run("blade_steps", fmus["BladeDovetail"], PERIOD / 40, 120, vary)["rows"])[39::40]
+    scale = np.max(np.abs(fine), axis=0) + 1e-300
+    n = len(BLADE_OUT)
+    assert np.max(np.abs(coarse[:, :n] - fine[:, :n]) / scale[:n]) <= 1e-9
+    assert fine[-1, BLADE_OUT.index("dissipated_energy")] > 0 and fine[-1, n] > 10  # the flanks slipped
+    asm, system = library_system(bool(vary))
+    lib = fj.simulate(system, 3 * PERIOD, t_eval=PERIOD * np.arange(1, 4), record=("x",))
+    tip = asm._row(asm.tip) @ lib.x
+    names = system.structure.dof_names
+    root = lib.x[[names.index("w0"), names.index("u0"), names.index("t0")]]
+    cols = [BLADE_OUT.index(c) for c in ("root_tangential", "root_radial", "root_rocking")]
+    assert np.max(np.abs(fine[:, BLADE_OUT.index("tip_displacement")] - tip)) <= 1e-9 * np.max(np.abs(tip))
+    for k, c in enumerate(cols):
+        assert np.max(np.abs(fine[:, c] - root[k])) <= 1e-9 * np.max(np.abs(root[k]))
+
+
+def test_blade_fmu_sweep_equals_the_library_sweep(fmus):
+    """frictionjoint.sweep of BladeDovetail.fmu (through fmpy: the FMU starts on the orbit, one
+    communication step of a period integrates the tip's first harmonic) equals the library's
+    sweep of the definition to 1e-8 at every point both converged (measured 5e-12), with the
+    frozen and with the varying normal loads."""
+    omegas = np.array([1800.0, 1950.0, 2030.0])
+    for vary in (False, True):
+        params = {"centrifugal_force": 46.0, "normal_load_variation": vary}
+        a = fj.sweep(str(fmus["BladeDovetail"]), omegas, params)
+        b = fj.sweep("ti64_compressor_blade", omegas, params)
+        ok = a.converged & b.converged
+        assert ok.sum() >= 2, (a.messages, b.messages)
+        rel = np.abs(a.response - b.response)[ok] / np.abs(b.response)[ok]
+        assert np.max(rel) <= 1e-8
+        diss = np.abs(a.dissipated_per_cycle - b.dissipated_per_cycle)[ok] / b.dissipated_per_cycle[ok]
+        assert np.max(diss) <= 1e-8
+
+
+def test_blade_fmu_in_libcosim_equals_fmpy(fmus):
+    if not (sys.version_info[:2] == (3, 11) and sys.platform == "linux" and platform.machine() == "x86_64"):
+        pytest.skip("no libcosimpy wheel for this interpreter/platform")
+    step_ns = 392699  # ~T/8; libcosim's points are k * step_ns ns: fmpy is run on the same points
+    proc = subprocess.run([sys.executable, str(HERE / "cosim_check.py"), "blade", str(fmus["BladeDovetail"]),
+                           str(step_ns), "24", "1"], capture_output=True, text=True, timeout=600, cwd=HERE)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    cosim = np.array(json.loads(proc.stdout.strip().splitlines()[-1])["rows"])
+    ref = np.array(run("blade_steps", fmus["BladeDovetail"], step_ns * 1e-9, 24, 1)["rows"])[:, :len(BLADE_OUT)]
+    assert np.max(np.abs(cosim - ref) / (np.max(np.abs(ref), axis=0) + 1e-300)) <= 1e-12
+
+
+def test_two_blade_instances_in_ecos_equal_this_master(fmus):
+    """Two BladeDovetail instances (different root loads) in one Ecos execution through SSP equal
+    this library's master."""
+    ecospy = pytest.importorskip("ecospy", reason="Ecos not installed (pip install ecospy)")
+    try:
+        ecospy.EcosLib.version()
+    except Exception as exc:  # noqa: BLE001 -- e.g. libtbb.so.12 missing
+        pytest.skip(f"the Ecos library cannot load here ({exc}); on Debian: apt-get install libtbb12")
+    from frictionjoint.fmi.cosim import FMUSystem
+    from frictionjoint.fmi.ecos import run_ecos
+
+    comps = {"a": fmus["BladeDovetail"], "b": fmus["BladeDovetail"]}
+    params = {"a": dict(BLADE_PARAMETERS), "b": dict(BLADE_PARAMETERS, centrifugal_force=400.0,
+                                                     friction_coefficient=0.2)}
+    s = FMUSystem(comps, [], params)
+    outs = ["a.tip_displacement", "b.tip_displacement", "a.dissipated_energy", "b.dissipated_energy",
+            "a.normal_force_right", "b.friction_force_left"]
+    e = run_ecos(s, 2 * PERIOD, PERIOD / 10, outs)
+    assert e.success, e.message
+    f = s.simulate(2 * PERIOD, PERIOD / 10, outs)
+    for k in outs:
+        ref = np.asarray(f[k])
+        assert np.max(np.abs(np.asarray(e[k]) - ref)) <= 1e-9 * max(np.max(np.abs(ref)), 1e-300), k
+    assert not np.allclose(e["a.tip_displacement"], e["b.tip_displacement"])  # two instances, two states
+
+
+@pytest.mark.parametrize("name, value, text", [
+    ("n_modes", -1, "n_modes must be an integer >= 0"),
+    ("friction_coefficient", 0.0, "friction_coefficient must be > 0"),
+    ("omega", -5.0, "omega must be > 0"),
+    ("centrifugal_force", -1.0, "centrifugal_force must be >= 0"),
+])
+def test_blade_fmu_rejects_bad_parameters_with_a_message(fmus, name, value, text):
+    res = run("bad_parameter", fmus["BladeDovetail"], name, json.dumps(value))
+    assert res["raised"] is not None
+    assert any(text in m for m in res["messages"]), res["messages"]
