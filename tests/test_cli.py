@@ -233,3 +233,23 @@ def test_sweep_blade_model_with_its_linear_limits(tmp_path):
     assert png.read_bytes()[:8] == PNG_MAGIC
     bad = run("sweep", "ti64_compressor_blade", "--set", "flank=1", "--omega", "1800:2100:2")
     assert bad.returncode != 0 and "flank" in bad.stderr
+
+
+def test_sweep_blade_fmu_equals_the_library_sweep(fmus, tmp_path):
+    """``sweep BladeDovetail.fmu``: the blade FMU through fmpy; its CSV equals the library's sweep
+    of the definition (to 1e-8; tests/test_blade_fmu.py for more)."""
+    import numpy as np
+
+    import frictionjoint as fj
+    from frictionjoint.results import OutputSweep
+
+    table = tmp_path / "fmu.csv"
+    proc = run("sweep", str(fmus["BladeDovetail"]), "--set", "centrifugal_force=46", "--omega", "1900:2000:2",
+               "--csv", str(table), "--no-progress")
+    assert proc.returncode == 0, proc.stderr
+    assert "2 of 2 points converged" in proc.stdout
+    fr = OutputSweep.from_csv(table)
+    lib = fj.sweep("ti64_compressor_blade", fr.omega, {"centrifugal_force": 46.0})
+    assert np.max(np.abs(fr.response - lib.response) / np.abs(lib.response)) <= 1e-8
+    bad = run("sweep", str(fmus["BladeDovetail"]), "--set", "flank=1", "--omega", "1800:2100:2")
+    assert bad.returncode != 0 and "flank" in bad.stderr
