@@ -427,7 +427,7 @@ def _check_build(build) -> None:
         raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
 
 
-def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> SystemSweep:
+def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, peaks: bool = True) -> SystemSweep:
     """Periodic steady state of ``build(omega)`` at each ``omega`` [rad/s], in the given order,
     each started from the previous orbit (its state at ``t = 0``).
 
@@ -439,6 +439,9 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> 
         Angular frequencies [rad/s], > 0.
     progress : bool
         Show a progress bar.
+    peaks : bool
+        Locate each orbit's displacement peaks (``amplitude``); false: NaN there but on stuck
+        orbits, the first harmonics only (:func:`~frictionjoint.solvers.steady.periodic_response`).
 
     Returns
     -------
@@ -457,9 +460,9 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> 
         system = check_system("build(omega)", build(float(w)), FrictionSystem)
         n = system.n_dof
         if z is None or not np.all(np.isfinite(z)):
-            r = periodic_response(system)
+            r = periodic_response(system, peaks=peaks)
         else:
-            r = periodic_response(system, z[:n], z[n:2 * n], z[2 * n:] if z.size > 2 * n else None)
+            r = periodic_response(system, z[:n], z[n:2 * n], z[2 * n:] if z.size > 2 * n else None, peaks=peaks)
         z = r.initial_state if r.converged else None
         rows.append(r)
     return SystemSweep(
@@ -472,7 +475,8 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False) -> 
 
 
 def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int = 0, n_grid: int = 25,
-                  xtol: float = 1e-6, output: ArrayLike | None = None) -> tuple[float, float, SystemSweep]:
+                  xtol: float = 1e-6, output: ArrayLike | None = None,
+                  peaks: bool = True) -> tuple[float, float, SystemSweep]:
     """Resonance peak of the first-harmonic amplitude of DOF ``dof`` (or of the output ``output .
     x``) over ``[omega_min, omega_max]``.
 
@@ -494,6 +498,9 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
     output : (n_dof,) array_like, optional
         Coefficients of an output linear in the DOFs (e.g. a blade tip recovered from a reduced
         model), maximised instead of DOF ``dof``.
+    peaks : bool
+        Locate the displacement peaks of the bracketing sweep's orbits (its ``amplitude``;
+        :func:`system_sweep`); the search itself needs the first harmonics only.
 
     Returns
     -------
@@ -524,13 +531,13 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
         return sw.harmonic_amplitude[:, dof] if output is None else np.abs(sw.harmonics @ row)
 
     grid = np.linspace(lo, hi, n_grid)
-    sw = system_sweep(build, grid)
+    sw = system_sweep(build, grid, peaks=peaks)
     amps = first_harmonic(sw)
     i = int(np.argmax(amps))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
 
     def neg(w):
-        return -float(first_harmonic(system_sweep(build, [w]))[0])
+        return -float(first_harmonic(system_sweep(build, [w], peaks=False))[0])  # harmonics only
 
     res = scipy.optimize.minimize_scalar(neg, bounds=(a, b), method="bounded",
                                          options={"xatol": xtol * b})

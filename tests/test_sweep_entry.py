@@ -78,3 +78,24 @@ def test_bad_input_names_the_parameter(kwargs, word):
     args.update(kwargs)
     with pytest.raises(ParameterError, match=word):
         fj.sweep(**args)
+
+
+def test_system_sweep_without_peaks_has_the_same_harmonics():
+    """``peaks=False`` (what BladeAssembly.frequency_response and peak_response's refinement use)
+    skips locating the displacement peaks: amplitude NaN (but on stuck orbits, whose closed form
+    gives it for free), and every other number of the sweep bit for bit the same (harmonics,
+    phases, dissipation, stuck, convergence)."""
+    from frictionjoint.sweep import system_sweep
+
+    st = fj.LinearStructure(np.diag([1.0, 0.5]), [[3.0, -1.0], [-1.0, 1.0]], 0.02 * np.eye(2))
+
+    def build(w):
+        return fj.FrictionSystem(st, [fj.Jenkins(2.0, 0.3, dof=1)], omega=w,
+                                 excitation=[fj.HarmonicForce(0, 0.5)])
+    ws = [0.5, 0.9, 1.2, 1.8]
+    a = system_sweep(build, ws)
+    b = system_sweep(build, ws, peaks=False)
+    assert np.all(np.isfinite(a.amplitude)) and a.converged.all() and a.stuck.any() and not a.stuck.all()
+    assert np.array_equal(a.amplitude[a.stuck], b.amplitude[a.stuck]) and np.all(np.isnan(b.amplitude[~a.stuck]))
+    for name in ("harmonic_amplitude", "phase", "dissipated_per_cycle", "stuck", "converged"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name

@@ -306,10 +306,10 @@ def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jaco
     return pmap, z, pz, periods
 
 
-def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
+def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit, peaks: bool = True):
     """The orbit's period on its closed-form pieces (those of the map's last call at ``z``, or
-    marched again): per-DOF peaks, first-harmonic coefficients ``a1, b1``, friction dissipation,
-    whether all stuck, the state at ``t = 0`` and the event log."""
+    marched again): per-DOF peaks (NaN unless ``peaks``), first-harmonic coefficients ``a1, b1``,
+    friction dissipation, whether all stuck, the state at ``t = 0`` and the event log."""
     period = pmap.period
     t_s = pmap.t_s
     log = EventLog()
@@ -332,7 +332,10 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
             z0[0] = pmap.vector(st0)
         if tau_end <= 0:
             return
-        x_end = piece_peaks(itv, tau_end, amp)
+        if peaks:
+            x_end = piece_peaks(itv, tau_end, amp)
+        else:  # the piece's ends only (evaluated as piece_peaks does: the same numbers)
+            x_end = itv.state(np.array([0.0, tau_end]))[0]
         ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
         a1[:] += ca
         b1[:] += sa
@@ -348,14 +351,18 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit):
         pmap(z, log=log, on_interval=on_interval)
     # stuck: no slider slips by more than rounding of its displacement over the period (a flank
     # shaken down to its slip limit grazes it every cycle: a slip piece of ~1e-12 s, 1e-21 m)
-    stuck_all = bool(np.all(slipped <= 1e-12 * (np.abs(system.slider_direction) @ amp)))
+    # (without the peaks, the first harmonic's amplitude is the displacement scale)
+    scale = amp if peaks else np.hypot(a1, b1) * (2 / period)
+    stuck_all = bool(np.all(slipped <= 1e-12 * (np.abs(system.slider_direction) @ scale)))
+    if not peaks:
+        amp = np.full(ndof, np.nan)
     return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all, z0[0], log
 
 
 def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
                       w0: ArrayLike | None = None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,
-                      n_samples: int = 0, jacobian: str = "exact") -> PeriodicResponse:
+                      n_samples: int = 0, jacobian: str = "exact", peaks: bool = True) -> PeriodicResponse:
     """Periodic steady state of a harmonically excited :class:`FrictionSystem`.
 
     Parameters
@@ -378,6 +385,11 @@ def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike
         Jacobian of the period map for Newton: ``'exact'`` (the monodromy matrix from the
         closed-form pieces and the events' saltation matrices, no extra marching) or ``'fd'``
         (finite differences, one period per state component; a check and a baseline).
+    peaks : bool
+        Locate the displacement peaks over the period (``amplitude``; every velocity reversal of
+        every DOF, half of a point's time on the blade at its damper optimum); false:
+        ``amplitude`` is NaN unless the orbit is stuck (its closed form gives it), for a sweep
+        that needs the first harmonics only.
 
     Returns
     -------
@@ -395,7 +407,8 @@ def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike
         raise ParameterError(f"jacobian must be 'exact' or 'fd', got {jacobian!r}")
     m = marcher if marcher is not None else Marcher(system)
     try:
-        return _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian)
+        return _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian,
+                                  bool(peaks))
     except (ConvergenceError, np.linalg.LinAlgError) as exc:
         # a failed march (no consistent stick/slip status, chattering, a non-finite state) is a
         # status of the result, not an exception for the caller to catch
@@ -410,7 +423,7 @@ def failed_response(omega: float, n_dof: int, message: str) -> PeriodicResponse:
                             periods=0.0, status="failed")
 
 
-def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian):
+def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian, peaks=True):
     period = 2 * math.pi / system.omega
     st = m.initial_state(x0, v0, w0, t0=0.0)
     linear = _stuck_orbit(system, m, st, tol, n_samples)
@@ -434,7 +447,7 @@ def _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_sa
             jac = pmap.jacobian(z, pz_orbit, pmap.scales(z))
         unique = not has_unit_eigenvalue(jac, pmap.scales(z))
 
-    amp, a1, b1, diss, stuck_all, z0, log = _orbit_period(system, m, pmap, z, orbit)
+    amp, a1, b1, diss, stuck_all, z0, log = _orbit_period(system, m, pmap, z, orbit, peaks)
     periods += pmap.calls  # every call of the period map marches one period
     t_s = pmap.t_s
     stops = log.count("stick")

@@ -207,8 +207,12 @@ class BladeAssembly:
         dof = self.tip if dof is None else str(dof)
         if dof is None:
             raise ParameterError("dof: the assembly has no loads, name the output DOF")
+        from ..sweep import system_sweep
+
         row = self._row(dof)
-        sw = self.sweep(omegas, progress=progress)
+        # the first harmonics only: no displacement peaks located (half a point's time at the
+        # damper optimum)
+        sw = system_sweep(self.system, omegas, progress=progress, peaks=False)
         limits = {name: st.harmonic_response(sw.omega, self._force) @ row
                   for name, st in limit_structures(self.system(float(sw.omega[0]))).items()}
         return OutputSweep(omega=sw.omega, output=dof, response=sw.harmonics @ row, limits=limits, stuck=sw.stuck,
@@ -257,7 +261,7 @@ class BladeAssembly:
         from ..sweep import peak_response
 
         w, amp, _ = peak_response(self.system, omega_min, omega_max, n_grid=n_grid, xtol=xtol,
-                                  output=self._row(dof))
+                                  output=self._row(dof), peaks=False)  # the sweep is not returned
         return w, amp
 
     def first_harmonic(self, response: PeriodicResponse, dof: str) -> complex:

@@ -128,7 +128,7 @@ class BladeRun:
         x0 = v0 = np.zeros(n)
         w0 = None
         if p["start_on_orbit"]:
-            orbit = periodic_response(self.system, marcher=self.marcher)
+            orbit = periodic_response(self.system, marcher=self.marcher, peaks=False)  # its state only
             if orbit.converged and orbit.initial_state is not None:
                 z = orbit.initial_state
                 x0, v0 = z[:n], z[n:2 * n]
