@@ -12,6 +12,7 @@ from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
 from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import EventLog, Marcher
+from .solvers.hbm import harmonic_balance
 from .solvers.response import simulate
 from .solvers.sdof import SdofCoulomb
 from .solvers.steady import periodic_response
@@ -38,6 +39,7 @@ __all__ = [
     "FrictionSystem",
     "HarmonicBaseMotion",
     "HarmonicForce",
+    "harmonic_balance",
     "Iwan",
     "Jenkins",
     "LinearStructure",

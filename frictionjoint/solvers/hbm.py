@@ -1,0 +1,313 @@
+"""Multi-harmonic balance of friction systems, with exact hysteresis and condensation to the joints.
+
+The periodic response is sought as ``x(t) = Re(sum_{h=0..H} X_h e^{i h omega t})``. The joints act
+on few coordinates, the distinct slider directions ``q = G x``; the linear part (structure, base
+springs, the joints' linear springs and, for every Jenkins slider, its spring as if stuck) is solved
+per harmonic in closed form, ``X_h = Z_h^-1 (F_h - G^T R_h)`` with ``Z_h = K - (h w)^2 M + i h w
+C``, so the unknowns are the harmonics of ``q`` only (``n_q (2H + 1)`` reals, whatever the size of
+the structure):
+
+    r(q) = q - G Z^-1 F + G Z^-1 G^T R(q) = 0,
+
+``R`` the joints' forces less their stuck springs. ``R(q)`` is the alternating frequency-time step
+without time discretisation: each slider's force over the period from its own exact return map,
+its Fourier coefficients and their derivatives in closed form (:mod:`.hysteresis`); the Jacobian
+``I + G Z^-1 G^T dR/dq`` is analytic. Newton's method with a backtracking line search solves it.
+
+Scope: Jenkins sliders (Jenkins, Iwan, flat dovetail flanks with the frozen normal load) and rigid
+Coulomb sliders in continuous sliding (``T = F sgn(q')``: stops are not represented); harmonic
+forces and base motion, the joints' constant loads in the mean.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+
+from ..errors import ParameterError, check_count, check_positive, check_system
+from ..results.harmonic import HarmonicBalance
+from ..system import FrictionSystem
+from . import hysteresis
+
+__all__ = ["harmonic_balance", "Condensed"]
+
+
+class Condensed:
+    """The linear part of a system condensed to its joint coordinates at one frequency.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The system (its ``omega`` is the frequency).
+    n_harmonics : int
+        ``H``.
+    """
+
+    def __init__(self, system: FrictionSystem, n_harmonics: int):
+        if system.external:
+            raise ParameterError("harmonic_balance: held external forces (ExternalForce) are not periodic")
+        if system.n_contacts:
+            raise ParameterError("harmonic_balance: normal-load variation (contacts) is not supported yet; "
+                                 "use the frozen normal load (normal_load_variation=False)")
+        if system.n_sliders == 0:
+            raise ParameterError("harmonic_balance: the system has no joint sliders (a linear system)")
+        self.system = system
+        hh = self.n_harmonics = int(n_harmonics)
+        w = self.omega = system.omega
+        d = system.slider_direction
+        rows, inverse = np.unique(d, axis=0, return_inverse=True)
+        self.G = rows  # (n_q, n): the distinct slider directions
+        self.slider_q = np.asarray(inverse).reshape(-1)
+        self.n_q = rows.shape[0]
+        jen = ~system.rigid
+        k_lin = system.stiffness + (d[jen].T * system.slider_stiffness[jen]) @ d[jen]
+        self.k_stuck = np.zeros(self.n_q)  # stuck springs per coordinate, in the linear part
+        np.add.at(self.k_stuck, self.slider_q[jen], system.slider_stiffness[jen])
+        # Jenkins sliders' reference positions (their static ones: x = 0 is the static state)
+        self.w_ref = np.zeros(system.n_sliders)
+        pre = system.slider_preload != 0
+        self.w_ref[pre] = -system.slider_preload[pre] / system.slider_stiffness[pre]
+        n = system.n_dof
+        self.zinv_gt, self.zinv_f, ys, qs = [], [], [], []
+        for h in range(hh + 1):
+            z = k_lin - (h * w) ** 2 * system.mass + 1j * h * w * system.damping
+            if h == 0:
+                f = system.constant_force.astype(complex)
+            elif h == 1:
+                f = system.force_cos - 1j * system.force_sin
+            else:
+                f = np.zeros(n, complex)
+            try:
+                lu = scipy.linalg.lu_factor(z if h else z.real)
+            except (ValueError, np.linalg.LinAlgError) as exc:
+                raise ParameterError(f"harmonic_balance: the linear part is singular at harmonic {h} ({exc})") from None
+            sol = scipy.linalg.lu_solve(lu, np.column_stack([rows.T.astype(complex if h else float), f if h else f.real]))
+            if not np.all(np.isfinite(sol)):
+                raise ParameterError(f"harmonic_balance: the linear part is singular at harmonic {h} "
+                                     "(e.g. a resonance of the stuck system without damping)")
+            self.zinv_gt.append(sol[:, :-1])
+            self.zinv_f.append(sol[:, -1])
+            ys.append(rows @ sol[:, :-1])
+            qs.append(rows @ sol[:, -1])
+        # real form: unknown vector z, index (q, j) -> q (2H+1) + j, j = 0 (mean), 2h-1 (cos), 2h (sin)
+        nc = 2 * hh + 1
+        nz = self.n_q * nc
+        big = np.zeros((nz, nz))
+        lin = np.zeros(nz)
+        qi = np.arange(self.n_q) * nc
+        big[np.ix_(qi, qi)] = ys[0].real
+        lin[qi] = qs[0].real
+        for h in range(1, hh + 1):
+            ia, ib = qi + 2 * h - 1, qi + 2 * h
+            yr, yi = ys[h].real, ys[h].imag
+            big[np.ix_(ia, ia)] = yr
+            big[np.ix_(ia, ib)] = yi
+            big[np.ix_(ib, ia)] = -yi
+            big[np.ix_(ib, ib)] = yr
+            lin[ia] = qs[h].real
+            lin[ib] = -qs[h].imag
+        self.Y = big
+        self.q_linear = lin
+        self.nc = nc
+
+    def forces(self, z: np.ndarray, jacobian: bool = True):
+        """``R(z)`` (the joints' forces less their stuck springs, per coordinate and harmonic),
+        ``dR/dz`` (block diagonal), the Jenkins sliders' positions at ``t = 0`` and the friction
+        energy per period [J]."""
+        sysm = self.system
+        nc = self.nc
+        r = np.zeros_like(z)
+        jac = np.zeros((z.size, z.size)) if jacobian else None
+        w0 = np.zeros(sysm.n_sliders)
+        for q in range(self.n_q):
+            sl = slice(q * nc, (q + 1) * nc)
+            c = z[sl]
+            rq = -self.k_stuck[q] * c
+            jq = -self.k_stuck[q] * np.eye(nc) if jacobian else None
+            for i in np.flatnonzero(self.slider_q == q):
+                if sysm.rigid[i]:
+                    t, jt = hysteresis.coulomb_loop(c, sysm.slip_force[i], jacobian)
+                    w0[i] = float(hysteresis.evaluate(c, 0.0)[0])
+                else:
+                    t, jt, w0[i], _ = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
+                                                              self.w_ref[i], jacobian)
+                rq = rq + t
+                if jacobian:
+                    jq = jq + jt
+            r[sl] = rq
+            if jacobian:
+                jac[sl, sl] = jq
+        return r, jac, w0
+
+    def dissipation(self, z: np.ndarray, r: np.ndarray) -> float:
+        """Friction energy per period [J]: ``sum_q oint R_q dq`` (the stuck springs' part closes)."""
+        hh, nc = self.n_harmonics, self.nc
+        e = 0.0
+        for q in range(self.n_q):
+            c, t = z[q * nc:(q + 1) * nc], r[q * nc:(q + 1) * nc]
+            for h in range(1, hh + 1):
+                e += math.pi * h * (t[2 * h - 1] * c[2 * h] - t[2 * h] * c[2 * h - 1])
+        return e
+
+    def harmonics(self, r: np.ndarray) -> np.ndarray:
+        """All DOFs' complex harmonics ``(H + 1, n_dof)`` from the joint forces ``R``."""
+        hh, nc = self.n_harmonics, self.nc
+        rc = r.reshape(self.n_q, nc)
+        out = np.empty((hh + 1, self.system.n_dof), complex)
+        out[0] = self.zinv_f[0].real - self.zinv_gt[0].real @ rc[:, 0]
+        for h in range(1, hh + 1):
+            rh = rc[:, 2 * h - 1] - 1j * rc[:, 2 * h]
+            out[h] = self.zinv_f[h] - self.zinv_gt[h] @ rh
+        return out
+
+
+def _peaks(harm: np.ndarray) -> np.ndarray:
+    """Max ``|x|`` over the period of each DOF's trigonometric polynomial: sampled, then refined
+    around the largest sample (bounded scalar search to 1e-12 of the period)."""
+    hh = harm.shape[0] - 1
+    n = max(256, 64 * (hh + 1))
+    theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    hgrid = np.arange(hh + 1)[:, None] * theta[None, :]
+    x = (harm.T @ np.exp(1j * hgrid)).real
+    out = np.empty(harm.shape[1])
+    step = 2 * math.pi / n
+    for i in range(harm.shape[1]):
+        k = int(np.argmax(np.abs(x[i])))
+
+        def neg(t, i=i):
+            return -abs(float((harm[:, i] @ np.exp(1j * np.arange(hh + 1) * t)).real))
+        res = scipy.optimize.minimize_scalar(neg, bounds=(theta[k] - step, theta[k] + step), method="bounded",
+                                             options={"xatol": 1e-12})
+        out[i] = max(abs(x[i, k]), -res.fun)
+    return out
+
+
+def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmonics: int = 7, *,
+                     guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 60,
+                     check: bool = False) -> HarmonicBalance:
+    """Multi-harmonic balance of ``system`` at ``omega`` with ``n_harmonics`` harmonics (module
+    docstring): exact hysteresis, analytic Jacobian, condensed to the joint coordinates.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        With harmonic excitation.
+    omega : float, optional
+        Angular frequency [rad/s], > 0; default the system's.
+    n_harmonics : int
+        ``H`` >= 1 (the mean is always included).
+    guess : (H + 1, n_dof) complex ndarray, optional
+        Starting harmonics (e.g. a neighbouring frequency's); default the linear solution with
+        every slider stuck.
+    tol : float
+        Newton's tolerance on the residual relative to the joint coordinates' size, in (0, 1).
+    max_iter : int
+        Newton iterations at most.
+    check : bool
+        Also find the exact time-domain steady state from the balanced orbit
+        (:func:`~frictionjoint.solvers.steady.periodic_response`) and report the truncation error.
+
+    Returns
+    -------
+    HarmonicBalance
+    """
+    check_system("system", system, FrictionSystem)
+    hh = check_count("n_harmonics", n_harmonics, 1)
+    if omega is not None:
+        w = check_positive("omega", omega)
+        if w != system.omega:
+            system = FrictionSystem(system.structure, system.elements, omega=w, excitation=system.excitation)
+    if system.omega <= 0:
+        raise ParameterError("harmonic_balance: the system needs harmonic excitation (omega > 0)")
+    if not (isinstance(tol, float) and 0 < tol < 1):
+        raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
+    max_iter = check_count("max_iter", max_iter, 1)
+    cond = Condensed(system, hh)
+    nc = cond.nc
+    if guess is None:
+        z = cond.q_linear.copy()
+    else:
+        g = np.asarray(guess, dtype=complex)
+        if g.ndim != 2 or g.shape[1] != system.n_dof:
+            raise ParameterError(f"guess must have shape (H' + 1, n_dof = {system.n_dof}), got {g.shape}")
+        qh = g @ cond.G.T  # (H'+1, n_q)
+        z = np.zeros(cond.n_q * nc)
+        for q in range(cond.n_q):
+            z[q * nc] = qh[0, q].real
+            for h in range(1, min(hh, g.shape[0] - 1) + 1):
+                z[q * nc + 2 * h - 1] = qh[h, q].real
+                z[q * nc + 2 * h] = -qh[h, q].imag
+
+    def residual(zz, jac=True):
+        r, jr, w0 = cond.forces(zz, jac)
+        res = zz - cond.q_linear + cond.Y @ r
+        return res, (np.eye(zz.size) + cond.Y @ jr if jac else None), r, w0
+
+    scale_floor = max(float(np.max(np.abs(cond.q_linear))), 1e-300)
+    res, jac, r, w0 = residual(z)
+    it = 0
+    converged = False
+    message = ""
+    for it in range(1, max_iter + 1):
+        scale = max(float(np.max(np.abs(z))), 1e-6 * scale_floor)
+        rn = float(np.max(np.abs(res)))
+        if rn <= tol * scale:
+            converged = True
+            it -= 1
+            break
+        try:
+            step = np.linalg.solve(jac, -res)
+        except np.linalg.LinAlgError:
+            message = "singular Jacobian"
+            break
+        lam = 1.0
+        for _ in range(30):  # backtracking: the residual's max norm must fall
+            zt = z + lam * step
+            rt, _, _, _ = residual(zt, jac=False)
+            if float(np.max(np.abs(rt))) < rn or lam < 1e-6:
+                break
+            lam *= 0.5
+        z = zt
+        res, jac, r, w0 = residual(z)
+    else:
+        scale = max(float(np.max(np.abs(z))), 1e-6 * scale_floor)
+        converged = float(np.max(np.abs(res))) <= tol * scale
+    rel = float(np.max(np.abs(res))) / max(float(np.max(np.abs(z))), 1e-300)
+    harm = cond.harmonics(r)
+    if not message:
+        message = (f"harmonic balance converged in {it} Newton iterations (H = {hh}, residual {rel:.2e})"
+                   if converged else f"harmonic balance did not converge in {max_iter} iterations "
+                                     f"(residual {rel:.2e})")
+    out = HarmonicBalance(omega=system.omega, n_harmonics=hh, harmonics=harm,
+                          harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
+                          converged=bool(converged), message=message, iterations=it, residual=rel,
+                          dissipated_per_cycle=cond.dissipation(z, r), slider_positions=w0)
+    if check:
+        _check_exact(system, out)
+    return out
+
+
+def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
+    """The exact time-domain steady state from the balanced orbit; the truncation error."""
+    from .steady import periodic_response
+
+    harm = hb.harmonics
+    hh = harm.shape[0] - 1
+    w = system.omega
+    x0 = harm.sum(axis=0).real
+    v0 = (harm * (1j * w * np.arange(hh + 1))[:, None]).sum(axis=0).real
+    # the balanced loops' slider positions, within their slip bands at x0 (the balance holds the
+    # joint coordinates to its tolerance, so a slipping slider may be a rounding outside)
+    s = system.slider_direction @ x0
+    jen = ~system.rigid
+    w0 = hb.slider_positions.copy()
+    reach = system.slip_force[jen] / system.slider_stiffness[jen]
+    w0[jen] = np.clip(w0[jen], s[jen] - reach, s[jen] + reach)
+    ex = periodic_response(system, x0, v0, w0)
+    hb.exact = ex
+    if ex.converged:
+        x1 = ex.harmonic_amplitude * np.exp(-1j * ex.phase)
+        hb.truncation_error = float(np.max(np.abs(harm[1] - x1)) / np.max(np.abs(x1)))
+        hb.amplitude_error = float(np.max(np.abs(hb.amplitude - ex.amplitude)) / np.max(ex.amplitude))

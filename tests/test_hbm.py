@@ -1,0 +1,137 @@
+"""Harmonic balance (frictionjoint.solvers.hbm) with exact hysteresis (frictionjoint.solvers.hysteresis).
+
+References: the one-harmonic describing functions of analytic.py (Coulomb: 4F/(pi w X); Jenkins:
+Griffin 1980), finite differences of the AFT map, and the exact time-domain steady state of the
+same system (the event-driven marcher's shooting), against which the truncation error falls with
+H."""
+import math
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.analytic import harmonic_balance_amplitude, jenkins_describing_function
+from frictionjoint.errors import ParameterError
+from frictionjoint.solvers import hysteresis
+from frictionjoint.solvers.hbm import Condensed
+
+# the Jenkins SDOF of the issue: m = k = 1, zeta = 1 %, kt = 5, Fs = 0.1
+SDOF = fj.LinearStructure([[1.0]], [[1.0]], [[0.02]])
+
+
+def jenkins_sdof(omega, p):
+    return fj.FrictionSystem(SDOF, [fj.Jenkins(5.0, 0.1, dof=0)], omega=omega, excitation=[fj.HarmonicForce(0, p)])
+
+
+@pytest.mark.parametrize("r, f", [(0.5, 0.3), (1.6, 0.3), (2.5, 0.6), (0.3, 0.1)])
+def test_one_harmonic_coulomb_equals_the_describing_function(r, f):
+    """Coulomb oscillator (m = k = 1, P0 = 1, no damping), H = 1: |X| equals the describing
+    function's closed form sqrt(1 - (4f/pi)^2)/|1 - r^2| to 1e-10 (the force's first harmonic is
+    integrated exactly between the velocity reversals)."""
+    st = fj.LinearStructure([[1.0]], [[1.0]])
+    sysm = fj.FrictionSystem(st, [fj.CoulombSlider(f, dof=0)], omega=r, excitation=[fj.HarmonicForce(0, 1.0)])
+    hb = fj.harmonic_balance(sysm, n_harmonics=1, tol=1e-14)
+    assert hb.converged
+    expected = harmonic_balance_amplitude(r, f)
+    assert abs(hb.harmonic_amplitude[0] - expected) <= 1e-10 * expected
+
+
+@pytest.mark.parametrize("p", [0.05, 0.2, 1.0])
+@pytest.mark.parametrize("w", [0.7, 1.1, 1.5, 2.4])
+def test_one_harmonic_jenkins_equals_the_describing_function(p, w):
+    """Jenkins SDOF, H = 1: the first harmonic X satisfies (k - m w^2 + i w c + K(|X|)) X = P with
+    Griffin's describing function K, to 1e-10 of P (stuck or slipping)."""
+    hb = fj.harmonic_balance(jenkins_sdof(w, p), n_harmonics=1, tol=1e-14)
+    assert hb.converged
+    x = hb.harmonics[1, 0]
+    k = jenkins_describing_function(5.0, 0.1, abs(x))
+    assert abs((1.0 - w * w + 0.02j * w) * x + k * x - p) <= 1e-10 * p
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_analytic_jacobian_against_finite_differences(seed):
+    """The AFT map's analytic Jacobian (Jenkins loops from the reversal at the global maximum,
+    Coulomb reversals) against central differences on random multi-harmonic states: <= 1e-6."""
+    rng = np.random.default_rng(seed)
+    hh = 5
+    c = rng.normal(size=2 * hh + 1) / np.r_[1.0, np.repeat(np.arange(1, hh + 1), 2)]
+    for fun in (lambda cc, jac=True: hysteresis.jenkins_loop(cc, 5.0, 0.4, 0.0, jac)[:2],
+                lambda cc, jac=True: hysteresis.coulomb_loop(cc, 0.4, jac)):
+        _, jac = fun(c)
+        fd = np.empty_like(jac)
+        for j in range(c.size):
+            e = 1e-6 * max(1.0, abs(c[j]))
+            cp, cm = c.copy(), c.copy()
+            cp[j] += e
+            cm[j] -= e
+            fd[:, j] = (fun(cp, False)[0] - fun(cm, False)[0]) / (2 * e)
+        assert np.max(np.abs(jac - fd)) <= 1e-6 * np.max(np.abs(jac))
+    # and the condensed system's Jacobian (an Iwan joint and a Jenkins on a 2-DOF chain)
+    st = fj.LinearStructure(np.diag([1.0, 0.5]), [[3.0, -1.0], [-1.0, 1.0]], 0.02 * np.eye(2))
+    sysm = fj.FrictionSystem(st, [fj.Jenkins(2.0, 0.3, dof=1), fj.Iwan.segalman(0.5, 4.0, -0.5, 0.1, 6, dof=0)],
+                             omega=1.3, excitation=[fj.HarmonicForce(0, 0.8)])
+    cond = Condensed(sysm, 4)
+    z = rng.normal(size=cond.n_q * cond.nc) * 0.3
+    _, jr, _ = cond.forces(z)
+    fd = np.empty_like(jr)
+    for j in range(z.size):
+        zp, zm = z.copy(), z.copy()
+        zp[j] += 1e-7
+        zm[j] -= 1e-7
+        fd[:, j] = (cond.forces(zp, False)[0] - cond.forces(zm, False)[0]) / 2e-7
+    assert np.max(np.abs(jr - fd)) <= 1e-6 * np.max(np.abs(jr))
+
+
+def test_stuck_orbit_is_exact_at_any_h():
+    """A motion that never slips is linear: every H gives the exact steady state (rounding)."""
+    for hh in (1, 3, 7):
+        hb = fj.harmonic_balance(jenkins_sdof(0.8, 0.05), n_harmonics=hh, check=True)
+        assert hb.converged and hb.exact.stuck
+        assert hb.truncation_error <= 1e-13 and hb.amplitude_error <= 1e-13
+        assert np.max(np.abs(hb.harmonics[2:]), initial=0.0) <= 1e-15 and hb.dissipated_per_cycle == 0.0
+
+
+@pytest.mark.parametrize("p, w", [(0.2, 1.2), (1.0, 0.8), (0.05, 2.2)])
+def test_truncation_error_falls_with_h(p, w):
+    """Against the exact time-domain steady state (check=True): the first harmonic's error falls
+    with H (measured 1e-3..1e-2 at H = 3, 5e-5..1e-4 at H = 7, 2e-6..5e-5 at H = 15), and the
+    dissipation per cycle of the balanced loops approaches the exact one."""
+    errs = []
+    for hh in (3, 7, 15):
+        hb = fj.harmonic_balance(jenkins_sdof(w, p), n_harmonics=hh, check=True)
+        assert hb.converged and hb.exact.converged and not hb.exact.stuck
+        errs.append(hb.truncation_error)
+        d_err = abs(hb.dissipated_per_cycle - hb.exact.dissipated_per_cycle) / hb.exact.dissipated_per_cycle
+    assert errs[0] > errs[1] > errs[2] and errs[2] <= 1e-4
+    assert d_err <= 1e-3
+
+
+def test_condensed_unknowns_and_chain_against_the_time_domain():
+    """A 2-DOF chain with a Jenkins and an Iwan joint: the unknowns are the joint coordinates'
+    harmonics (2 coordinates x (2H + 1)), and at H = 15 the balance is within 1e-3 of the exact
+    steady state."""
+    st = fj.LinearStructure(np.diag([1.0, 0.5]), [[3.0, -1.0], [-1.0, 1.0]], 0.02 * np.eye(2))
+    sysm = fj.FrictionSystem(st, [fj.Jenkins(2.0, 0.3, dof=1), fj.Iwan.segalman(0.5, 4.0, -0.5, 0.1, 6, dof=0)],
+                             omega=1.3, excitation=[fj.HarmonicForce(0, 0.8)])
+    assert Condensed(sysm, 15).Y.shape == (2 * 31, 2 * 31)
+    hb = fj.harmonic_balance(sysm, n_harmonics=15, check=True)
+    assert hb.converged and hb.exact.converged
+    assert hb.truncation_error <= 1e-3
+
+
+def test_bad_input_names_the_parameter():
+    sysm = jenkins_sdof(1.0, 0.2)
+    with pytest.raises(ParameterError, match="n_harmonics"):
+        fj.harmonic_balance(sysm, n_harmonics=0)
+    with pytest.raises(ParameterError, match="omega"):
+        fj.harmonic_balance(sysm, omega=-1.0)
+    with pytest.raises(ParameterError, match="tol"):
+        fj.harmonic_balance(sysm, tol=2.0)
+    ext = fj.FrictionSystem(SDOF, [fj.Jenkins(5.0, 0.1, dof=0)], omega=1.0,
+                            excitation=[fj.HarmonicForce(0, 0.2), fj.ExternalForce(0, [0.0, 1.0], [1.0])])
+    with pytest.raises(ParameterError, match="ExternalForce"):
+        fj.harmonic_balance(ext)
+    root = fj.DovetailRoot(1e3, math.radians(30), 0.3, 1e6, 8e5, tangential_dof=0, normal_load_variation=True)
+    varying = fj.FrictionSystem(SDOF, [root], omega=1.0, excitation=[fj.HarmonicForce(0, 0.2)])
+    with pytest.raises(ParameterError, match="normal-load variation"):
+        fj.harmonic_balance(varying)
