@@ -12,6 +12,7 @@ from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
 from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import EventLog, Marcher
+from .solvers.continuation import hbm_sweep
 from .solvers.hbm import harmonic_balance
 from .solvers.response import simulate
 from .solvers.sdof import SdofCoulomb
@@ -40,6 +41,7 @@ __all__ = [
     "HarmonicBaseMotion",
     "HarmonicForce",
     "harmonic_balance",
+    "hbm_sweep",
     "Iwan",
     "Jenkins",
     "LinearStructure",

@@ -135,3 +135,20 @@ def test_bad_input_names_the_parameter():
     varying = fj.FrictionSystem(SDOF, [root], omega=1.0, excitation=[fj.HarmonicForce(0, 0.2)])
     with pytest.raises(ParameterError, match="normal-load variation"):
         fj.harmonic_balance(varying)
+
+
+def test_continuation_follows_the_branch_and_matches_point_solutions():
+    """hbm_sweep (pseudo-arclength in omega) over the Jenkins SDOF's band: it reaches the end of
+    the range, its points are harmonic-balance solutions (a point solve at the same omega from
+    scratch gives the same harmonics to 1e-8), and the Jenkins resonance (no fold here) is
+    single-valued."""
+    from frictionjoint.solvers.continuation import hbm_sweep
+
+    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.5, 3.0), n_harmonics=3, n_points=60)
+    assert sw.success and sw.message.startswith("reached") and sw.n_folds == 0
+    assert 30 <= sw.omega.size <= 400 and np.all(np.diff(sw.omega) > 0)
+    for k in (5, sw.omega.size // 2, sw.omega.size - 3):
+        hb = fj.harmonic_balance(jenkins_sdof(sw.omega[k], 0.2), n_harmonics=3, tol=1e-12)
+        assert np.max(np.abs(hb.harmonics - sw.harmonics[k])) <= 1e-8 * np.max(np.abs(hb.harmonics))
+    with pytest.raises(ParameterError, match="omega_range"):
+        hbm_sweep(jenkins_sdof(1.0, 0.2), (1.0, 1.0))

@@ -78,3 +78,57 @@ class HarmonicBalance:
     def status(self) -> str:
         """``'converged'`` or ``'not converged'``."""
         return "converged" if self.converged else "not converged"
+
+
+@dataclass
+class HarmonicBalanceSweep:
+    """Harmonic-balance solutions along a branch (pseudo-arclength continuation in ``omega``).
+
+    Attributes
+    ----------
+    omega : (n,) ndarray
+        Angular frequency of each point, in branch order [rad/s] (not monotonic past a fold).
+    harmonics : (n, H + 1, n_dof) complex ndarray
+        Every DOF's Fourier coefficients at each point [m].
+    harmonic_amplitude, phase, amplitude : (n, n_dof) ndarray
+        First-harmonic amplitude [m], its lag [rad], max ``|x|`` over the period [m].
+    dissipated_per_cycle : (n,) ndarray
+        Friction energy per period [J].
+    fold : (n,) bool ndarray
+        A turning point (fold) of the branch lies between this point and the previous one.
+    converged : (n,) bool ndarray
+        The corrector converged.
+    n_harmonics : int
+        ``H``.
+    messages : tuple of str
+        Per point.
+    message : str
+        How the branch ended.
+    """
+
+    omega: np.ndarray
+    harmonics: np.ndarray
+    harmonic_amplitude: np.ndarray
+    phase: np.ndarray
+    amplitude: np.ndarray
+    dissipated_per_cycle: np.ndarray
+    fold: np.ndarray
+    converged: np.ndarray
+    n_harmonics: int
+    messages: tuple = ()
+    message: str = ""
+
+    @property
+    def success(self) -> bool:
+        """Every point converged and the branch reached the end of its range."""
+        return bool(np.all(self.converged)) and self.message.startswith("reached")
+
+    @property
+    def status(self) -> str:
+        """``'ok'`` or ``'failed'``."""
+        return "ok" if self.success else "failed"
+
+    @property
+    def n_folds(self) -> int:
+        """Turning points passed."""
+        return int(np.count_nonzero(self.fold))

@@ -71,6 +71,7 @@ class Condensed:
         self.w_ref[pre] = -system.slider_preload[pre] / system.slider_stiffness[pre]
         n = system.n_dof
         self.zinv_gt, self.zinv_f, ys, qs = [], [], [], []
+        self._lin = (k_lin, system.mass, system.damping)
         for h in range(hh + 1):
             z = k_lin - (h * w) ** 2 * system.mass + 1j * h * w * system.damping
             if h == 0:
@@ -111,6 +112,42 @@ class Condensed:
         self.Y = big
         self.q_linear = lin
         self.nc = nc
+        self._qi = qi
+
+    def _real_form(self, ys, qs):
+        """``(big, lin)`` of per-harmonic complex ``G Z^-1 G^T`` and ``G Z^-1 F`` (see above)."""
+        hh, nc, qi = self.n_harmonics, self.nc, self._qi
+        nz = self.n_q * nc
+        big = np.zeros((nz, nz))
+        lin = np.zeros(nz)
+        big[np.ix_(qi, qi)] = ys[0].real
+        lin[qi] = qs[0].real
+        for h in range(1, hh + 1):
+            ia, ib = qi + 2 * h - 1, qi + 2 * h
+            yr, yi = ys[h].real, ys[h].imag
+            big[np.ix_(ia, ia)] = yr
+            big[np.ix_(ia, ib)] = yi
+            big[np.ix_(ib, ia)] = -yi
+            big[np.ix_(ib, ib)] = yr
+            lin[ia] = qs[h].real
+            lin[ib] = -qs[h].imag
+        return big, lin
+
+    def omega_derivative(self):
+        """``(dY/domega, dq_linear/domega)``: ``d Z^-1 = -Z^-1 Z' Z^-1`` with ``Z_h' = -2 h^2 omega M
+        + i h C``; ``G Z^-1 = (Z^-1 G^T)^T`` as ``Z`` is (complex) symmetric."""
+        k_lin, m, c = self._lin
+        w = self.omega
+        if not (np.allclose(k_lin, k_lin.T, rtol=1e-13, atol=0.0) and np.allclose(c, c.T, rtol=1e-13, atol=0.0)
+                and np.allclose(m, m.T, rtol=1e-13, atol=0.0)):
+            raise ParameterError("harmonic_balance continuation needs symmetric K, C and M")
+        ys, qs = [], []
+        for h in range(self.n_harmonics + 1):
+            dz = -2.0 * h * h * w * m + 1j * h * c
+            a = self.zinv_gt[h]
+            ys.append(-(a.T @ dz @ a))
+            qs.append(-(a.T @ (dz @ self.zinv_f[h])))
+        return self._real_form(ys, qs)
 
     def forces(self, z: np.ndarray, jacobian: bool = True):
         """``R(z)`` (the joints' forces less their stuck springs, per coordinate and harmonic),
@@ -226,6 +263,13 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     max_iter = check_count("max_iter", max_iter, 1)
     cond = Condensed(system, hh)
     nc = cond.nc
+    if guess is None and hh > 1:
+        # start from the balance with fewer harmonics, H' = (H - 1) // 2 down to 1 (the one-harmonic
+        # balance from the stuck linear solution): from the linear start Newton may wander on the
+        # loops' kinks (a blade root at its damper optimum)
+        first = harmonic_balance(system, n_harmonics=max(1, (hh - 1) // 2), tol=tol, max_iter=max_iter)
+        if first.converged:
+            guess = first.harmonics
     if guess is None:
         z = cond.q_linear.copy()
     else:
@@ -307,6 +351,7 @@ def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
     w0[jen] = np.clip(w0[jen], s[jen] - reach, s[jen] + reach)
     ex = periodic_response(system, x0, v0, w0)
     hb.exact = ex
+    hb.stable = ex.stable  # the Floquet multipliers of the matching exact orbit
     if ex.converged:
         x1 = ex.harmonic_amplitude * np.exp(-1j * ex.phase)
         hb.truncation_error = float(np.max(np.abs(harm[1] - x1)) / np.max(np.abs(x1)))

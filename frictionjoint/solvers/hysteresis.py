@@ -44,6 +44,21 @@ def n_samples(n_harmonics: int) -> int:
     return max(64, 32 * (int(n_harmonics) + 1))
 
 
+_GRIDS: dict = {}
+
+
+def _grid(n_harmonics: int, closed: bool = False):
+    """The bracketing grid over one period (``closed``: with its end point) and its table
+    ``e^{i h theta}``, built once per ``H``."""
+    key = (n_harmonics, closed)
+    g = _GRIDS.get(key)
+    if g is None:
+        m = n_samples(n_harmonics)
+        theta = np.linspace(0.0, 2 * math.pi, m + 1) if closed else np.linspace(0.0, 2 * math.pi, m, endpoint=False)
+        g = _GRIDS[key] = (theta, np.exp(1j * np.outer(np.arange(1, n_harmonics + 1), theta)))
+    return g
+
+
 def _basis(theta, n_harmonics: int, derivative: int = 0) -> np.ndarray:
     """(2H+1, k) values of the basis ``1, cos h theta, sin h theta`` (or its derivative)."""
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
@@ -74,6 +89,70 @@ def evaluate(c: np.ndarray, theta, derivative: int = 0) -> np.ndarray:
     return c @ _basis(theta, h, derivative)
 
 
+class _Poly:
+    """``u`` as ``c0 + Re(sum_h C_h e^{i h theta})``, ``C_h = a_h - i b_h``: fast scalar values of
+    ``u`` and its derivatives (root refinement)."""
+
+    __slots__ = ("c0", "cd")
+
+    def __init__(self, c: np.ndarray):
+        hh = (c.size - 1) // 2
+        h = np.arange(1, hh + 1)
+        cc = c[1::2] - 1j * c[2::2]
+        self.c0 = float(c[0])
+        # C_h (i h)^n for n = 0, 1, 2, 3
+        self.cd = [cc, cc * (1j * h), cc * (1j * h) ** 2, cc * (1j * h) ** 3]
+
+    def values(self, theta: np.ndarray, derivative: int = 0, table: np.ndarray | None = None) -> np.ndarray:
+        """``u^(n)`` at the phases ``theta`` (1-D); ``table``: ``e^{i h theta}`` if known."""
+        n = self.cd[0].size
+        e = np.exp(1j * np.outer(np.arange(1, n + 1), theta)) if table is None else table
+        out = (self.cd[derivative] @ e).real
+        return out + self.c0 if derivative == 0 else out
+
+    def __call__(self, theta: float, derivative: int = 0) -> tuple:
+        """``(u^(n), u^(n+1))`` at the scalar ``theta``."""
+        n = self.cd[0].size
+        e = np.exp(1j * theta * np.arange(1, n + 1))
+        a = float((self.cd[derivative] @ e).real)
+        b = float((self.cd[derivative + 1] @ e).real)
+        if derivative == 0:
+            a += self.c0
+        return a, b
+
+
+def _newton_root(poly: _Poly, derivative: int, level: float, a: float, b: float) -> float:
+    """Root of ``u^(n)(theta) - level`` in the bracket ``[a, b]`` (a sign change): Newton's
+    method safeguarded by bisection, to rounding."""
+    fa = poly(a, derivative)[0] - level
+    fb = poly(b, derivative)[0] - level
+    if fa == 0.0:
+        return a
+    if fb == 0.0:
+        return b
+    if fa * fb > 0:  # no sign change (rounding at a bracket end): the nearer end
+        return a if abs(fa) < abs(fb) else b
+    x = 0.5 * (a + b)
+    tol = 4 * np.finfo(float).eps * max(1.0, abs(b))
+    for _ in range(100):
+        f, df = poly(x, derivative)
+        f -= level
+        if f == 0.0:
+            return x
+        if (f < 0) == (fa < 0):
+            a, fa = x, f
+        else:
+            b = x
+        step = f / df if df != 0 else math.inf
+        xn = x - step
+        if not (a < xn < b):  # outside the bracket: bisect
+            xn = 0.5 * (a + b)
+        if abs(xn - x) <= tol or b - a <= tol:
+            return xn
+        x = xn
+    return x
+
+
 def _cos_sin_integrals(p: np.ndarray, a: float, b: float):
     """``int_a^b cos(p theta)`` and ``int_a^b sin(p theta)`` for integer arrays ``p`` (any sign)."""
     p = np.asarray(p, dtype=float)
@@ -84,39 +163,49 @@ def _cos_sin_integrals(p: np.ndarray, a: float, b: float):
     return ci, si
 
 
-def segment_integrals(a: float, b: float, n_harmonics: int):
+_TABLES: dict = {}
+
+
+def _tables(hh: int):
+    """Index tables of :func:`segment_integrals` for ``H`` harmonics (built once per ``H``)."""
+    t = _TABLES.get(hh)
+    if t is None:
+        n = 2 * hh + 1
+        kind = np.zeros(n, int)  # 0: cos (or the mean), 1: sin
+        order = np.zeros(n, int)
+        kind[2::2] = 1
+        order[1::2] = np.arange(1, hh + 1)
+        order[2::2] = np.arange(1, hh + 1)
+        km, kq = kind[:, None], kind[None, :]
+        om, oq = order[:, None], order[None, :]
+        diff, total = om - oq, om + oq
+        # int psi_k phi_j = 0.5 (A int cos(|m-q| t) + B int cos((m+q) t) + C int sin(|m-q| t) + D int sin((m+q) t))
+        a = np.where(km == kq, 1.0, 0.0)
+        b = np.where((km == 0) & (kq == 0), 1.0, np.where((km == 1) & (kq == 1), -1.0, 0.0))
+        sgn = np.sign(diff)
+        # sin m cos q: (sin(m+q) + sin(m-q))/2; cos m sin q: (sin(m+q) - sin(m-q))/2
+        cc = np.where((km == 1) & (kq == 0), sgn, np.where((km == 0) & (kq == 1), -sgn, 0.0))
+        d = np.where(km != kq, 1.0, 0.0)
+        t = _TABLES[hh] = (np.abs(diff), total, 0.5 * a, 0.5 * b, 0.5 * cc, 0.5 * d, kind, order)
+    return t
+
+
+def segment_integrals(a: float, b: float, n_harmonics: int, vector_only: bool = False):
     """``(v, P)`` over ``[a, b]``: ``v[k] = int psi_k``, ``P[k, j] = int psi_k phi_j`` for the basis
-    ``1, cos h, sin h`` (both indices), in closed form."""
+    ``1, cos h, sin h`` (both indices), in closed form (``vector_only``: ``v`` alone)."""
     hh = n_harmonics
-    n = 2 * hh + 1
-    idx = np.arange(hh + 1)
-    ci, si = _cos_sin_integrals(idx, a, b)  # int cos(m t), int sin(m t), m = 0..H
-    v = np.empty(n)
+    ad, tot, ca, cb, cc, cd, kind, order = _tables(hh)
+    p = np.arange(2 * hh + 1, dtype=float)  # frequencies 0 .. 2H
+    p[0] = 1.0
+    ci = (np.sin(p * b) - np.sin(p * a)) / p
+    si = -(np.cos(p * b) - np.cos(p * a)) / p
+    ci[0], si[0] = b - a, 0.0
+    v = np.where(kind == 1, si[order], ci[order])
     v[0] = b - a
-    v[1::2] = ci[1:]
-    v[2::2] = si[1:]
-    # products: cos m cos n = (cos(m-n) + cos(m+n))/2, sin m sin n = (cos(m-n) - cos(m+n))/2,
-    # sin m cos n = (sin(m+n) + sin(m-n))/2
-    m = idx[:, None]
-    q = idx[None, :]
-    cd, sd = _cos_sin_integrals(m - q, a, b)
-    cs_, ss_ = _cos_sin_integrals(m + q, a, b)
-    cc = 0.5 * (cd + cs_)   # int cos m cos q
-    snsn = 0.5 * (cd - cs_)  # int sin m sin q
-    sc = 0.5 * (ss_ + sd)   # int sin m cos q
-    p = np.empty((n, n))
-    # index map: 0 -> (cos, 0); 2h-1 -> (cos, h); 2h -> (sin, h)
-    kind = np.zeros(n, int)
-    order = np.zeros(n, int)
-    kind[2::2] = 1
-    order[1::2] = np.arange(1, hh + 1)
-    order[2::2] = np.arange(1, hh + 1)
-    km, kq = kind[:, None], kind[None, :]
-    om, oq = order[:, None], order[None, :]
-    p = np.where((km == 0) & (kq == 0), cc[om, oq],
-                 np.where((km == 1) & (kq == 1), snsn[om, oq],
-                          np.where((km == 1) & (kq == 0), sc[om, oq], sc[oq, om])))
-    return v, p
+    if vector_only:
+        return v
+    pm = ca * ci[ad] + cb * ci[tot] + cc * si[ad] + cd * si[tot]
+    return v, pm
 
 
 def _norm(n_harmonics: int) -> np.ndarray:
@@ -137,12 +226,13 @@ def _root(fun, a: float, b: float) -> float:
                                  maxiter=200)
 
 
-def _first_crossing(fv, grid: np.ndarray, values: np.ndarray, start: float, sign: int):
-    """First ``theta > start`` where ``fv`` (vectorised; ``values`` on ``grid``) changes sign from
-    ``sign`` to ``-sign``, refined to rounding; None if the grid shows none. A function that starts
-    at zero (a transition at ``start``) is searched from the first point after ``start`` where it
-    has the sign ``sign``; if there is none before the grid's first crossing, the transition is at
-    ``start`` itself."""
+def _first_crossing(poly: "_Poly", derivative: int, level: float, orient: int, grid: np.ndarray,
+                    values: np.ndarray, start: float, sign: int):
+    """First ``theta > start`` where ``g = orient (u^(n) - level)`` (``values``: ``g`` on ``grid``)
+    changes sign from ``sign`` to ``-sign``, refined to rounding; None if the grid shows none. A
+    function that starts at zero (a transition at ``start``) is searched from the first point after
+    ``start`` where it has the sign ``sign``; if there is none before the grid's first crossing, the
+    transition is at ``start`` itself."""
     k0 = int(np.searchsorted(grid, start, side="right"))
     if k0 >= grid.size:
         return None
@@ -150,38 +240,30 @@ def _first_crossing(fv, grid: np.ndarray, values: np.ndarray, start: float, sign
     if hits.size == 0:
         return None
     k = k0 + int(hits[0])
-
-    def f1(x):
-        return float(fv(np.array([x]))[0])
     if k > k0:
-        a, b = float(grid[k - 1]), float(grid[k])
-        return _root(f1, a, b)
+        return _newton_root(poly, derivative, level, float(grid[k - 1]), float(grid[k]))
     # the first grid point after start is already across: look between start and it
     pts = start + (grid[k] - start) * np.linspace(0.0, 1.0, 33)[1:]
-    vals = sign * fv(pts)
-    neg = np.flatnonzero(vals < 0)
-    j = int(neg[0])
+    vals = sign * orient * (poly.values(pts, derivative) - level)
+    j = int(np.flatnonzero(vals < 0)[0])
     if j > 0:
-        return _root(f1, float(pts[j - 1]), float(pts[j]))
-    if sign * f1(start) > 0:
-        return _root(f1, start, float(pts[0]))
+        return _newton_root(poly, derivative, level, float(pts[j - 1]), float(pts[j]))
+    if sign * orient * (poly(start, derivative)[0] - level) > 0:
+        return _newton_root(poly, derivative, level, start, float(pts[0]))
     return start
 
 
-def _extremum(c: np.ndarray, grid: np.ndarray, u: np.ndarray, du: np.ndarray, sign: int) -> float:
-    """Phase of the global maximum (``sign`` +1) or minimum (-1) of ``u``, refined on ``u' = 0``."""
+def _extremum(poly: "_Poly", grid: np.ndarray, u: np.ndarray, du: np.ndarray, sign: int) -> float:
+    """Phase of the global maximum (``sign`` +1) or minimum (-1) of ``u``, refined on ``u' = 0``
+    between the largest sample's neighbours."""
     k = int(np.argmax(sign * u))
     n = grid.size
-    dprev, dnext = du[k - 1] if k > 0 else du[-1], du[(k + 1) % n]
     lo = grid[k - 1] if k > 0 else grid[-1] - 2 * math.pi
     hi = grid[k + 1] if k + 1 < n else grid[0] + 2 * math.pi
-
-    def d(t):
-        return float(evaluate(c, t, 1)[0])
-    # u' goes from +sign to -sign through the extremum, between the neighbours
-    if sign * d(lo) >= 0 and sign * d(hi) <= 0:
-        return _root(d, lo, hi)
-    return float(grid[k]) if dprev * dnext > 0 else _root(d, lo, hi) if d(lo) * d(hi) < 0 else float(grid[k])
+    dlo, dhi = poly(lo, 1)[0], poly(hi, 1)[0]
+    if sign * dlo >= 0 >= sign * dhi:
+        return _newton_root(poly, 1, 0.0, lo, hi)
+    return float(grid[k])
 
 
 def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: float = 0.0,
@@ -215,13 +297,14 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     k, f = float(stiffness), float(slip_force)
     reach = f / k
     nrm = _norm(hh)
-    grid = np.linspace(0.0, 2 * math.pi, n_samples(hh), endpoint=False)
-    u = evaluate(c, grid)
-    du = evaluate(c, grid, 1)
-    t_max = _extremum(c, grid, u, du, +1)
-    t_min = _extremum(c, grid, u, du, -1)
-    u_max = float(evaluate(c, t_max)[0])
-    u_min = float(evaluate(c, t_min)[0])
+    grid, table = _grid(hh)
+    poly = _Poly(c)
+    u = poly.values(grid, 0, table)
+    du = poly.values(grid, 1, table)
+    t_max = _extremum(poly, grid, u, du, +1)
+    t_min = _extremum(poly, grid, u, du, -1)
+    u_max = poly(t_max)[0]
+    u_min = poly(t_min)[0]
     n = c.size
     if u_max - u_min <= 2 * reach:  # never slips: T = k (u - w), w fixed
         lo, hi = u_max - reach, u_min + reach
@@ -251,9 +334,17 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     while t < t_end:
         if stuck:
             # stuck until u - w reaches +reach (slip forward) or -reach (slip back)
-            wl = w  # (bound now: the lambdas are called before w changes)
-            up = _first_crossing(lambda s: wl + reach - evaluate(c, s), ext, wl + reach - u_ext, t, +1)
-            dn = _first_crossing(lambda s: evaluate(c, s) - (wl - reach), ext, u_ext - (wl - reach), t, +1)
+            # the exit the grid shows first (both refined only where their grid steps tie)
+            k0 = int(np.searchsorted(ext, t, side="right"))
+            iu = np.flatnonzero(u_ext[k0:] > w + reach)
+            idn = np.flatnonzero(u_ext[k0:] < w - reach)
+            ku = int(iu[0]) if iu.size else None
+            kd = int(idn[0]) if idn.size else None
+            up = dn = None
+            if ku is not None and (kd is None or ku <= kd):
+                up = _first_crossing(poly, 0, w + reach, -1, ext, w + reach - u_ext, t, +1)
+            if kd is not None and (ku is None or kd <= ku):
+                dn = _first_crossing(poly, 0, w - reach, +1, ext, u_ext - (w - reach), t, +1)
             cands = [(x, s) for x, s in ((up, 1), (dn, -1)) if x is not None and x > t]
             b, new_sig = min(cands) if cands else (t_end, sig)
             b = min(b, t_end)
@@ -266,14 +357,14 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
             t, stuck, sig = b, False, new_sig
         else:
             # slipping in sig until u' turns from sig to -sig
-            b = _first_crossing(lambda s: evaluate(c, s, 1), ext, du_ext, t, sig)
+            b = _first_crossing(poly, 1, 0.0, +1, ext, du_ext, t, sig)
             b = t_end if b is None or b <= t else min(b, t_end)
             v, _ = segment_integrals(t, b, hh)
             coef += sig * f * v
             if w_at_zero is None and t <= 2 * math.pi <= b:
-                w_at_zero = float(evaluate(c, 2 * math.pi)[0]) - sig * reach
+                w_at_zero = poly(2 * math.pi)[0] - sig * reach
             t, stuck = b, True
-            w = float(evaluate(c, b)[0]) - sig * reach
+            w = poly(b)[0] - sig * reach
             t_rev = b
     if w_at_zero is None:
         w_at_zero = w
@@ -291,14 +382,11 @@ def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
     f = float(slip_force)
     nrm = _norm(hh)
     n = c.size
-    grid = np.linspace(0.0, 2 * math.pi, n_samples(hh) + 1)
-    du = evaluate(c, grid, 1)
-
-    def d(s):
-        return float(evaluate(c, s, 1)[0])
-    roots = []
-    for k in np.flatnonzero(du[:-1] * du[1:] < 0):
-        roots.append(_root(d, grid[k], grid[k + 1]))
+    grid, table = _grid(hh, closed=True)
+    poly = _Poly(c)
+    du = poly.values(grid, 1, table)
+    roots = [_newton_root(poly, 1, 0.0, float(grid[k]), float(grid[k + 1]))
+             for k in np.flatnonzero(du[:-1] * du[1:] < 0)]
     roots += [float(grid[k]) for k in np.flatnonzero(du[:-1] == 0)]
     roots = sorted(set(roots))
     coef = np.zeros(n)
@@ -308,12 +396,11 @@ def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
         return nrm * coef, (jac if jacobian else None)
     edges = roots + [roots[0] + 2 * math.pi]
     for a, b in zip(edges[:-1], edges[1:]):
-        s = math.copysign(1.0, d(0.5 * (a + b)))
-        v, _ = segment_integrals(a, b, hh)
-        coef += s * f * v
+        sgn = math.copysign(1.0, poly(0.5 * (a + b), 1)[0])
+        coef += sgn * f * segment_integrals(a, b, hh, vector_only=True)
     if jacobian:
         for r in roots:
-            dd = float(evaluate(c, r, 2)[0])
+            dd = poly(r, 2)[0]
             if dd == 0.0:
                 continue
             jump = -2 * f * math.copysign(1.0, dd)  # T(r-) - T(r+): -2F at a minimum of u, +2F at a maximum

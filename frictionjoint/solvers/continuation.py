@@ -1,0 +1,191 @@
+"""Pseudo-arclength continuation of harmonic-balance solutions in the excitation frequency.
+
+The branch ``r(z, omega) = 0`` (:mod:`.hbm`, ``z`` the joint coordinates' harmonics) is followed
+in scaled coordinates ``y = (z / z_s, omega / omega_s)`` (``z_s`` the size of the first solution,
+``omega_s`` the length of the frequency range; ``z_s`` grows with the largest solution met):
+predictor along the unit tangent ``t``, corrector
+by Newton's method on ``r = 0`` and ``t . (y - y_pred) = 0`` with the analytic Jacobian (``dr/dz``
+from the exact hysteresis, ``dr/domega`` from ``d Z^-1 = -Z^-1 Z' Z^-1``). The step grows by 1.5
+after an easy correction (<= 3 iterations) and halves after a failed one. A fold (turning point)
+is where the tangent's ``omega`` component changes sign: both branches of a hysteretic resonance
+come out in one run.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import ParameterError, check_count, check_positive, check_system
+from ..results.harmonic import HarmonicBalanceSweep
+from ..system import FrictionSystem
+from .hbm import Condensed, _peaks, harmonic_balance
+
+__all__ = ["hbm_sweep"]
+
+
+def _at(system: FrictionSystem, omega: float) -> FrictionSystem:
+    return FrictionSystem(system.structure, system.elements, omega=omega, excitation=system.excitation)
+
+
+def _joint_vector(cond: Condensed, harm: np.ndarray) -> np.ndarray:
+    qh = harm @ cond.G.T
+    nc = cond.nc
+    z = np.zeros(cond.n_q * nc)
+    for q in range(cond.n_q):
+        z[q * nc] = qh[0, q].real
+        for h in range(1, cond.n_harmonics + 1):
+            z[q * nc + 2 * h - 1] = qh[h, q].real
+            z[q * nc + 2 * h] = -qh[h, q].imag
+    return z
+
+
+def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmonics: int = 7, *, n_points: int = 200,
+              tol: float = 1e-10, max_points: int | None = None, progress: bool = False) -> HarmonicBalanceSweep:
+    """Harmonic-balance branch from ``omega_range[0]`` to ``omega_range[1]`` by pseudo-arclength
+    continuation (module docstring).
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The system (its excitation is kept; ``omega`` varies).
+    omega_range : (float, float)
+        Start and end angular frequency [rad/s], > 0, different (either order).
+    n_harmonics : int
+        ``H`` >= 1.
+    n_points : int
+        About how many points the branch should have over the range without folds (the initial
+        step is ``1/n_points`` of the scaled range), >= 2.
+    tol : float
+        Corrector tolerance, relative, in (0, 1).
+    max_points : int, optional
+        Points at most (default ``20 n_points``).
+    progress : bool
+        Show a progress bar (fraction of the range covered).
+
+    Returns
+    -------
+    HarmonicBalanceSweep
+    """
+    from tqdm import tqdm
+
+    check_system("system", system, FrictionSystem)
+    try:
+        w_a, w_b = (float(v) for v in omega_range)
+    except (TypeError, ValueError):
+        raise ParameterError(f"omega_range must be two angular frequencies (start, end) [rad/s], got {omega_range!r}") from None
+    check_positive("omega_range[0]", w_a)
+    check_positive("omega_range[1]", w_b)
+    if w_a == w_b:
+        raise ParameterError("omega_range must have two different frequencies")
+    hh = check_count("n_harmonics", n_harmonics, 1)
+    n_points = check_count("n_points", n_points, 2)
+    max_points = 20 * n_points if max_points is None else check_count("max_points", max_points, 1)
+    if not (isinstance(tol, float) and 0 < tol < 1):
+        raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
+    first = harmonic_balance(_at(system, w_a), n_harmonics=hh, tol=tol)
+    cond = Condensed(_at(system, w_a), hh)
+    z = _joint_vector(cond, first.harmonics)
+    zs = max(float(np.max(np.abs(z))), 1e-300)
+    ws = abs(w_b - w_a)
+    sense = 1.0 if w_b > w_a else -1.0
+    nz = z.size
+
+    def system_at(w):
+        return Condensed(_at(system, w), hh)
+
+    def equations(zz, w, c):
+        r, jr, w0 = c.forces(zz)
+        res = zz - c.q_linear + c.Y @ r
+        jz = np.eye(nz) + c.Y @ jr
+        dy, dl = c.omega_derivative()
+        jw = -dl + dy @ r
+        return res, jz, jw, r, w0
+
+    def tangent(jz, jw, t_prev):
+        a = np.zeros((nz + 1, nz + 1))
+        a[:nz, :nz] = jz  # in scaled coordinates: d/d(z/zs) = jz zs, d/d(w/ws) = jw ws; rows / zs
+        a[:nz, nz] = jw * ws / zs
+        a[nz] = t_prev
+        rhs = np.zeros(nz + 1)
+        rhs[nz] = 1.0
+        t = np.linalg.solve(a, rhs)
+        t /= np.linalg.norm(t)
+        return t if t @ t_prev >= 0 else -t
+
+    w = w_a
+    c = cond
+    res, jz, jw, r, w0 = equations(z, w, c)
+    t = tangent(jz, jw, np.r_[np.zeros(nz), sense])
+    y = np.r_[z / zs, w / ws]
+    ds = 1.0 / n_points
+    ds_min, ds_max = 1e-7, 4.0 / n_points
+    rows = [(w, c.harmonics(r), c.dissipation(z, r), False, True, first.message)]
+    message = ""
+    bar = tqdm(total=1000, desc="hbm", file=__import__("sys").stderr, disable=not progress, leave=False)
+    try:
+        while len(rows) < max_points:
+            y_pred = y + ds * t
+            yk = y_pred.copy()
+            ok = False
+            for it in range(1, 16):
+                wk = yk[nz] * ws
+                if wk <= 0:
+                    break
+                ck = system_at(wk)
+                zk = yk[:nz] * zs
+                res, jz, jw, r, w0 = equations(zk, wk, ck)
+                arc = t @ (yk - y_pred)
+                if float(np.max(np.abs(res))) <= tol * max(float(np.max(np.abs(zk))), 1e-6 * zs) and abs(arc) <= 1e-12:
+                    ok = True
+                    break
+                a = np.zeros((nz + 1, nz + 1))
+                a[:nz, :nz] = jz * zs
+                a[:nz, nz] = jw * ws
+                a[nz] = t
+                try:
+                    step = np.linalg.solve(a, -np.r_[res, arc])
+                except np.linalg.LinAlgError:
+                    break
+                yk = yk + step
+            if not ok:
+                ds *= 0.5
+                if ds < ds_min:
+                    message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
+                    break
+                continue
+            t_new = tangent(jz, jw, t)
+            fold = (t_new[nz] * t[nz]) < 0
+            y, t = yk, t_new
+            w = y[nz] * ws
+            rows.append((w, ck.harmonics(r), ck.dissipation(zk, r), bool(fold), True,
+                         f"converged in {it - 1} corrector iterations"))
+            ds = min(ds * 1.5, ds_max) if it <= 4 else ds
+            # z's scale follows the largest solution so far (a resonance many times the start's
+            # size would otherwise make the arclength, and the number of points, that many times longer)
+            zmax = float(np.max(np.abs(zk)))
+            if zmax > 2.0 * zs:
+                y[:nz] *= zs / zmax
+                t[:nz] *= zs / zmax
+                t /= np.linalg.norm(t)
+                zs = zmax
+            done = (w - w_b) * sense >= 0
+            bar.n = int(1000 * min(max((w - w_a) / (w_b - w_a), 0.0), 1.0))
+            bar.refresh()
+            if done:
+                message = f"reached omega = {w:.6g} rad/s"
+                break
+            if not (min(w_a, w_b) - ws <= w <= max(w_a, w_b) + ws):
+                message = f"left the range at omega = {w:.6g} rad/s"
+                break
+        else:
+            message = f"stopped after max_points = {max_points} points"
+    finally:
+        bar.close()
+    omegas = np.array([row[0] for row in rows])
+    harm = np.array([row[1] for row in rows])
+    return HarmonicBalanceSweep(
+        omega=omegas, harmonics=harm, harmonic_amplitude=np.abs(harm[:, 1]), phase=-np.angle(harm[:, 1]),
+        amplitude=np.array([_peaks(hm) for hm in harm]), dissipated_per_cycle=np.array([row[2] for row in rows]),
+        fold=np.array([row[3] for row in rows]), converged=np.array([row[4] for row in rows]), n_harmonics=hh,
+        messages=tuple(row[5] for row in rows), message=message)
