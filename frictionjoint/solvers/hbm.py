@@ -93,29 +93,13 @@ class Condensed:
             ys.append(rows @ sol[:, :-1])
             qs.append(rows @ sol[:, -1])
         # real form: unknown vector z, index (q, j) -> q (2H+1) + j, j = 0 (mean), 2h-1 (cos), 2h (sin)
-        nc = 2 * hh + 1
-        nz = self.n_q * nc
-        big = np.zeros((nz, nz))
-        lin = np.zeros(nz)
-        qi = np.arange(self.n_q) * nc
-        big[np.ix_(qi, qi)] = ys[0].real
-        lin[qi] = qs[0].real
-        for h in range(1, hh + 1):
-            ia, ib = qi + 2 * h - 1, qi + 2 * h
-            yr, yi = ys[h].real, ys[h].imag
-            big[np.ix_(ia, ia)] = yr
-            big[np.ix_(ia, ib)] = yi
-            big[np.ix_(ib, ia)] = -yi
-            big[np.ix_(ib, ib)] = yr
-            lin[ia] = qs[h].real
-            lin[ib] = -qs[h].imag
-        self.Y = big
-        self.q_linear = lin
-        self.nc = nc
-        self._qi = qi
+        self.nc = nc = 2 * hh + 1
+        self._qi = np.arange(self.n_q) * nc
+        self.Y, self.q_linear = self._real_form(ys, qs)
 
     def _real_form(self, ys, qs):
-        """``(big, lin)`` of per-harmonic complex ``G Z^-1 G^T`` and ``G Z^-1 F`` (see above)."""
+        """``(big, lin)`` of per-harmonic complex ``G Z^-1 G^T`` and ``G Z^-1 F``: the real
+        coefficients' map, ``Q = a - i b`` per harmonic (``a = Re Q``, ``b = -Im Q``)."""
         hh, nc, qi = self.n_harmonics, self.nc, self._qi
         nz = self.n_q * nc
         big = np.zeros((nz, nz))
