@@ -70,28 +70,31 @@ class Condensed:
         pre = system.slider_preload != 0
         self.w_ref[pre] = -system.slider_preload[pre] / system.slider_stiffness[pre]
         n = system.n_dof
-        self.zinv_gt, self.zinv_f, ys, qs = [], [], [], []
         self._lin = (k_lin, system.mass, system.damping)
-        for h in range(hh + 1):
-            z = k_lin - (h * w) ** 2 * system.mass + 1j * h * w * system.damping
-            if h == 0:
-                f = system.constant_force.astype(complex)
-            elif h == 1:
-                f = system.force_cos - 1j * system.force_sin
-            else:
-                f = np.zeros(n, complex)
-            try:
-                lu = scipy.linalg.lu_factor(z if h else z.real)
-            except (ValueError, np.linalg.LinAlgError) as exc:
-                raise ParameterError(f"harmonic_balance: the linear part is singular at harmonic {h} ({exc})") from None
-            sol = scipy.linalg.lu_solve(lu, np.column_stack([rows.T.astype(complex if h else float), f if h else f.real]))
-            if not np.all(np.isfinite(sol)):
-                raise ParameterError(f"harmonic_balance: the linear part is singular at harmonic {h} "
-                                     "(e.g. a resonance of the stuck system without damping)")
-            self.zinv_gt.append(sol[:, :-1])
-            self.zinv_f.append(sol[:, -1])
-            ys.append(rows @ sol[:, :-1])
-            qs.append(rows @ sol[:, -1])
+        # every harmonic's Z_h = K - (h w)^2 M + i h w C solved at once (one batched LAPACK call)
+        h = np.arange(hh + 1)
+        zs = (k_lin[None] - ((h * w) ** 2)[:, None, None] * system.mass[None]
+              + (1j * h * w)[:, None, None] * system.damping[None])
+        f = np.zeros((hh + 1, n), complex)
+        f[0] = system.constant_force
+        if hh >= 1:
+            f[1] = system.force_cos - 1j * system.force_sin
+        rhs = np.concatenate([np.broadcast_to(rows.T, (hh + 1,) + rows.T.shape), f[:, :, None]], axis=2)
+        try:
+            sol = np.linalg.solve(zs, rhs.astype(complex))
+        except np.linalg.LinAlgError:
+            raise ParameterError("harmonic_balance: the linear part is singular at a harmonic (e.g. a mechanism "
+                                 "without stuck springs, or a resonance of the stuck system without damping)") from None
+        if not np.all(np.isfinite(sol)):
+            raise ParameterError("harmonic_balance: the linear part is singular at a harmonic (e.g. a resonance of "
+                                 "the stuck system without damping)")
+        sol[0] = sol[0].real  # the mean is real
+        self._z = zs
+        self.zinv_gt = list(sol[:, :, :-1])
+        self.zinv_f = list(sol[:, :, -1])
+        ys = list(rows[None] @ sol[:, :, :-1])
+        qs = list(rows[None] @ sol[:, :, -1:])
+        qs = [q[:, 0] for q in qs]
         # real form: unknown vector z, index (q, j) -> q (2H+1) + j, j = 0 (mean), 2h-1 (cos), 2h (sin)
         self.nc = nc = 2 * hh + 1
         self._qi = np.arange(self.n_q) * nc
@@ -100,37 +103,38 @@ class Condensed:
     def _real_form(self, ys, qs):
         """``(big, lin)`` of per-harmonic complex ``G Z^-1 G^T`` and ``G Z^-1 F``: the real
         coefficients' map, ``Q = a - i b`` per harmonic (``a = Re Q``, ``b = -Im Q``)."""
-        hh, nc, qi = self.n_harmonics, self.nc, self._qi
-        nz = self.n_q * nc
-        big = np.zeros((nz, nz))
-        lin = np.zeros(nz)
-        big[np.ix_(qi, qi)] = ys[0].real
-        lin[qi] = qs[0].real
+        hh, nc, nq = self.n_harmonics, self.nc, self.n_q
+        big = np.zeros((nq, nc, nq, nc))
+        lin = np.zeros((nq, nc))
+        big[:, 0, :, 0] = ys[0].real
+        lin[:, 0] = qs[0].real
         for h in range(1, hh + 1):
-            ia, ib = qi + 2 * h - 1, qi + 2 * h
+            ia, ib = 2 * h - 1, 2 * h
             yr, yi = ys[h].real, ys[h].imag
-            big[np.ix_(ia, ia)] = yr
-            big[np.ix_(ia, ib)] = yi
-            big[np.ix_(ib, ia)] = -yi
-            big[np.ix_(ib, ib)] = yr
-            lin[ia] = qs[h].real
-            lin[ib] = -qs[h].imag
-        return big, lin
+            big[:, ia, :, ia] = yr
+            big[:, ia, :, ib] = yi
+            big[:, ib, :, ia] = -yi
+            big[:, ib, :, ib] = yr
+            lin[:, ia] = qs[h].real
+            lin[:, ib] = -qs[h].imag
+        return big.reshape(nq * nc, nq * nc), lin.reshape(-1)
 
     def omega_derivative(self):
-        """``(dY/domega, dq_linear/domega)``: ``d Z^-1 = -Z^-1 Z' Z^-1`` with ``Z_h' = -2 h^2 omega M
-        + i h C``; ``G Z^-1 = (Z^-1 G^T)^T`` as ``Z`` is (complex) symmetric."""
+        """``(dY/domega, dq_linear/domega)`` from ``d Z^-1 = -Z^-1 Z' Z^-1``, ``Z_h' = -2 h^2 omega M + i h
+        C`` (``G Z^-1`` from one batched solve with ``Z^T``: the reduced matrices of a blade are
+        symmetric only to rounding)."""
         k_lin, m, c = self._lin
         w = self.omega
-        if not (np.allclose(k_lin, k_lin.T, rtol=1e-13, atol=0.0) and np.allclose(c, c.T, rtol=1e-13, atol=0.0)
-                and np.allclose(m, m.T, rtol=1e-13, atol=0.0)):
-            raise ParameterError("harmonic_balance continuation needs symmetric K, C and M")
-        ys, qs = [], []
-        for h in range(self.n_harmonics + 1):
-            dz = -2.0 * h * h * w * m + 1j * h * c
-            a = self.zinv_gt[h]
-            ys.append(-(a.T @ dz @ a))
-            qs.append(-(a.T @ (dz @ self.zinv_f[h])))
+        hh = self.n_harmonics
+        h = np.arange(hh + 1)
+        dz = -2.0 * (h * h * w)[:, None, None] * m[None] + (1j * h)[:, None, None] * c[None]
+        left = np.linalg.solve(np.swapaxes(self._z, 1, 2), np.broadcast_to(self.G.T, (hh + 1,) + self.G.T.shape)
+                               .astype(complex))
+        gz = np.swapaxes(left, 1, 2)  # G Z^-1, (H+1, n_q, n)
+        a = np.array(self.zinv_gt)
+        f = np.array(self.zinv_f)
+        ys = list(-(gz @ dz @ a))
+        qs = list(-(gz @ (dz @ f[:, :, None]))[:, :, 0])
         return self._real_form(ys, qs)
 
     def forces(self, z: np.ndarray, jacobian: bool = True):

@@ -35,6 +35,8 @@ import math
 import numpy as np
 import scipy.optimize
 
+from . import loop_kernels
+
 __all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "coulomb_loop"]
 
 
@@ -45,6 +47,16 @@ def n_samples(n_harmonics: int) -> int:
 
 
 _GRIDS: dict = {}
+
+
+def _trig_tables(n_harmonics: int):
+    """``cos(h theta_j)``, ``sin(h theta_j)`` (H, N) on the bracketing grid (the compiled loop's)."""
+    key = (n_harmonics, "trig")
+    t = _GRIDS.get(key)
+    if t is None:
+        table = _grid(n_harmonics)[1]
+        t = _GRIDS[key] = (np.ascontiguousarray(table.real), np.ascontiguousarray(table.imag))
+    return t
 
 
 def _grid(n_harmonics: int, closed: bool = False):
@@ -295,13 +307,18 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     c = np.asarray(c, dtype=float)
     hh = (c.size - 1) // 2
     k, f = float(stiffness), float(slip_force)
+    if loop_kernels.ENABLED:  # the same loop, compiled
+        cos_t, sin_t = _trig_tables(hh)
+        coef, jac, w0, slips = loop_kernels.jenkins_loop_kernel(np.ascontiguousarray(c), k, f, float(w_ref),
+                                                                bool(jacobian), cos_t, sin_t)
+        return coef, (jac if jacobian else None), float(w0), bool(slips)
     reach = f / k
     nrm = _norm(hh)
     grid, table = _grid(hh)
     poly = _Poly(c)
     u = poly.values(grid, 0, table)
     du = poly.values(grid, 1, table)
-    t_max = _extremum(poly, grid, u, du, +1)
+    t_max = _extremum(poly, grid, u, du, +1) % (2 * math.pi)  # in [0, 2 pi): the loop covers theta = 2 pi
     t_min = _extremum(poly, grid, u, du, -1)
     u_max = poly(t_max)[0]
     u_min = poly(t_min)[0]
