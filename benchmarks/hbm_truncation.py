@@ -1,0 +1,111 @@
+"""Harmonic balance against the exact time domain: truncation error against H, and run time.
+
+1. The Jenkins SDOF of issue 14 (m = k = 1, zeta = 1 %, kt = 5, Fs = 0.1; P = 0.05, 0.2, 1.0; 40
+   frequencies from 0.5 to 3 rad/s): the first-harmonic amplitude and the peak amplitude of the
+   harmonic balance (exact hysteresis, H = 1, 3, 7, 15, 31) against the exact steady state of the
+   same system (the event-driven marcher's shooting), max and median relative error over the
+   frequencies, and the observed rate (slope of log error against log H, from H = 3 to 31; the
+   points where the slider stays stuck are exact at any H and carry no rate).
+2. Time: a pseudo-arclength continuation of the SDOF (P = 0.2) at H = 15 over 0.5-3 rad/s, and of
+   the Craig-Bampton blade on its dovetail (259 N at the root, 1 N at the tip) at H = 7 over
+   1600-2200 rad/s; milliseconds per point, in this process.
+
+Usage::
+
+    python benchmarks/hbm_truncation.py [--quick]
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import time
+
+import numpy as np
+
+import frictionjoint as fj
+from frictionjoint.structures import BladeAssembly, load_blade_model
+
+H_LIST = (1, 3, 7, 15, 31)
+FORCES = (0.05, 0.2, 1.0)
+
+
+def sdof(omega: float, p: float) -> fj.FrictionSystem:
+    st = fj.LinearStructure([[1.0]], [[1.0]], [[0.02]])
+    return fj.FrictionSystem(st, [fj.Jenkins(5.0, 0.1, dof=0)], omega=omega, excitation=[fj.HarmonicForce(0, p)])
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="10 frequencies, H up to 15")
+    args = parser.parse_args(argv)
+    n_w = 10 if args.quick else 40
+    h_list = H_LIST[:-1] if args.quick else H_LIST
+    omegas = np.linspace(0.5, 3.0, n_w)
+    lines = [f"# benchmarks/hbm_truncation.py{' --quick' if args.quick else ''}: {platform.machine()}, "
+             f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}",
+             f"# Jenkins SDOF m = k = 1, zeta = 1 %, kt = 5, Fs = 0.1; {n_w} frequencies 0.5-3 rad/s; error of the "
+             "harmonic balance against the exact time-domain steady state (relative, max / median over the "
+             "frequencies); rate: slope of log(error) against log H from H = 3 (stuck points are exact)",
+             f"{'P [N]':>6} {'H':>3} {'X1 max':>9} {'X1 median':>9} {'peak max':>9} {'peak median':>11} {'ms/pt':>6}"]
+    print("\n".join(lines), flush=True)
+    for p in FORCES:
+        exact = [fj.periodic_response(sdof(w, p)) for w in omegas]
+        x1 = np.array([r.harmonic_amplitude[0] * np.exp(-1j * r.phase[0]) for r in exact])
+        peak = np.array([r.amplitude[0] for r in exact])
+        medians, maxima = [], []
+        for hh in h_list:
+            guess = None
+            e1, ep = [], []
+            t0 = time.perf_counter()
+            for k, w in enumerate(omegas):
+                hb = fj.harmonic_balance(sdof(w, p), n_harmonics=hh, guess=guess)
+                guess = hb.harmonics if hb.converged else None
+                e1.append(abs(hb.harmonics[1, 0] - x1[k]) / abs(x1[k]))
+                ep.append(abs(hb.amplitude[0] - peak[k]) / peak[k])
+            dt = (time.perf_counter() - t0) / n_w * 1e3
+            medians.append(float(np.median(e1)))
+            maxima.append(float(max(e1)))
+            row = (f"{p:6.2f} {hh:3d} {max(e1):9.2e} {np.median(e1):9.2e} {max(ep):9.2e} {np.median(ep):11.2e} "
+                   f"{dt:6.1f}")
+            print(row, flush=True)
+            lines.append(row)
+        hs = np.array(h_list[1:], float)
+
+        def rate(errors):
+            e = np.array(errors[1:])
+            ok = e > 1e-13  # stuck points are exact at any H: no rate
+            return float(np.polyfit(np.log(hs[ok]), np.log(e[ok]), 1)[0]) if ok.sum() >= 2 else math.nan
+        row = (f"{p:6.2f} observed rate of the first-harmonic error: max H^{rate(maxima):.2f}, "
+               f"median H^{rate(medians):.2f}")
+        print(row, flush=True)
+        lines.append(row)
+    # continuation timings
+    sys0 = sdof(1.0, 0.2)
+    fj.hbm_sweep(sys0, (0.5, 3.0), n_harmonics=3, n_points=10)  # compile and warm up
+    t0 = time.perf_counter()
+    sw = fj.hbm_sweep(sys0, (0.5, 3.0), n_harmonics=15, n_points=200)
+    dt = time.perf_counter() - t0
+    row = (f"continuation, Jenkins SDOF P = 0.2, H = 15: {sw.omega.size} points in {dt:.2f} s "
+           f"({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
+    print(row, flush=True)
+    lines.append(row)
+    asm = BladeAssembly.from_model(load_blade_model("ti64_compressor_blade")).with_root(centrifugal_force=259.0)
+    t0 = time.perf_counter()
+    sw = fj.hbm_sweep(asm.system(1600.0), (1600.0, 2200.0), n_harmonics=7, n_points=200)
+    dt = time.perf_counter() - t0
+    row = (f"continuation, blade on its dovetail (259 N), H = 7: {sw.omega.size} points in {dt:.2f} s "
+           f"({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
+    print(row, flush=True)
+    lines.append(row)
+    if not args.quick:
+        out = os.path.join(os.path.dirname(__file__), "results_hbm.txt")
+        with open(out, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
