@@ -228,6 +228,11 @@ def _add_sweep(sub) -> None:
                     help="put Den Hartog's closed form and the relative error beside each point")
     sw.add_argument("--plot", dest="out", default=None, metavar="PNG",
                     help="write the plot (amplitude and phase against omega) to this file")
+    sw.add_argument("--method", choices=("time", "hbm"), default="time",
+                    help="time: the exact steady state at each frequency (default); hbm: the harmonic-balance "
+                         "branch from START to STOP by continuation, about N points (blade models)")
+    sw.add_argument("--harmonics", type=_count(1), default=7, metavar="H",
+                    help="harmonics of --method hbm (default 7)")
     _add_csv_and_progress(sw, "table")
     sw.set_defaults(func=_sweep, subparser=sw)
 
@@ -336,13 +341,16 @@ def _sweep(args, parser) -> int:
         if args.compare:
             parser.error("--compare analytic is for the single-DOF oscillator, not a blade model")
         outputs = tuple(args.outputs or ["x"])
+        how = (f"harmonic balance (H = {args.harmonics}), the branch from {w0:g} to {w1:g} rad/s by continuation"
+               if args.method == "hbm" else f"{n} frequencies, omega = {w0:g} ... {w1:g} rad/s")
         print(f"sweep of the blade model {definition.name} ({definition.path}) on its dovetail root, in the "
-              f"library: {n} frequencies, omega = {w0:g} ... {w1:g} rad/s, direction {args.direction}",
-              flush=True)
+              f"library: {how}, direction {args.direction}", flush=True)
         fr = sweep(args.model, omegas, params, direction=args.direction, outputs=outputs,
-                   progress=not args.no_progress)
+                   progress=not args.no_progress, method=args.method, n_harmonics=args.harmonics)
         print(fr.table())
         return _write(fr, args)
+    if args.method != "time":
+        parser.error("--method hbm is for blade model definitions (e.g. ti64_compressor_blade)")
     if _is_blade_fmu(args.model):  # BladeDovetail.fmu: the blade on its root through fmpy
         if args.compare or args.outputs:
             parser.error("--compare and --outputs are for the single-DOF oscillator, not a blade FMU")

@@ -216,13 +216,13 @@ def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve
 
 
 #: sweep methods: the steady state at each point found in the time domain (exact piecewise
-#: solution, shooting); harmonic balance ('hbm') comes with issue 14
-METHODS = ("time",)
+#: solution, shooting), or the harmonic-balance branch ('hbm', blade model definitions)
+METHODS = ("time", "hbm")
 
 
 def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
           direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
-          method: str = "time") -> FrequencyResponse | SystemSweep | OutputSweep:
+          method: str = "time", n_harmonics: int = 7) -> FrequencyResponse | SystemSweep | OutputSweep:
     """Stepped-sine sweep: the one entry point for the library's models, FMUs and drivers.
 
     ``model`` says what is swept:
@@ -268,8 +268,13 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         ``friction_force`` (those are integrated exactly, piece by piece), >= 16.
     progress : bool
         Show a progress bar (tqdm, on stderr).
-    method : {'time'}
-        How each steady state is found (:data:`METHODS`).
+    method : {'time', 'hbm'}
+        How each steady state is found (:data:`METHODS`): ``'hbm'`` (blade model definitions) is the
+        harmonic-balance branch from the first to the last of ``omegas`` by pseudo-arclength
+        continuation (:meth:`BladeAssembly.frequency_response
+        <frictionjoint.structures.BladeAssembly.frequency_response>`).
+    n_harmonics : int
+        Harmonics of ``'hbm'``, >= 1.
 
     Returns
     -------
@@ -279,8 +284,10 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS
 
     if method not in METHODS:
-        raise ParameterError(f"method must be one of {METHODS}, got {method!r} (harmonic balance, 'hbm', "
-                             "is not available yet)")
+        raise ParameterError(f"method must be one of {METHODS}, got {method!r}")
+    if method == "hbm" and (isinstance(model, Driver) or callable(model) or _blade_definition(model) is None):
+        raise ParameterError("method 'hbm' is for blade model definitions (the oscillator and FMU sweeps are "
+                             "in the time domain; for a FrictionSystem use frictionjoint.hbm_sweep)")
     if isinstance(model, type):
         raise ParameterError(f"model must be a Driver instance, not the class {model.__name__}")
     if callable(model) and not isinstance(model, Driver):
@@ -297,7 +304,7 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         if blade is None:
             raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver, a "
                                  f"build(omega) callable or a blade model definition, got {model!r}")
-        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress)
+        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics)
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
@@ -338,7 +345,8 @@ def _blade_definition(model):
     return load_blade_model(model)
 
 
-def _blade_sweep(definition, omegas, parameters, direction, outputs, progress) -> OutputSweep:
+def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, method="time",
+                 n_harmonics=7) -> OutputSweep:
     """:func:`sweep` of a blade model definition (see there)."""
     from .structures import BladeAssembly
 
@@ -356,7 +364,8 @@ def _blade_sweep(definition, omegas, parameters, direction, outputs, progress) -
         asm = BladeAssembly(asm.structure, asm.joints, {asm.tip: check_real("tip_force_amplitude", tip_force)})
     ws = check_grid("omegas", omegas, unit="rad/s")
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
-    return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress)
+    return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress,
+                                  method=method, n_harmonics=n_harmonics)
 
 
 #: variables that make an FMU a blade FMU for :func:`sweep` (those of BladeDovetail.fmu)

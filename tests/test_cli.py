@@ -253,3 +253,25 @@ def test_sweep_blade_fmu_equals_the_library_sweep(fmus, tmp_path):
     assert np.max(np.abs(fr.response - lib.response) / np.abs(lib.response)) <= 1e-8
     bad = run("sweep", str(fmus["BladeDovetail"]), "--set", "flank=1", "--omega", "1800:2100:2")
     assert bad.returncode != 0 and "flank" in bad.stderr
+
+
+def test_sweep_blade_model_by_harmonic_balance(tmp_path):
+    """``sweep MODEL --method hbm --harmonics H``: the harmonic-balance branch (continuation) in the
+    same table and CSV, its stuck points on the stuck linear limit (the same linear solve); the
+    oscillator has no --method hbm."""
+    import numpy as np
+
+    from frictionjoint.results import OutputSweep
+
+    table = tmp_path / "hbm.csv"
+    proc = run("sweep", "ti64_compressor_blade", "--set", "centrifugal_force=259", "--omega", "1950:2100:20",
+               "--method", "hbm", "--harmonics", "5", "--csv", str(table), "--no-progress")
+    assert proc.returncode == 0, proc.stderr
+    assert "harmonic balance (H = 5)" in proc.stdout and "points converged" in proc.stdout
+    fr = OutputSweep.from_csv(table)
+    assert fr.converged.all() and fr.omega[0] == 1950.0 and fr.omega[-1] >= 2100.0
+    assert fr.stuck.any() and not fr.stuck.all()
+    s = fr.stuck
+    assert np.max(np.abs(fr.response[s] - fr.limits["stuck"][s]) / np.abs(fr.limits["stuck"][s])) <= 1e-8
+    bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--method", "hbm")
+    assert bad.returncode != 0 and "blade model" in bad.stderr

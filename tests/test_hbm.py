@@ -152,6 +152,19 @@ def test_continuation_follows_the_branch_and_matches_point_solutions():
         assert np.max(np.abs(hb.harmonics - sw.harmonics[k])) <= 1e-8 * np.max(np.abs(hb.harmonics))
     with pytest.raises(ParameterError, match="omega_range"):
         hbm_sweep(jenkins_sdof(1.0, 0.2), (1.0, 1.0))
+    assert sw.stable is None
+
+
+def test_stability_along_a_branch_from_the_exact_orbits():
+    """stability=True: each branch point's verdict from the Floquet multipliers of the exact orbit
+    started from it; the damped Jenkins SDOF's single-valued resonance is stable everywhere, and a
+    check point's verdict is the same."""
+    from frictionjoint.solvers.continuation import hbm_sweep
+
+    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=5, n_points=15, stability=True)
+    assert sw.stable is not None and all(v is True for v in sw.stable)
+    hb = fj.harmonic_balance(jenkins_sdof(1.2, 0.2), n_harmonics=5, check=True)
+    assert hb.stable is True and np.max(np.abs(hb.exact.floquet_multipliers)) < 1.0
 
 
 @pytest.mark.slow

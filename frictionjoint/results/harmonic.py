@@ -39,7 +39,8 @@ class HarmonicBalance:
     dissipated_per_cycle : float
         Friction energy per period of the balanced orbit [J].
     stable : bool or None
-        Stability of the orbit (None: not computed).
+        With ``check``: the matching exact orbit is not unstable (its Floquet multipliers within
+        the unit circle, a neutral family of stuck orbits included); None: not computed.
     slider_positions : (n_sliders,) ndarray
         Jenkins slider positions at ``t = 0`` on the balanced orbit [m] (the start of an exact
         time-domain check).
@@ -98,6 +99,9 @@ class HarmonicBalanceSweep:
         A turning point (fold) of the branch lies between this point and the previous one.
     converged : (n,) bool ndarray
         The corrector converged.
+    stable : (n,) object ndarray
+        With ``stability``: True/False per point (the matching exact orbit's Floquet multipliers,
+        :func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where not known.
     n_harmonics : int
         ``H``.
     messages : tuple of str
@@ -117,6 +121,7 @@ class HarmonicBalanceSweep:
     n_harmonics: int
     messages: tuple = ()
     message: str = ""
+    stable: Optional[np.ndarray] = None
 
     @property
     def success(self) -> bool:

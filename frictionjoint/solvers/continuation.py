@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ParameterError, check_count, check_positive, check_system
 from ..results.harmonic import HarmonicBalanceSweep
 from ..system import FrictionSystem
-from .hbm import Condensed, _peaks, harmonic_balance
+from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable
 
 __all__ = ["hbm_sweep"]
 
@@ -41,7 +41,8 @@ def _joint_vector(cond: Condensed, harm: np.ndarray) -> np.ndarray:
 
 
 def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmonics: int = 7, *, n_points: int = 200,
-              tol: float = 1e-10, max_points: int | None = None, progress: bool = False) -> HarmonicBalanceSweep:
+              tol: float = 1e-10, max_points: int | None = None, progress: bool = False,
+              stability: bool = False) -> HarmonicBalanceSweep:
     """Harmonic-balance branch from ``omega_range[0]`` to ``omega_range[1]`` by pseudo-arclength
     continuation (module docstring).
 
@@ -62,6 +63,10 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
         Points at most (default ``20 n_points``).
     progress : bool
         Show a progress bar (fraction of the range covered).
+    stability : bool
+        Also judge each point's stability by the Floquet multipliers of the exact time-domain
+        orbit started from it (:func:`~frictionjoint.solvers.hbm.exact_orbit`; one shooting per
+        point, usually a few Newton steps from the balanced state).
 
     Returns
     -------
@@ -120,7 +125,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
     y = np.r_[z / zs, w / ws]
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
-    rows = [(w, c.harmonics(r), c.dissipation(z, r), False, True, first.message)]
+    rows = [(w, c.harmonics(r), c.dissipation(z, r), False, True, first.message, w0)]
     message = ""
     bar = tqdm(total=1000, desc="hbm", file=__import__("sys").stderr, disable=not progress, leave=False)
     try:
@@ -159,7 +164,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
             y, t = yk, t_new
             w = y[nz] * ws
             rows.append((w, ck.harmonics(r), ck.dissipation(zk, r), bool(fold), True,
-                         f"converged in {it - 1} corrector iterations"))
+                         f"converged in {it - 1} corrector iterations", w0))
             ds = min(ds * 1.5, ds_max) if it <= 4 else ds
             # z's scale follows the largest solution so far (a resonance many times the start's
             # size would otherwise make the arclength, and the number of points, that many times longer)
@@ -184,8 +189,12 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
         bar.close()
     omegas = np.array([row[0] for row in rows])
     harm = np.array([row[1] for row in rows])
+    stable = None
+    if stability:
+        stable = np.array([lyapunov_stable(exact_orbit(_at(system, row[0]), row[1], row[6], peaks=False))
+                           for row in rows], dtype=object)
     return HarmonicBalanceSweep(
         omega=omegas, harmonics=harm, harmonic_amplitude=np.abs(harm[:, 1]), phase=-np.angle(harm[:, 1]),
         amplitude=np.array([_peaks(hm) for hm in harm]), dissipated_per_cycle=np.array([row[2] for row in rows]),
         fold=np.array([row[3] for row in rows]), converged=np.array([row[4] for row in rows]), n_harmonics=hh,
-        messages=tuple(row[5] for row in rows), message=message)
+        messages=tuple(row[5] for row in rows), message=message, stable=stable)

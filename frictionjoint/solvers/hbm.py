@@ -31,7 +31,7 @@ from ..results.harmonic import HarmonicBalance
 from ..system import FrictionSystem
 from . import hysteresis
 
-__all__ = ["harmonic_balance", "Condensed"]
+__all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable"]
 
 
 class Condensed:
@@ -321,25 +321,41 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     return out
 
 
-def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
-    """The exact time-domain steady state from the balanced orbit; the truncation error."""
+def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray, peaks: bool = True):
+    """The exact time-domain steady state (:func:`~frictionjoint.solvers.steady.periodic_response`)
+    started from a balanced orbit: its state at ``t = 0`` and its sliders' positions (within
+    their slip bands there: the balance holds the joint coordinates to its tolerance only)."""
     from .steady import periodic_response
 
-    harm = hb.harmonics
-    hh = harm.shape[0] - 1
-    w = system.omega
-    x0 = harm.sum(axis=0).real
-    v0 = (harm * (1j * w * np.arange(hh + 1))[:, None]).sum(axis=0).real
-    # the balanced loops' slider positions, within their slip bands at x0 (the balance holds the
-    # joint coordinates to its tolerance, so a slipping slider may be a rounding outside)
+    hh = harmonics.shape[0] - 1
+    x0 = harmonics.sum(axis=0).real
+    v0 = (harmonics * (1j * system.omega * np.arange(hh + 1))[:, None]).sum(axis=0).real
     s = system.slider_direction @ x0
     jen = ~system.rigid
-    w0 = hb.slider_positions.copy()
+    w0 = np.asarray(slider_positions, dtype=float).copy()
     reach = system.slip_force[jen] / system.slider_stiffness[jen]
     w0[jen] = np.clip(w0[jen], s[jen] - reach, s[jen] + reach)
-    ex = periodic_response(system, x0, v0, w0)
+    return periodic_response(system, x0, v0, w0, peaks=peaks)
+
+
+def lyapunov_stable(orbit) -> bool | None:
+    """Stability of an exact orbit from its Floquet multipliers: not unstable, every modulus <= 1 +
+    :data:`~frictionjoint.results.response.STABILITY_MARGIN` (a neutral family of stuck orbits,
+    multiplier 1, counts as stable); None without multipliers."""
+    from ..results.response import STABILITY_MARGIN
+
+    mu = getattr(orbit, "floquet_multipliers", None)
+    if mu is None or not orbit.converged:
+        return None
+    return bool(np.max(np.abs(mu), initial=0.0) <= 1.0 + STABILITY_MARGIN)
+
+
+def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
+    """The exact time-domain steady state from the balanced orbit; the truncation error."""
+    harm = hb.harmonics
+    ex = exact_orbit(system, harm, hb.slider_positions)
     hb.exact = ex
-    hb.stable = ex.stable  # the Floquet multipliers of the matching exact orbit
+    hb.stable = lyapunov_stable(ex)  # the Floquet multipliers of the matching exact orbit
     if ex.converged:
         x1 = ex.harmonic_amplitude * np.exp(-1j * ex.phase)
         hb.truncation_error = float(np.max(np.abs(harm[1] - x1)) / np.max(np.abs(x1)))

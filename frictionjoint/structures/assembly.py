@@ -184,7 +184,8 @@ class BladeAssembly:
         """The first loaded DOF (e.g. ``'w30'``, where :meth:`from_model` puts its tip force)."""
         return next(iter(self.loads), None)
 
-    def frequency_response(self, omegas: ArrayLike, dof: str | None = None, progress: bool = False) -> OutputSweep:
+    def frequency_response(self, omegas: ArrayLike, dof: str | None = None, progress: bool = False,
+                           method: str = "time", n_harmonics: int = 7) -> OutputSweep:
         """Stepped-sine sweep (:meth:`sweep`) of one DOF's first harmonic, with that DOF's linear
         frequency response in the root's two limits (every slider stuck, every slider slipping:
         :func:`~frictionjoint.linear_limits.limit_structures`) at the same frequencies.
@@ -197,6 +198,13 @@ class BladeAssembly:
             The output, a DOF of the full model or of the structure (default :attr:`tip`).
         progress : bool
             Show a progress bar.
+        method : {'time', 'hbm'}
+            ``'time'``: the exact steady state at each of ``omegas`` (shooting on the event-driven
+            marcher); ``'hbm'``: the harmonic-balance branch from the first to the last of
+            ``omegas`` (:func:`~frictionjoint.solvers.continuation.hbm_sweep`, about ``len(omegas)``
+            points; the points are the branch's, past a fold not monotonic in omega).
+        n_harmonics : int
+            Harmonics of ``'hbm'``.
 
         Returns
         -------
@@ -210,6 +218,23 @@ class BladeAssembly:
         from ..sweep import system_sweep
 
         row = self._row(dof)
+        if method == "hbm":
+            from ..solvers.continuation import hbm_sweep
+            from ..errors import check_grid
+
+            ws = check_grid("omegas", omegas, unit="rad/s")
+            if ws.size < 2:
+                raise ParameterError("omegas: the harmonic-balance branch needs a start and an end frequency")
+            hb = hbm_sweep(self.system(float(ws[0])), (float(ws[0]), float(ws[-1])), n_harmonics=n_harmonics,
+                           n_points=int(ws.size), progress=progress)
+            limits = {name: st.harmonic_response(hb.omega, self._force) @ row
+                      for name, st in limit_structures(self.system(float(ws[0]))).items()}
+            return OutputSweep(omega=hb.omega, output=dof, response=hb.harmonics[:, 1] @ row, limits=limits,
+                               stuck=hb.dissipated_per_cycle <= 0.0, converged=hb.converged,
+                               dissipated_per_cycle=hb.dissipated_per_cycle,
+                               messages=tuple(f"HBM H = {hb.n_harmonics}: {m}" for m in hb.messages))
+        if method != "time":
+            raise ParameterError(f"method must be 'time' or 'hbm', got {method!r}")
         # the first harmonics only: no displacement peaks located (half a point's time at the
         # damper optimum)
         sw = system_sweep(self.system, omegas, progress=progress, peaks=False)
