@@ -42,6 +42,10 @@ Methods (``method`` column):
 - ``describing function``: the one-harmonic balance ``|k - m w^2 + i 4F/(pi X)| X = P0``, closed
   form (:func:`frictionjoint.analytic.harmonic_balance_amplitude`): an approximation whose error
   no setting can reduce;
+- ``harmonic balance``: :func:`frictionjoint.harmonic_balance` with ``H`` harmonics (exact
+  hysteresis: the friction force's Fourier coefficients integrated between its reversals in closed
+  form), the peak of the reconstructed period; a rigid Coulomb slider in continuous sliding, so
+  the case with stops is out of its model whatever ``H`` (its error stays);
 - ``tanh RK45``/``tanh LSODA``/``tanh Radau``: the baseline a user writes, friction
   ``F tanh(v/eps)`` in :func:`scipy.integrate.solve_ivp` at several widths ``eps`` (in units of
   ``wn P0/k``) and ``rtol`` (``atol = rtol`` times the displacement and velocity scales; the
@@ -89,7 +93,7 @@ from frictionjoint.solvers.sdof import SdofCoulomb
 
 __all__ = ["Case", "Problem", "Row", "WorkPrecision", "CASES", "PERIODS", "COLUMNS",
            "make_problem", "marcher_amplitude", "sdof_amplitude", "steady_state_amplitude",
-           "describing_function_amplitude", "fmu_sweep_amplitude", "regularised_amplitude",
+           "describing_function_amplitude", "hbm_amplitude", "fmu_sweep_amplitude", "regularised_amplitude",
            "event_driven_amplitude", "plan", "run_benchmark", "machine_description", "EXACT_METHODS"]
 
 #: Excitation periods marched by the time-marching methods; the amplitude is taken over the last.
@@ -307,6 +311,30 @@ def describing_function_amplitude(problem: Problem) -> float:
     r = problem.omega / math.sqrt(problem.stiffness / problem.mass)
     f = problem.slip_force / abs(problem.force_amplitude)
     return harmonic_balance_amplitude(r, f) * problem.displacement_scale
+
+
+def hbm_amplitude(problem: Problem, n_harmonics: int) -> float:
+    """Peak of the harmonic balance's period (:func:`frictionjoint.harmonic_balance`).
+
+    Parameters
+    ----------
+    problem : Problem
+    n_harmonics : int
+        ``H``.
+
+    Returns
+    -------
+    float
+        ``max |x|`` [m] (NaN when Newton did not converge).
+    """
+    import frictionjoint as fj
+
+    p = problem
+    st = fj.LinearStructure([[p.mass]], [[p.stiffness]])
+    sysm = fj.FrictionSystem(st, [fj.CoulombSlider(p.slip_force, dof=0)], omega=p.omega,
+                             excitation=[fj.HarmonicForce(0, p.force_amplitude)])
+    hb = fj.harmonic_balance(sysm, n_harmonics=n_harmonics)
+    return float(hb.amplitude[0]) if hb.converged else math.nan
 
 
 def fmu_sweep_amplitude(problem: Problem, fmu, n_samples: int = 256) -> float:
@@ -750,6 +778,8 @@ def plan(problem: Problem, quick: bool = False, fmu=None) -> list:
         for ns in ((64,) if quick else (64, 256)):
             items.append(("FMU sweep", f"n_samples={ns}", lambda ns=ns: fmu_sweep_amplitude(p, fmu, ns)))
     items.append(("describing function", "one harmonic", lambda: describing_function_amplitude(p)))
+    for hh in ((1, 7) if quick else (1, 3, 7, 15, 31)):
+        items.append(("harmonic balance", f"H={hh}", lambda hh=hh: hbm_amplitude(p, hh)))
     widths = (1e-3, 1e-6) if quick else (1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
     for method in ("RK45", "LSODA", "Radau"):
         tols = (1e-6, 1e-10) if quick else ((1e-6, 1e-9) if method == "Radau" else (1e-6, 1e-9, 1e-12))

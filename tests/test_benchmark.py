@@ -51,7 +51,7 @@ def test_csv_has_the_columns_and_the_machine(bench):
         assert word in machine
     methods = {r["method"] for r in rows}
     assert methods == {"exact marcher", "exact SDOF kernel", "steady_state", "FMU sweep", "describing function", "tanh RK45",
-                       "tanh LSODA", "tanh Radau", "events DOP853"}
+                       "tanh LSODA", "tanh Radau", "events DOP853", "harmonic balance"}
     assert {r["case"] for r in rows} == {CASE.label}
     assert all(r["status"] == "ok" for r in rows)
     assert (out / "work_precision.png").read_bytes()[:8] == PNG_MAGIC
@@ -106,6 +106,18 @@ def test_describing_function_error(bench):
     x_hb = math.sqrt(1 - (4 * f / math.pi) ** 2) / abs(1 - r * r)
     assert float(df["relative_error"]) == pytest.approx(abs(x_hb / x_dh - 1), rel=1e-3)
     assert 1e-2 < float(df["relative_error"]) < 5e-2  # 2.2e-2: a few per cent, as expected
+
+
+def test_harmonic_balance_rows(bench):
+    """H = 1 is the describing function (to 1e-10); H = 7 is closer to Den Hartog (the stop-free
+    motion is continuous sliding, which the balance represents; the force's jumps make its
+    harmonics decay like 1/h, so the truncation error falls slowly)."""
+    _, _, rows, _ = bench
+    (df,) = _rows(rows, "describing function")
+    hbm = {r["setting"]: r for r in _rows(rows, "harmonic balance")}
+    assert set(hbm) == {"H=1", "H=7"}
+    assert float(hbm["H=1"]["amplitude"]) == pytest.approx(float(df["amplitude"]), rel=1e-10)
+    assert float(hbm["H=7"]["relative_error"]) < 0.5 * float(hbm["H=1"]["relative_error"])  # 5.0e-3 against 2.2e-2
 
 
 def test_stop_case_reference_is_confirmed_independently():
