@@ -516,3 +516,55 @@ def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     ax.grid(True, which="both", alpha=0.3)
     _save(fig, path)
     return fig
+
+
+def plot_hbm_sweep(sw, output=0, ax=None, path=None):
+    """First-harmonic amplitude of a harmonic-balance branch
+    (:class:`~frictionjoint.results.HarmonicBalanceSweep`) against frequency, in branch order:
+    stable parts solid, unstable parts dashed, parts of unknown stability dotted; folds marked.
+
+    Parameters
+    ----------
+    sw : HarmonicBalanceSweep
+    output : int or (n_dof,) array_like
+        A DOF index, or the coefficients of an output linear in the DOFs (e.g. a blade's tip).
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure if omitted).
+    path : str or os.PathLike, optional
+        Write the figure there.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if ax is None:
+        fig = new_figure((8.0, 5.0))
+        ax = fig.subplots()
+    else:
+        fig = ax.figure
+    h1 = sw.harmonics[:, 1]
+    amp = np.abs(h1[:, int(output)] if np.ndim(output) == 0 else h1 @ np.asarray(output, dtype=float))
+    kinds = np.array(["unknown" if sw.stable is None or sw.stable[k] is None else
+                      ("stable" if sw.stable[k] else "unstable") for k in range(sw.omega.size)])
+    styles = {"stable": dict(ls="-", color="C0"), "unstable": dict(ls="--", color="C3"),
+              "unknown": dict(ls=":", color="C0")}
+    start = 0
+    labelled = set()
+    for k in range(1, sw.omega.size + 1):  # one line per run of one stability kind
+        if k == sw.omega.size or kinds[k] != kinds[start]:
+            kind = kinds[start]
+            stop = min(k + 1, sw.omega.size)
+            ax.plot(sw.omega[start:stop], amp[start:stop], lw=1.5,
+                    label=None if kind in labelled else f"H = {sw.n_harmonics}, {kind}", **styles[kind])
+            labelled.add(kind)
+            start = k
+    folds = np.flatnonzero(sw.fold)
+    if folds.size:
+        ax.plot(sw.omega[folds], amp[folds], "o", ms=5, mfc="none", color="k", label="fold")
+    ax.set_yscale("log")
+    ax.set_xlabel("omega [rad/s]")
+    ax.set_ylabel("first-harmonic amplitude [m]")
+    ax.legend(fontsize="small")
+    ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+    return fig

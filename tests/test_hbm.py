@@ -184,3 +184,14 @@ def test_blade_peak_against_the_time_domain():
         assert sw.success
         tip = np.abs(sw.harmonics[:, 1] @ asm._row(asm.tip))
         assert abs(tip.max() - a_ex) <= 5e-3 * a_ex, (fc, tip.max(), a_ex)
+
+
+def test_branch_plot(tmp_path):
+    from frictionjoint.solvers.continuation import hbm_sweep
+
+    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=3, n_points=10, stability=True)
+    sw.stable[3] = False  # an unstable stretch is drawn dashed
+    fig = sw.plot(0, path=tmp_path / "branch.png")
+    assert (tmp_path / "branch.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    styles = {line.get_linestyle() for line in fig.axes[0].lines}
+    assert {"-", "--"} <= styles

@@ -137,3 +137,23 @@ class HarmonicBalanceSweep:
     def n_folds(self) -> int:
         """Turning points passed."""
         return int(np.count_nonzero(self.fold))
+
+    def plot(self, output=0, ax=None, path=None):
+        """The branch's first-harmonic amplitude against frequency, stable and unstable parts drawn
+        differently (:func:`frictionjoint.plotting.plot_hbm_sweep`).
+
+        Parameters
+        ----------
+        output : int or (n_dof,) array_like
+            A DOF index or an output's coefficients over the DOFs.
+        ax : matplotlib Axes, optional
+        path : str or os.PathLike, optional
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_hbm_sweep, plot_target
+
+        ax, path = plot_target(ax, path)
+        return plot_hbm_sweep(self, output, ax=ax, path=path)
