@@ -36,6 +36,14 @@ def new_figure(figsize=(8.0, 6.0)):
     return fig
 
 
+def _axes(ax, figsize):
+    """``(fig, ax)``: the given axes and their figure, or a new figure's single axes."""
+    if ax is None:
+        fig = new_figure(figsize)
+        return fig, fig.subplots()
+    return ax.figure, ax
+
+
 def plot_target(ax, path):
     """``(ax, path)`` of a result's ``plot(ax=None, path=None)``: a path passed as the first
     argument (the results' former ``plot(path)``) is taken as ``path``.
@@ -302,11 +310,7 @@ def plot_regime_map(rm, path=None, ax=None):
 
     from .analytic import den_hartog_boundary
 
-    if ax is None:
-        fig = new_figure((9.0, 6.0))
-        ax = fig.subplots()
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, (9.0, 6.0))
     stops = sorted({int(n) for n, reg in zip(rm.stops_per_cycle.ravel(), rm.regime.ravel())
                     if reg in ("stop-free", "stops")})
     cats = [(f"{n} stop" + ("" if n == 1 else "s") + (" (continuous)" if n == 0 else ""),
@@ -374,11 +378,7 @@ def plot_time_response(tr, ax=None, path=None, **kwargs):
     matplotlib.axes.Axes
         The axes of the displacement.
     """
-    if ax is None:
-        fig = new_figure((8.0, 4.0))
-        ax = fig.subplots()
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, (8.0, 4.0))
     t = np.asarray(tr.t)
     if tr.x is not None:
         x = np.atleast_2d(tr.x)
@@ -497,11 +497,7 @@ def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     -------
     matplotlib.figure.Figure
     """
-    if ax is None:
-        fig = new_figure((8.0, 5.0))
-        ax = fig.subplots()
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, (8.0, 5.0))
     styles = {"stuck": dict(color="0.35", ls="--"), "slipping": dict(color="0.35", ls=":")}
     for name, x in sw.limits.items():
         ax.plot(sw.omega, np.abs(x), lw=1.0, label=f"linear limit: {name}", **styles.get(name, {}))
@@ -537,11 +533,7 @@ def plot_hbm_sweep(sw, output=0, ax=None, path=None):
     -------
     matplotlib.figure.Figure
     """
-    if ax is None:
-        fig = new_figure((8.0, 5.0))
-        ax = fig.subplots()
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, (8.0, 5.0))
     h1 = sw.harmonics[:, 1]
     amp = np.abs(h1[:, int(output)] if np.ndim(output) == 0 else h1 @ np.asarray(output, dtype=float))
     kinds = np.array(["unknown" if sw.stable is None or sw.stable[k] is None else

@@ -191,7 +191,7 @@ def test_branch_plot(tmp_path):
 
     sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=3, n_points=10, stability=True)
     sw.stable[3] = False  # an unstable stretch is drawn dashed
-    fig = sw.plot(0, path=tmp_path / "branch.png")
+    fig = sw.plot(path=tmp_path / "branch.png", output=0)
     assert (tmp_path / "branch.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     styles = {line.get_linestyle() for line in fig.axes[0].lines}
     assert {"-", "--"} <= styles

@@ -138,16 +138,16 @@ class HarmonicBalanceSweep:
         """Turning points passed."""
         return int(np.count_nonzero(self.fold))
 
-    def plot(self, output=0, ax=None, path=None):
+    def plot(self, ax=None, path=None, output=0):
         """The branch's first-harmonic amplitude against frequency, stable and unstable parts drawn
         differently (:func:`frictionjoint.plotting.plot_hbm_sweep`).
 
         Parameters
         ----------
-        output : int or (n_dof,) array_like
-            A DOF index or an output's coefficients over the DOFs.
         ax : matplotlib Axes, optional
         path : str or os.PathLike, optional
+        output : int or (n_dof,) array_like
+            A DOF index or an output's coefficients over the DOFs.
 
         Returns
         -------
