@@ -217,3 +217,29 @@ def test_base_motion_and_a_preloaded_dovetail_against_the_time_domain():
     # radial offset), and the dissipation per cycle is the exact one to 1e-6
     assert hb.harmonics[0, 1].real > 0.01
     assert abs(hb.dissipated_per_cycle - hb.exact.dissipated_per_cycle) <= 1e-5 * hb.exact.dissipated_per_cycle
+
+
+def test_hill_exponents_against_the_exact_floquet_multipliers():
+    """Hill's method on the balanced orbit: on a stuck orbit (linear) its exponents are the stuck
+    system's eigenvalues -c/2 +- i wd (modulo i omega) to rounding; on slipping orbits it agrees in
+    sign with the exact orbit's multipliers (both stable), closely where the slider slips over most
+    of the cycle (P = 1: -0.01146 and -0.0100 against the exact -0.01146 and -0.0100) and loosely
+    where it sticks over part of it (P = 0.2, omega = 2.5: Hill -0.01, exact -0.36: the slips
+    erase the slider's memory, which the periodic Jacobian does not see)."""
+    from frictionjoint.solvers.hbm import hill_exponents
+
+    hb = fj.harmonic_balance(jenkins_sdof(0.8, 0.05), n_harmonics=7, check=True)
+    lam = hill_exponents(jenkins_sdof(0.8, 0.05), hb)
+    wd = math.sqrt(6.0 - 0.01 ** 2)
+    assert np.max(np.abs(lam.real + 0.01)) <= 1e-10
+    shifted = np.abs(lam.imag) % 0.8
+    assert np.min(np.abs(shifted - wd % 0.8)) <= 1e-9
+    for p, w in ((1.0, 1.0), (0.2, 1.2), (0.2, 2.5)):
+        sysm = jenkins_sdof(w, p)
+        hb = fj.harmonic_balance(sysm, n_harmonics=7, check=True)
+        lam = hill_exponents(sysm, hb)
+        assert hb.stable is True and np.max(lam.real) < 0
+        if p == 1.0:
+            exact = np.sort(np.log(np.abs(hb.exact.floquet_multipliers[np.abs(hb.exact.floquet_multipliers) > 0]))
+                            * w / (2 * math.pi))
+            assert np.max(np.abs(np.sort(lam.real) - exact[:2])) <= 1e-4

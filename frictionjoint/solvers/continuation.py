@@ -12,8 +12,6 @@ come out in one run.
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..errors import ParameterError, check_count, check_positive, check_system
@@ -26,18 +24,6 @@ __all__ = ["hbm_sweep"]
 
 def _at(system: FrictionSystem, omega: float) -> FrictionSystem:
     return FrictionSystem(system.structure, system.elements, omega=omega, excitation=system.excitation)
-
-
-def _joint_vector(cond: Condensed, harm: np.ndarray) -> np.ndarray:
-    qh = harm @ cond.G.T
-    nc = cond.nc
-    z = np.zeros(cond.n_q * nc)
-    for q in range(cond.n_q):
-        z[q * nc] = qh[0, q].real
-        for h in range(1, cond.n_harmonics + 1):
-            z[q * nc + 2 * h - 1] = qh[h, q].real
-            z[q * nc + 2 * h] = -qh[h, q].imag
-    return z
 
 
 def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmonics: int = 7, *, n_points: int = 200,
@@ -90,7 +76,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
         raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
     first = harmonic_balance(_at(system, w_a), n_harmonics=hh, tol=tol)
     cond = Condensed(_at(system, w_a), hh)
-    z = _joint_vector(cond, first.harmonics)
+    z = cond.joint_vector(first.harmonics)
     zs = max(float(np.max(np.abs(z))), 1e-300)
     ws = abs(w_b - w_a)
     sense = 1.0 if w_b > w_a else -1.0

@@ -31,7 +31,7 @@ from ..results.harmonic import HarmonicBalance
 from ..system import FrictionSystem
 from . import hysteresis
 
-__all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable"]
+__all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable", "hill_exponents"]
 
 
 class Condensed:
@@ -136,6 +136,19 @@ class Condensed:
         ys = list(-(gz @ dz @ a))
         qs = list(-(gz @ (dz @ f[:, :, None]))[:, :, 0])
         return self._real_form(ys, qs)
+
+    def joint_vector(self, harmonics: np.ndarray) -> np.ndarray:
+        """The unknowns ``z`` (joint coordinates' real coefficients) of DOF harmonics ``(H' + 1,
+        n_dof)`` (complex, ``x = Re sum X_h e^{i h theta}``; harmonics beyond ``H`` dropped, missing
+        ones zero)."""
+        qh = np.asarray(harmonics, dtype=complex) @ self.G.T
+        nc = self.nc
+        z = np.zeros(self.n_q * nc)
+        z[::nc] = qh[0].real
+        for h in range(1, min(self.n_harmonics, qh.shape[0] - 1) + 1):
+            z[2 * h - 1::nc] = qh[h].real
+            z[2 * h::nc] = -qh[h].imag
+        return z
 
     def forces(self, z: np.ndarray, jacobian: bool = True):
         """``R(z)`` (the joints' forces less their stuck springs, per coordinate and harmonic),
@@ -250,7 +263,6 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
     max_iter = check_count("max_iter", max_iter, 1)
     cond = Condensed(system, hh)
-    nc = cond.nc
     if guess is None and hh > 1:
         # start from the balance with fewer harmonics, H' = (H - 1) // 2 down to 1 (the one-harmonic
         # balance from the stuck linear solution): from the linear start Newton may wander on the
@@ -264,13 +276,7 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         g = np.asarray(guess, dtype=complex)
         if g.ndim != 2 or g.shape[1] != system.n_dof:
             raise ParameterError(f"guess must have shape (H' + 1, n_dof = {system.n_dof}), got {g.shape}")
-        qh = g @ cond.G.T  # (H'+1, n_q)
-        z = np.zeros(cond.n_q * nc)
-        for q in range(cond.n_q):
-            z[q * nc] = qh[0, q].real
-            for h in range(1, min(hh, g.shape[0] - 1) + 1):
-                z[q * nc + 2 * h - 1] = qh[h, q].real
-                z[q * nc + 2 * h] = -qh[h, q].imag
+        z = cond.joint_vector(g)
 
     def residual(zz, jac=True):
         r, jr, w0 = cond.forces(zz, jac)
@@ -360,3 +366,57 @@ def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
         x1 = ex.harmonic_amplitude * np.exp(-1j * ex.phase)
         hb.truncation_error = float(np.max(np.abs(harm[1] - x1)) / np.max(np.abs(x1)))
         hb.amplitude_error = float(np.max(np.abs(hb.amplitude - ex.amplitude)) / np.max(ex.amplitude))
+
+
+def hill_exponents(system: FrictionSystem, hb: HarmonicBalance) -> np.ndarray:
+    """Floquet exponents of a balanced orbit by Hill's method: the quadratic eigenproblem
+
+        [lam^2 M~ + lam (C~ + 2 w M~ D) + (K~ + w C~ D + w^2 M~ D^2 + G~^T J G~)] P = 0
+
+    in the real Fourier basis of ``H`` harmonics (``D`` the phase derivative, ``~`` block-diagonal
+    copies per harmonic coefficient, ``J`` the analytic Jacobian of the joints' forces, the stuck
+    springs in ``K``), linearised to a generalised eigenproblem of size ``2 n (2H + 1)``; of its
+    eigenvalues the ``2 n`` with the smallest ``|Im lam|`` are the exponents (the others are their
+    copies shifted by ``i h w``). An approximation (the sliders' memory enters only through the
+    periodic Jacobian); the exact alternative is the Floquet multipliers of the matching exact
+    orbit (``check=True``).
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The system the balance was made for.
+    hb : HarmonicBalance
+        A converged balance of it.
+
+    Returns
+    -------
+    (2 n_dof,) complex ndarray
+        The exponents ``lam`` [1/s]; the orbit is asymptotically stable when every real part is < 0.
+    """
+    if hb.omega != system.omega:
+        system = FrictionSystem(system.structure, system.elements, omega=hb.omega, excitation=system.excitation)
+    hh = hb.n_harmonics
+    cond = Condensed(system, hh)
+    nc = cond.nc
+    n = system.n_dof
+    # the joints' Jacobian on the balanced orbit
+    _, jr, _ = cond.forces(cond.joint_vector(hb.harmonics))
+    k_lin, m, c = cond._lin
+    w = system.omega
+    # basis index (dof, j): dof * nc + j; D on one DOF's coefficients: (a_h, b_h) -> h (b_h, -a_h)
+    d1 = np.zeros((nc, nc))
+    for h in range(1, hh + 1):
+        d1[2 * h - 1, 2 * h] = h   # d/dtheta (b sin) = h b cos: the cos row takes h b
+        d1[2 * h, 2 * h - 1] = -h  # d/dtheta (a cos) = -h a sin
+    eye = np.eye(nc)
+    mt, ct, kt = np.kron(m, eye), np.kron(c, eye), np.kron(k_lin, eye)
+    dd = np.kron(np.eye(n), d1)
+    g = np.kron(cond.G, eye)  # joint coordinates' coefficients from the DOFs'
+    k_total = kt + w * ct @ dd + w * w * mt @ dd @ dd + g.T @ jr @ g
+    c_total = ct + 2 * w * mt @ dd
+    size = n * nc
+    a = np.block([[np.zeros((size, size)), np.eye(size)], [-k_total, -c_total]])
+    b = np.block([[np.eye(size), np.zeros((size, size))], [np.zeros((size, size)), mt]])
+    lam = scipy.linalg.eigvals(a, b)
+    lam = lam[np.isfinite(lam)]
+    return lam[np.argsort(np.abs(lam.imag))][:2 * n]
