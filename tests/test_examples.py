@@ -64,10 +64,20 @@ def test_readme_opens_with_the_two_commands():
 @pytest.mark.slow
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
-    assert len(python) == 3  # the library example, the system of FMUs, the blade models
+    assert len(python) == 4  # the library example, the system of FMUs, the blade models, harmonic balance
     monkeypatch.chdir(tmp_path)
     exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
     assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_readme_harmonic_balance_example_runs(tmp_path, monkeypatch):
+    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][3]
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "readme"}
+    exec(compile(block, str(README) + ":hbm-example", "exec"), namespace)
+    hb, sw = namespace["hb"], namespace["sw"]
+    assert hb.converged and hb.truncation_error <= 1e-3 and hb.stable is True
+    assert sw.success and (tmp_path / "hbm_branch.png").read_bytes()[:8] == PNG_MAGIC
 
 
 def test_readme_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
