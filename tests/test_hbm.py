@@ -243,3 +243,23 @@ def test_hill_exponents_against_the_exact_floquet_multipliers():
             exact = np.sort(np.log(np.abs(hb.exact.floquet_multipliers[np.abs(hb.exact.floquet_multipliers) > 0]))
                             * w / (2 * math.pi))
             assert np.max(np.abs(np.sort(lam.real) - exact[:2])) <= 1e-4
+
+
+def test_continuation_stays_on_a_steep_lightly_damped_branch():
+    """A friction damper between two masses (Jenkins along x1 - x2, zeta ~ 0.1 %): the branch
+    through the steep first resonance used to jump to its other flank (a corrector that moved
+    farther than its step) and then run back to omega -> 0; now it reaches the end, monotone in
+    omega (no fold here), each point a balance."""
+    from frictionjoint.solvers.continuation import hbm_sweep
+
+    k = np.array([[1.1, -0.1], [-0.1, 2.1]])
+    st = fj.LinearStructure(np.eye(2), k, 0.002 * np.eye(2))
+
+    def damper(w):
+        return fj.FrictionSystem(st, [fj.Jenkins(2.0, 0.05, direction=[1.0, -1.0])], omega=w,
+                                 excitation=[fj.HarmonicForce(0, 0.1)])
+    sw = hbm_sweep(damper(0.5), (0.5, 3.0), n_harmonics=1, n_points=80)
+    assert sw.success and sw.n_folds == 0 and np.all(np.diff(sw.omega) > 0)
+    k_peak = int(np.argmax(sw.harmonic_amplitude[:, 0]))
+    hb = fj.harmonic_balance(damper(sw.omega[k_peak]), n_harmonics=1, guess=sw.harmonics[k_peak], tol=1e-12)
+    assert np.max(np.abs(hb.harmonics - sw.harmonics[k_peak])) <= 1e-8 * np.max(np.abs(hb.harmonics))

@@ -109,6 +109,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
     res, jz, jw, r, w0 = equations(z, w, c)
     t = tangent(jz, jw, np.r_[np.zeros(nz), sense])
     y = np.r_[z / zs, w / ws]
+    y_prev = None
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
     rows = [(w, c.harmonics(r), c.dissipation(z, r), False, True, first.message, w0)]
@@ -145,8 +146,21 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
                     message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
                     break
                 continue
+            # a corrector that lands behind the last point (nearer the one before it) retraces the
+            # branch: at a kink of the loops' Jacobian (a slider's stick/slip boundary) the
+            # hyperplane can cut the branch twice; a shorter step goes on past the kink
+            # so does a corrector that moved farther than the step from its predictor (it jumped to
+            # another stretch of a steep, lightly damped resonance)
+            if (np.linalg.norm(yk - y_pred) > ds
+                    or (y_prev is not None and np.linalg.norm(yk - y_prev) < np.linalg.norm(yk - y))):
+                ds *= 0.5
+                if ds < ds_min:
+                    message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
+                    break
+                continue
             t_new = tangent(jz, jw, t)
             fold = (t_new[nz] * t[nz]) < 0
+            y_prev = y
             y, t = yk, t_new
             w = y[nz] * ws
             rows.append((w, ck.harmonics(r), ck.dissipation(zk, r), bool(fold), True,
@@ -157,6 +171,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
             zmax = float(np.max(np.abs(zk)))
             if zmax > 2.0 * zs:
                 y[:nz] *= zs / zmax
+                y_prev[:nz] *= zs / zmax
                 t[:nz] *= zs / zmax
                 t /= np.linalg.norm(t)
                 zs = zmax
