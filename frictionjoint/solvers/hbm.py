@@ -236,9 +236,10 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         Angular frequency [rad/s], > 0; default the system's.
     n_harmonics : int
         ``H`` >= 1 (the mean is always included).
-    guess : (H + 1, n_dof) complex ndarray, optional
-        Starting harmonics (e.g. a neighbouring frequency's); default the linear solution with
-        every slider stuck.
+    guess : (H' + 1, n_dof) complex ndarray, optional
+        Starting harmonics (e.g. a neighbouring frequency's; any ``H'``); default the balance with
+        ``(H - 1) // 2`` harmonics, down to the one-harmonic balance started from the linear
+        solution with every slider stuck.
     tol : float
         Newton's tolerance on the residual relative to the joint coordinates' size, in (0, 1).
     max_iter : int
