@@ -61,7 +61,18 @@ from .base import Attachment, Contact, Slider
 from .driven import DrivenSliders
 from .jenkins import Jenkins
 
-__all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail"]
+__all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail", "FLANK_OUTPUTS"]
+
+#: the flanks' forces and slip states as the FMUs report them (DovetailRoot.fmu, BladeDovetail.fmu):
+#: name -> (type, description with unit)
+FLANK_OUTPUTS = {
+    "normal_force_right": (float, "normal force of the right flank [N]"),
+    "normal_force_left": (float, "normal force of the left flank [N]"),
+    "friction_force_right": (float, "friction force of the right flank, positive radially inward on the blade [N]"),
+    "friction_force_left": (float, "friction force of the left flank, positive radially inward on the blade [N]"),
+    "slipping_right": (bool, "true while the right flank slips"),
+    "slipping_left": (bool, "true while the left flank slips"),
+}
 
 @dataclass(frozen=True)
 class DovetailStatic:

@@ -25,7 +25,7 @@ from pythonfmu.enums import Fmi2Status
 # the bundle of the first one loaded, and a host may delete that FMU's unpacked folder while the
 # others run (fmpy users, FMUInstance.close): a late import would then fail.
 from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
-from ..elements.dovetail import DovetailRoot
+from ..elements.dovetail import FLANK_OUTPUTS, DovetailRoot
 from ..elements.driven import DrivenSliders
 from ..elements.iwan import Iwan
 from ..errors import ParameterError, check_positive
@@ -222,11 +222,46 @@ class _Slave(BalancedSlave):
             return {"__invalid__": f"cannot deserialise the FMU state: {exc!r}"}
 
 
-class CoulombOscillatorSlave(_Slave):
+class _RunSlave(_Slave):
+    """A slave that is a run stepped in the library (:class:`~frictionjoint.stepping.OscillatorRun`,
+    :class:`~frictionjoint.structures.blade_run.BladeRun`): one input held over each step
+    (:attr:`_held`, the run's ``hold``), ``advance`` to the end of the step, outputs read from the
+    run, its snapshot for FMU state (holding the input under the same name)."""
+
+    #: the input the run holds over a step
+    _held = ""
+
+    def _idle(self, name):
+        """An output before initialisation."""
+        raise NotImplementedError
+
+    def _out(self, name):
+        return self._idle(name) if self._run is None else self._run.output(name)
+
+    def _do_step(self, current_time, step_size):
+        try:
+            self._run.hold(getattr(self, self._held))
+        except ParameterError as exc:
+            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
+            return False
+        self._run.advance(current_time + step_size)
+        return True
+
+    def _snapshot(self):
+        return None if self._run is None else self._run.snapshot()
+
+    def _restore(self, snap):
+        if snap is not None:
+            self._run.restore(snap)
+            setattr(self, self._held, snap[self._held])
+
+
+class CoulombOscillatorSlave(_RunSlave):
     """Single-DOF mass on a Coulomb friction surface with a spring to a moving base."""
 
     description = ("Mass on a Coulomb friction surface (exact stick/slip, Hong & Liu stop rules), spring to a "
                    "harmonically moving base; events located exactly inside do_step")
+    _held = "force"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -241,27 +276,8 @@ class CoulombOscillatorSlave(_Slave):
         params = {k: getattr(self, k) for k in OSCILLATOR_PARAMETERS}
         self._run = OscillatorRun(params, start_time=self.start_time, force=self.force)
 
-    def _out(self, name):
-        if self._run is None:
-            return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())
-        return self._run.output(name)
-
-    def _do_step(self, current_time, step_size):
-        try:
-            self._run.hold(self.force)
-        except ParameterError as exc:
-            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
-            return False
-        self._run.advance(current_time + step_size)
-        return True
-
-    def _snapshot(self):
-        return None if self._run is None else self._run.snapshot()
-
-    def _restore(self, snap):
-        if snap is not None:
-            self._run.restore(snap)
-            self.force = snap["force"]
+    def _idle(self, name):
+        return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())
 
 
 class _DrivenSlave(_Slave):
@@ -389,12 +405,7 @@ class MicroslipJointSlave(_DrivenSlave):
 DOVETAIL_OUTPUTS = {
     "root_force_tangential": (float, "tangential force of both flanks on the blade [N]"),
     "root_force_radial": (float, "radial force of both flanks on the blade [N] (-Fc in the static state)"),
-    "normal_force_right": (float, "normal force of the right flank [N]"),
-    "normal_force_left": (float, "normal force of the left flank [N]"),
-    "friction_force_right": (float, "friction force of the right flank, positive radially inward on the blade [N]"),
-    "friction_force_left": (float, "friction force of the left flank, positive radially inward on the blade [N]"),
-    "slipping_right": (bool, "true while the right flank slips"),
-    "slipping_left": (bool, "true while the left flank slips"),
+    **FLANK_OUTPUTS,
     "stiffness_tt": (float, "tangent stiffness -dF_tangential/du_tangential [N/m]"),
     "stiffness_tr": (float, "tangent stiffness -dF_tangential/du_radial [N/m]"),
     "stiffness_rt": (float, "tangent stiffness -dF_radial/du_tangential [N/m]"),
@@ -589,13 +600,14 @@ class LinearStructureSlave(_Slave):
                 setattr(self, f"joint_{kind}_{dof}", value)
 
 
-class BladeDovetailSlave(_Slave):
+class BladeDovetailSlave(_RunSlave):
     """A blade model definition on its dovetail root (the definition in the FMU's resources),
     marched exactly inside ``do_step`` (:class:`~frictionjoint.structures.blade_run.BladeRun`)."""
 
     description = ("Blade (Craig-Bampton beam, rotating) on a dovetail root with two flat flanks under the "
                    "centrifugal load, harmonic tip force; exact event-driven stick/slip (and lift-off with "
                    "normal_load_variation) located inside do_step")
+    _held = "tip_force"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -611,25 +623,5 @@ class BladeDovetailSlave(_Slave):
         params = {k: getattr(self, k) for k in blade_parameters(self._model)}
         self._run = BladeRun(self._model, params, start_time=self.start_time, tip_force=self.tip_force)
 
-    def _out(self, name):
-        if self._run is None:
-            return BLADE_OUTPUTS[name][0]()
-        return self._run.output(name)
-
-    def _do_step(self, current_time, step_size):
-        try:
-            if self.tip_force != self._run.tip_force:
-                self._run.hold(self.tip_force)
-            self._run.advance(current_time + step_size)
-        except ParameterError as exc:
-            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
-            return False
-        return True
-
-    def _snapshot(self):
-        return None if self._run is None else self._run.snapshot()
-
-    def _restore(self, snap):
-        if snap is not None:
-            self._run.restore(snap)
-            self.tip_force = snap["tip_force"]
+    def _idle(self, name):
+        return BLADE_OUTPUTS[name][0]()

@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ..elements.dovetail import FLANK_OUTPUTS
 from ..errors import ParameterError, check_positive, check_real
 from ..solvers.eventlog import MarchState
 from ..solvers.events import EventLog, Marcher
@@ -35,12 +36,7 @@ BLADE_OUTPUTS = {
     "root_tangential": (float, "tangential root displacement X from the static state [m]"),
     "root_radial": (float, "radial root displacement Y from the static state, outward [m]"),
     "root_rocking": (float, "root rocking theta (the blade's slope at the root) [rad]; 0 without rocking"),
-    "normal_force_right": (float, "normal force of the right flank [N]"),
-    "normal_force_left": (float, "normal force of the left flank [N]"),
-    "friction_force_right": (float, "friction force of the right flank, positive radially inward on the blade [N]"),
-    "friction_force_left": (float, "friction force of the left flank, positive radially inward on the blade [N]"),
-    "slipping_right": (bool, "true while the right flank slips"),
-    "slipping_left": (bool, "true while the left flank slips"),
+    **FLANK_OUTPUTS,
     "lifted_right": (bool, "true while the right flank is lifted off (normal_load_variation)"),
     "lifted_left": (bool, "true while the left flank is lifted off (normal_load_variation)"),
     "dissipated_energy": (float, "energy dissipated by friction since the start [J]"),
@@ -151,8 +147,10 @@ class BladeRun:
         return w
 
     def hold(self, tip_force: float) -> None:
-        """Hold an extra tip force [N] from now on (finite)."""
+        """Hold an extra tip force [N] from now on (finite); the same force again changes nothing."""
         f = check_real("tip_force", tip_force)
+        if f == self.tip_force:
+            return
         self.tip_force = f
         self.marcher.set_held_force(None if f == 0.0 else f * self._tip_row)
         self.itv = None  # holding forces may have jumped: settle again
@@ -234,3 +232,4 @@ class BladeRun:
         for lst in (self.log.time, self.log.element, self.log.slider, self.log.kind):
             del lst[snap["events"]:]
         self.hold(snap["tip_force"])
+        self.itv = None  # the piece of another state: settle again
