@@ -86,12 +86,12 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
         return Condensed(_at(system, w), hh)
 
     def equations(zz, w, c):
-        r, jr, w0 = c.forces(zz)
-        res = zz - c.q_linear + c.Y @ r
-        jz = np.eye(nz) + c.Y @ jr
+        f = c.forces(zz)
+        res = zz - c.q_linear + c.Y @ f.r
+        jz = np.eye(nz) + c.Y @ f.jacobian
         dy, dl = c.omega_derivative()
-        jw = -dl + dy @ r
-        return res, jz, jw, r, w0
+        jw = -dl + dy @ f.r + c.Y @ f.d_omega
+        return res, jz, jw, f
 
     def tangent(jz, jw, t_prev):
         a = np.zeros((nz + 1, nz + 1))
@@ -106,14 +106,18 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
 
     w = w_a
     c = cond
-    res, jz, jw, r, w0 = equations(z, w, c)
+    res, jz, jw, jf = equations(z, w, c)
     t = tangent(jz, jw, np.r_[np.zeros(nz), sense])
     y = np.r_[z / zs, w / ws]
     y_prev = None
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
-    rows = [(w, c.harmonics(r), c.dissipation(z, r), False, True, first.message, w0)]
+    rows = [(w, c.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions)]
     message = ""
+    if not first.converged:  # nothing to follow: say so rather than step from a wrong point
+        message = (f"no balance at the start omega = {w_a:.6g} rad/s ({first.message}); start the branch "
+                   f"where the response is simpler (the other end of the range, or farther from resonance)")
+        max_points = 1
     bar = tqdm(total=1000, desc="hbm", file=__import__("sys").stderr, disable=not progress, leave=False)
     try:
         while len(rows) < max_points:
@@ -126,7 +130,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
                     break
                 ck = system_at(wk)
                 zk = yk[:nz] * zs
-                res, jz, jw, r, w0 = equations(zk, wk, ck)
+                res, jz, jw, jf = equations(zk, wk, ck)
                 arc = t @ (yk - y_pred)
                 if float(np.max(np.abs(res))) <= tol * max(float(np.max(np.abs(zk))), 1e-6 * zs) and abs(arc) <= 1e-12:
                     ok = True
@@ -163,8 +167,8 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
             y_prev = y
             y, t = yk, t_new
             w = y[nz] * ws
-            rows.append((w, ck.harmonics(r), ck.dissipation(zk, r), bool(fold), True,
-                         f"converged in {it - 1} corrector iterations", w0))
+            rows.append((w, ck.harmonics(jf.r), jf.dissipated, bool(fold), True,
+                         f"converged in {it - 1} corrector iterations", jf.slider_positions))
             ds = min(ds * 1.5, ds_max) if it <= 4 else ds
             # z's scale follows the largest solution so far (a resonance many times the start's
             # size would otherwise make the arclength, and the number of points, that many times longer)
@@ -185,7 +189,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
                 message = f"left the range at omega = {w:.6g} rad/s"
                 break
         else:
-            message = f"stopped after max_points = {max_points} points"
+            message = message or f"stopped after max_points = {max_points} points"
     finally:
         bar.close()
     omegas = np.array([row[0] for row in rows])

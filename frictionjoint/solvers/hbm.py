@@ -21,6 +21,7 @@ forces and base motion, the joints' constant loads in the mean.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
@@ -34,7 +35,31 @@ from . import hysteresis
 __all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable", "hill_exponents"]
 
 
+class JointForces(NamedTuple):
+    """The joints' forces on a balanced orbit (:meth:`Condensed.forces`)."""
+
+    #: ``R``: per joint coordinate its real Fourier coefficients (index ``q (2H + 1) + j``) [N]
+    r: np.ndarray
+    #: ``dR/dz`` [N/m], or None
+    jacobian: np.ndarray | None
+    #: ``dR/domega`` at fixed ``z`` (the open contacts' dashpots) [N s]
+    d_omega: np.ndarray
+    #: the open contacts' dashpots as a matrix on the velocity coefficients (Hill's method), or None
+    damping: np.ndarray | None
+    #: the sliders' positions at ``t = 0`` [m]
+    slider_positions: np.ndarray
+    #: friction energy per period, ``sum oint T ds`` over the sliders [J]
+    dissipated: float
+
+
+def _loop_work(t: np.ndarray, c: np.ndarray, dmat: np.ndarray) -> float:
+    """``oint T du`` over the period from the coefficients of ``T`` and ``u``: ``pi sum_h h (T_a,h
+    c_b,h - T_b,h c_a,h)``."""
+    return float(math.pi * (t[1:] @ (dmat @ c)[1:]))
+
+
 class Condensed:
+
     """The linear part of a system condensed to its joint coordinates at one frequency.
 
     Parameters
@@ -48,19 +73,23 @@ class Condensed:
     def __init__(self, system: FrictionSystem, n_harmonics: int):
         if system.external:
             raise ParameterError("harmonic_balance: held external forces (ExternalForce) are not periodic")
-        if system.n_contacts:
-            raise ParameterError("harmonic_balance: normal-load variation (contacts) is not supported yet; "
-                                 "use the frozen normal load (normal_load_variation=False)")
         if system.n_sliders == 0:
             raise ParameterError("harmonic_balance: the system has no joint sliders (a linear system)")
         self.system = system
         hh = self.n_harmonics = int(n_harmonics)
         w = self.omega = system.omega
         d = system.slider_direction
-        rows, inverse = np.unique(d, axis=0, return_inverse=True)
-        self.G = rows  # (n_q, n): the distinct slider directions
-        self.slider_q = np.asarray(inverse).reshape(-1)
+        ns = system.n_sliders
+        rows, inverse = np.unique(np.vstack([d, system.contact_normal]), axis=0, return_inverse=True)
+        self.G = rows  # (n_q, n): the distinct slider directions and contact normals
+        inverse = np.asarray(inverse).reshape(-1)
+        self.slider_q = inverse[:ns]
+        self.contact_q = inverse[ns:]
         self.n_q = rows.shape[0]
+        # a slider on a contact: its friction coefficient (it slips at mu N0 at x = 0)
+        self.mu = np.zeros(ns)
+        var = system.varying
+        self.mu[var] = system.slip_force[var] / system.contact_preload[system.slider_contact[var]]
         jen = ~system.rigid
         k_lin = system.stiffness + (d[jen].T * system.slider_stiffness[jen]) @ d[jen]
         self.k_stuck = np.zeros(self.n_q)  # stuck springs per coordinate, in the linear part
@@ -150,44 +179,57 @@ class Condensed:
             z[2 * h::nc] = -qh[h].imag
         return z
 
-    def forces(self, z: np.ndarray, jacobian: bool = True):
-        """``R(z)`` (the joints' forces less their stuck springs, per coordinate and harmonic),
-        ``dR/dz`` (block diagonal), the Jenkins sliders' positions at ``t = 0`` and the friction
-        energy per period [J]."""
+    def forces(self, z: np.ndarray, jacobian: bool = True) -> JointForces:
+        """The joints' forces less their stuck springs ``R(z)`` per coordinate and harmonic, with
+        ``dR/dz``, ``dR/domega``, the open contacts' dashpot matrix, the sliders' positions at ``t =
+        0`` and the friction energy per period (:class:`JointForces`)."""
         sysm = self.system
         nc = self.nc
         r = np.zeros_like(z)
+        r_w = np.zeros_like(z)
         jac = np.zeros((z.size, z.size)) if jacobian else None
+        damp = None
         w0 = np.zeros(sysm.n_sliders)
+        energy = 0.0
+        dmat = hysteresis.derivative_matrix(self.n_harmonics)
         for q in range(self.n_q):
             sl = slice(q * nc, (q + 1) * nc)
-            c = z[sl]
-            rq = -self.k_stuck[q] * c
-            jq = -self.k_stuck[q] * np.eye(nc) if jacobian else None
-            for i in np.flatnonzero(self.slider_q == q):
-                if sysm.rigid[i]:
-                    t, jt = hysteresis.coulomb_loop(c, sysm.slip_force[i], jacobian)
-                    w0[i] = float(hysteresis.evaluate(c, 0.0)[0])
-                else:
-                    t, jt, w0[i], _ = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
-                                                              self.w_ref[i], jacobian)
-                rq = rq + t
-                if jacobian:
-                    jq = jq + jt
-            r[sl] = rq
+            r[sl] = -self.k_stuck[q] * z[sl]
             if jacobian:
-                jac[sl, sl] = jq
-        return r, jac, w0
-
-    def dissipation(self, z: np.ndarray, r: np.ndarray) -> float:
-        """Friction energy per period [J]: ``sum_q oint R_q dq`` (the stuck springs' part closes)."""
-        hh, nc = self.n_harmonics, self.nc
-        e = 0.0
-        for q in range(self.n_q):
-            c, t = z[q * nc:(q + 1) * nc], r[q * nc:(q + 1) * nc]
-            for h in range(1, hh + 1):
-                e += math.pi * h * (t[2 * h - 1] * c[2 * h] - t[2 * h] * c[2 * h - 1])
-        return e
+                jac[sl, sl] = -self.k_stuck[q] * np.eye(nc)
+        for i in range(sysm.n_sliders):
+            q = self.slider_q[i]
+            sl = slice(q * nc, (q + 1) * nc)
+            c = z[sl]
+            if sysm.varying[i]:
+                ic = sysm.slider_contact[i]
+                qn = self.contact_q[ic]
+                sn = slice(qn * nc, (qn + 1) * nc)
+                t, jts, jtp, rn, jnn, rn_w, m_open, w0[i], _ = hysteresis.flank_loop(
+                    c, z[sn], sysm.slider_stiffness[i], self.mu[i], sysm.contact_stiffness[ic],
+                    sysm.contact_damping[ic], sysm.contact_preload[ic], self.omega, self.w_ref[i], jacobian)
+                r[sn] += rn
+                r_w[sn] += rn_w
+                if jacobian:
+                    jac[sl, sl] += jts
+                    jac[sl, sn] += jtp
+                    jac[sn, sn] += jnn
+                if sysm.contact_damping[ic] > 0:
+                    damp = np.zeros((z.size, z.size)) if damp is None else damp
+                    damp[sn, sn] -= sysm.contact_damping[ic] * m_open
+            elif sysm.rigid[i]:
+                t, jt = hysteresis.coulomb_loop(c, sysm.slip_force[i], jacobian)
+                w0[i] = float(hysteresis.evaluate(c, 0.0)[0])
+                if jacobian:
+                    jac[sl, sl] += jt
+            else:
+                t, jt, w0[i], _ = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
+                                                          self.w_ref[i], jacobian)
+                if jacobian:
+                    jac[sl, sl] += jt
+            r[sl] += t
+            energy += _loop_work(t, c, dmat)
+        return JointForces(r, jac, r_w, damp, w0, energy)
 
     def harmonics(self, r: np.ndarray) -> np.ndarray:
         """All DOFs' complex harmonics ``(H + 1, n_dof)`` from the joint forces ``R``."""
@@ -280,12 +322,12 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         z = cond.joint_vector(g)
 
     def residual(zz, jac=True):
-        r, jr, w0 = cond.forces(zz, jac)
-        res = zz - cond.q_linear + cond.Y @ r
-        return res, (np.eye(zz.size) + cond.Y @ jr if jac else None), r, w0
+        f = cond.forces(zz, jac)
+        res = zz - cond.q_linear + cond.Y @ f.r
+        return res, (np.eye(zz.size) + cond.Y @ f.jacobian if jac else None), f
 
     scale_floor = max(float(np.max(np.abs(cond.q_linear))), 1e-300)
-    res, jac, r, w0 = residual(z)
+    res, jac, jf = residual(z)
     it = 0
     converged = False
     message = ""
@@ -304,17 +346,17 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         lam = 1.0
         for _ in range(30):  # backtracking: the residual's max norm must fall
             zt = z + lam * step
-            rt, _, _, _ = residual(zt, jac=False)
+            rt, _, _ = residual(zt, jac=False)
             if float(np.max(np.abs(rt))) < rn or lam < 1e-6:
                 break
             lam *= 0.5
         z = zt
-        res, jac, r, w0 = residual(z)
+        res, jac, jf = residual(z)
     else:
         scale = max(float(np.max(np.abs(z))), 1e-6 * scale_floor)
         converged = float(np.max(np.abs(res))) <= tol * scale
     rel = float(np.max(np.abs(res))) / max(float(np.max(np.abs(z))), 1e-300)
-    harm = cond.harmonics(r)
+    harm = cond.harmonics(jf.r)
     if not message:
         message = (f"harmonic balance converged in {it} Newton iterations (H = {hh}, residual {rel:.2e})"
                    if converged else f"harmonic balance did not converge in {max_iter} iterations "
@@ -322,7 +364,8 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     out = HarmonicBalance(omega=system.omega, n_harmonics=hh, harmonics=harm,
                           harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
                           converged=bool(converged), message=message, iterations=it, residual=rel,
-                          dissipated_per_cycle=cond.dissipation(z, r), slider_positions=w0)
+                          dissipated_per_cycle=jf.dissipated,
+                          slider_positions=jf.slider_positions)
     if check:
         _check_exact(system, out)
     return out
@@ -340,7 +383,12 @@ def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions:
     s = system.slider_direction @ x0
     jen = ~system.rigid
     w0 = np.asarray(slider_positions, dtype=float).copy()
-    reach = system.slip_force[jen] / system.slider_stiffness[jen]
+    limit = system.slip_force.copy()
+    if system.n_contacts:  # a slider on a contact slips at mu N(x0), zero where it is open
+        var = system.varying
+        n_c = system.normal_loads(x0)[system.slider_contact[var]]
+        limit[var] *= n_c / system.contact_preload[system.slider_contact[var]]
+    reach = limit[jen] / system.slider_stiffness[jen]
     w0[jen] = np.clip(w0[jen], s[jen] - reach, s[jen] + reach)
     return periodic_response(system, x0, v0, w0, peaks=peaks)
 
@@ -400,21 +448,20 @@ def hill_exponents(system: FrictionSystem, hb: HarmonicBalance) -> np.ndarray:
     cond = Condensed(system, hh)
     nc = cond.nc
     n = system.n_dof
-    # the joints' Jacobian on the balanced orbit
-    _, jr, _ = cond.forces(cond.joint_vector(hb.harmonics))
+    # the joints' Jacobian on the balanced orbit (and the open contacts' dashpots)
+    jf = cond.forces(cond.joint_vector(hb.harmonics))
     k_lin, m, c = cond._lin
     w = system.omega
     # basis index (dof, j): dof * nc + j; D on one DOF's coefficients: (a_h, b_h) -> h (b_h, -a_h)
-    d1 = np.zeros((nc, nc))
-    for h in range(1, hh + 1):
-        d1[2 * h - 1, 2 * h] = h   # d/dtheta (b sin) = h b cos: the cos row takes h b
-        d1[2 * h, 2 * h - 1] = -h  # d/dtheta (a cos) = -h a sin
+    d1 = hysteresis.derivative_matrix(hh)
     eye = np.eye(nc)
     mt, ct, kt = np.kron(m, eye), np.kron(c, eye), np.kron(k_lin, eye)
     dd = np.kron(np.eye(n), d1)
     g = np.kron(cond.G, eye)  # joint coordinates' coefficients from the DOFs'
-    k_total = kt + w * ct @ dd + w * w * mt @ dd @ dd + g.T @ jr @ g
+    k_total = kt + w * ct @ dd + w * w * mt @ dd @ dd + g.T @ jf.jacobian @ g
     c_total = ct + 2 * w * mt @ dd
+    if jf.damping is not None:  # an open contact's dashpot is off (its omega D part is in the Jacobian)
+        c_total = c_total + g.T @ jf.damping @ g
     size = n * nc
     a = np.block([[np.zeros((size, size)), np.eye(size)], [-k_total, -c_total]])
     b = np.block([[np.eye(size), np.zeros((size, size))], [np.zeros((size, size)), mt]])

@@ -37,7 +37,8 @@ import numpy as np
 
 from . import loop_kernels
 
-__all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "coulomb_loop"]
+__all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "flank_loop", "coulomb_loop",
+           "derivative_matrix"]
 
 
 def n_samples(n_harmonics: int) -> int:
@@ -140,6 +141,81 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     coef, jac, w0, slips = loop_kernels.jenkins_loop_kernel(c, float(stiffness), float(slip_force), float(w_ref),
                                                             bool(jacobian), cos_t, sin_t)
     return coef, (jac if jacobian else None), float(w0), bool(slips)
+
+
+def derivative_matrix(n_harmonics: int) -> np.ndarray:
+    """``D`` with ``D c`` the coefficients of ``du/dtheta``: ``(a_h, b_h) -> h (b_h, -a_h)``."""
+    n = 2 * n_harmonics + 1
+    d = np.zeros((n, n))
+    for h in range(1, n_harmonics + 1):
+        d[2 * h - 1, 2 * h] = h
+        d[2 * h, 2 * h - 1] = -h
+    return d
+
+
+def flank_loop(cs: np.ndarray, cp: np.ndarray, stiffness: float, friction_coefficient: float,
+               normal_stiffness: float, normal_damping: float, preload: float, omega: float,
+               w_ref: float = 0.0, jacobian: bool = True):
+    """Steady loop of a Jenkins slider on a unilateral contact whose normal load varies (a dovetail
+    flank with ``normal_load_variation``), driven by the tangential displacement ``s`` and the
+    normal one ``p`` (coefficients ``cs``, ``cp``).
+
+    The contact is closed while ``N = N0 - kn p > 0``; the slider's band is ``|k (s - w)| <= mu
+    N``, i.e. ``w`` in ``[s - r, s + r]`` with ``r = (mu kn / k) max(gap - p, 0)``, ``gap = N0 / kn``:
+    a sweeping process whose edges ``L = s - r``, ``U = s + r`` are trigonometric polynomials while
+    the contact is closed (``s + a p - a gap``, ``s - a p + a gap``, ``a = mu kn / k``) and meet at
+    ``s`` while it is open. The slider sticks (``w`` constant, ``T = k (s - w)``) until an edge
+    reaches it, slips with the edge (``T = +-mu N``) until the edge turns (a root of ``L'`` or
+    ``U'``) or the contact opens (a root of ``p - gap``); open, it carries nothing (``w = s``) and
+    at the closure it sticks unless an edge outruns it.
+
+    Memory: a lift-off erases it (the band has zero width), so a loop that opens is marched from a
+    lift-off. Otherwise, if the slider slips at all it slips both ways, and then its position at
+    the maximum of ``L`` is that maximum (it can rise only with ``L``): the loop is marched from
+    there (Masing, for a varying band). If ``max L <= min U`` it never slips and keeps ``w_ref``
+    clipped into ``[max L, min U]``.
+
+    While the contact is open, its closed-state spring, dashpot and preload (part of the linear
+    part) are taken out: ``Rn = N0 - kn p - cn omega dp/dtheta`` there, 0 while closed.
+
+    Derivatives: ``T`` is continuous at every transition (stick-slip, reversal, lift-off, closure),
+    so the transition times drop out; a stuck piece's ``w`` depends on the coefficients through the
+    event that started it (a reversal at ``theta_r``: ``dw = phi(theta_r) (dcs +- a dcp)``; a
+    closure at ``theta_c``, ``p = gap``: ``dw = phi(theta_c) (dcs - s'/p' dcp)``). ``Rn``'s
+    dashpot part jumps at the opening and closing, which adds ``+-cn omega psi phi^T`` there.
+
+    Returns
+    -------
+    T : (2H+1,) ndarray
+        The slider's force coefficients [N].
+    dT_dcs, dT_dcp : (2H+1, 2H+1) ndarray or None
+    Rn : (2H+1,) ndarray
+        The contact's correction (restoring sense: the force on the structure is ``-Rn`` along the
+        normal) [N].
+    dRn_dcp : (2H+1, 2H+1) ndarray or None
+    dRn_domega : (2H+1,) ndarray
+        ``dRn/domega`` at fixed coefficients (the dashpot's) [N s].
+    open_matrix : (2H+1, 2H+1) ndarray
+        Normalised ``int_open psi_i phi_j``: multiplication by the open indicator.
+    w0 : float
+        Slider position at ``theta = 0`` [m].
+    slips : bool
+        Whether it slips or lifts off over the period.
+    """
+    cs = np.ascontiguousarray(cs, dtype=float)
+    cp = np.ascontiguousarray(cp, dtype=float)
+    hh = (cs.size - 1) // 2
+    cos_t, sin_t = _trig_tables(hh)
+    kn, cn = float(normal_stiffness), float(normal_damping)
+    t, jts, jtp, rn, jb, m_open, w0, slips = loop_kernels.flank_loop_kernel(
+        cs, cp, float(stiffness), float(friction_coefficient), kn, cn, float(preload), float(omega),
+        float(w_ref), True, cos_t, sin_t)
+    d = derivative_matrix(hh)
+    jnn = jb - kn * m_open - cn * omega * (m_open @ d)
+    rn_w = -cn * (m_open @ (d @ cp))
+    if not jacobian:
+        jts = jtp = jnn = None
+    return t, jts, jtp, rn, jnn, rn_w, m_open, float(w0), bool(slips)
 
 
 def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):

@@ -290,3 +290,259 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
         for j in range(n):
             jac[i, j] *= sc
     return coef, jac, w0, True
+
+
+@_jit
+def _extremum(c, vals, sgn, dtheta, ng):
+    """Phase of the global maximum (``sgn = 1``) or minimum (``-1``) of ``u`` (``vals`` its grid
+    values): the extreme sample, refined on ``u' = 0`` between its neighbours."""
+    kk = 0
+    for j in range(ng):
+        if sgn * vals[j] > sgn * vals[kk]:
+            kk = j
+    lo = (kk - 1) * dtheta
+    hi = (kk + 1) * dtheta
+    dlo = _value(c, lo, 1)[0]
+    dhi = _value(c, hi, 1)[0]
+    if sgn * dlo >= 0 and sgn * dhi <= 0:
+        t = _root(c, 1, 0.0, lo, hi)
+    else:
+        t = kk * dtheta
+    if t < 0:
+        t += 2 * math.pi
+    return t
+
+
+@_jit
+def _first(x, y):
+    """The earlier of two crossings (-1: none)."""
+    if x < 0:
+        return y
+    if y < 0:
+        return x
+    return min(x, y)
+
+
+@_jit
+def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_table, sin_table):
+    """Steady loop of a Jenkins slider on a unilateral contact with a varying normal load, driven by
+    the tangential displacement ``s`` (coefficients ``cs``) and the normal one ``p`` (``cp``): the
+    algorithm of :func:`.hysteresis.flank_loop`. Returns ``(T, dT/dcs, dT/dcp, Rn, dRn/dcp,
+    open_matrix, w0, slips)`` with the Fourier normalisation applied (``open_matrix[i, j]`` the
+    normalised ``int_open psi_i phi_j``)."""
+    n = cs.size
+    hh = (n - 1) // 2
+    ng = cos_table.shape[1]
+    dtheta = 2 * math.pi / ng
+    a = mu * kn / k  # the band's half-width r = a max(gap - p, 0)
+    gap = n0 / kn
+    b = a * gap
+    cl = cs + a * cp  # the band's edges while closed: L = cl - b, U = cu + b
+    cu = cs - a * cp
+    s_g = np.empty(ng)
+    p_g = np.empty(ng)
+    dl_g = np.empty(ng)
+    du_g = np.empty(ng)
+    for j in range(ng):
+        s0 = cs[0]
+        p0 = cp[0]
+        ds = 0.0
+        dp = 0.0
+        for h in range(1, hh + 1):
+            ct, st = cos_table[h - 1, j], sin_table[h - 1, j]
+            s0 += cs[2 * h - 1] * ct + cs[2 * h] * st
+            p0 += cp[2 * h - 1] * ct + cp[2 * h] * st
+            ds += h * (-cs[2 * h - 1] * st + cs[2 * h] * ct)
+            dp += h * (-cp[2 * h - 1] * st + cp[2 * h] * ct)
+        s_g[j] = s0
+        p_g[j] = p0
+        dl_g[j] = ds + a * dp
+        du_g[j] = ds - a * dp
+    coef = np.zeros(n)
+    jts = np.zeros((n, n))
+    jtp = np.zeros((n, n))
+    rn = np.zeros(n)
+    jnn = np.zeros((n, n))
+    m_open = np.zeros((n, n))
+    phi = np.empty(n)
+    v = np.empty(n)
+    pm = np.empty((n, n))
+    dws = np.zeros(n)  # d w / d cs, d w / d cp of a stuck piece
+    dwp = np.zeros(n)
+    # dcp: coefficients of p' = dp/dtheta (the dashpot's)
+    dcp = np.zeros(n)
+    for h in range(1, hh + 1):
+        dcp[2 * h - 1] = h * cp[2 * h]
+        dcp[2 * h] = -h * cp[2 * h - 1]
+    opens = False
+    for j in range(ng):
+        if p_g[j] > gap:
+            opens = True
+            break
+    g_a = np.empty(ng)
+    g_b = np.empty(ng)
+    # state: 0 stuck, 1 slipping forward (w = L), -1 backward (w = U), 2 open (w = s)
+    if opens:
+        # start at a lift-off (p rising through gap): the slider has no memory there (w = s)
+        for j in range(ng):
+            g_a[j] = p_g[j] - gap
+        kk = 0
+        for j in range(ng):
+            if g_a[j] <= 0 and g_a[(j + 1) % ng] > 0:
+                kk = j
+                break
+        t0 = _root(cp, 0, gap, kk * dtheta, (kk + 1) * dtheta)
+        state = 2
+        w = _value(cs, t0, 0)[0]
+    else:
+        cl_g = np.empty(ng)
+        cu_g = np.empty(ng)
+        for j in range(ng):
+            cl_g[j] = s_g[j] + a * p_g[j]
+            cu_g[j] = s_g[j] - a * p_g[j]
+        t_l = _extremum(cl, cl_g, 1.0, dtheta, ng)
+        t_u = _extremum(cu, cu_g, -1.0, dtheta, ng)
+        l_max = _value(cl, t_l, 0)[0] - b
+        u_min = _value(cu, t_u, 0)[0] + b
+        if l_max <= u_min:  # never slips: w stays in [max L, min U]
+            w = min(max(w_ref, l_max), u_min)
+            for i in range(n):
+                coef[i] = k * cs[i]
+            coef[0] -= k * w
+            if want_jac:
+                for i in range(n):
+                    jts[i, i] = k
+                if w != w_ref:
+                    at_l = w == l_max
+                    _phi(t_l if at_l else t_u, hh, phi)
+                    for i in range(n):
+                        jts[0, i] -= k * phi[i]
+                        jtp[0, i] -= k * (a if at_l else -a) * phi[i]
+            return coef, jts, jtp, rn, jnn, m_open, w, False
+        # start at the maximum of L: the slider has just slipped forward and sticks (Masing)
+        t0 = t_l
+        state = 0
+        w = l_max
+        _phi(t0, hh, dws)
+        for i in range(n):
+            dwp[i] = a * dws[i]
+    t_end = t0 + 2 * math.pi
+    t = t0
+    w0 = math.nan
+    while t < t_end:
+        if state == 0:
+            for j in range(ng):
+                g_a[j] = w + b - (s_g[j] + a * p_g[j])  # L reaches w
+                g_b[j] = (s_g[j] - a * p_g[j]) + b - w  # U reaches w
+            x_up = _crossing(cl, 0, w + b, -1.0, 1.0, g_a, dtheta, ng, t)
+            x_dn = _crossing(cu, 0, w - b, 1.0, 1.0, g_b, dtheta, ng, t)
+            x = _first(x_up if x_up > t else -1.0, x_dn if x_dn > t else -1.0)
+            e = t_end if (x < 0 or x > t_end) else x
+            new_state = 1 if (x >= 0 and x == x_up) else -1
+            _integrals(t, e, hh, v, pm, True)
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += pm[i, j] * cs[j]
+                coef[i] += k * acc - k * w * v[i]
+            if want_jac:
+                for i in range(n):
+                    for j in range(n):
+                        jts[i, j] += k * (pm[i, j] - v[i] * dws[j])
+                        jtp[i, j] -= k * v[i] * dwp[j]
+            if math.isnan(w0) and t <= 2 * math.pi <= e:
+                w0 = w
+            t = e
+            state = new_state
+        elif state == 2:
+            for j in range(ng):
+                g_a[j] = p_g[j] - gap
+            x = _crossing(cp, 0, gap, 1.0, 1.0, g_a, dtheta, ng, t)  # closure
+            e = t_end if (x < 0 or x <= t or x > t_end) else x
+            _integrals(t, e, hh, v, pm, True)
+            # the contact's closed-state spring, dashpot and preload are taken out while it is open
+            for i in range(n):
+                acc = 0.0
+                accd = 0.0
+                for j in range(n):
+                    acc += pm[i, j] * cp[j]
+                    accd += pm[i, j] * dcp[j]
+                rn[i] += n0 * v[i] - kn * acc - cn * omega * accd
+            if want_jac:
+                for i in range(n):
+                    for j in range(n):
+                        m_open[i, j] += pm[i, j]
+                # the dashpot's force jumps where the contact opens and closes: d(theta)/dcp =
+                # -phi/p', the jump -cn omega p': the boundary terms cn omega psi phi^T
+                _phi(t, hh, phi)
+                for i in range(n):
+                    for j in range(n):
+                        jnn[i, j] -= cn * omega * phi[i] * phi[j]
+                _phi(e, hh, phi)
+                for i in range(n):
+                    for j in range(n):
+                        jnn[i, j] += cn * omega * phi[i] * phi[j]
+            if math.isnan(w0) and t <= 2 * math.pi <= e:
+                w0 = _value(cs, 2 * math.pi, 0)[0]
+            t = e
+            if t < t_end:
+                # closure: the band opens from zero width around w = s; the slider sticks unless
+                # an edge outruns it
+                w = _value(cs, t, 0)[0]
+                ds_c = _value(cs, t, 1)[0]
+                dp_c = _value(cp, t, 1)[0]
+                if ds_c + a * dp_c > 0:
+                    state = 1
+                elif ds_c - a * dp_c < 0:
+                    state = -1
+                else:
+                    state = 0
+                    _phi(t, hh, dws)
+                    ratio = -ds_c / dp_c if dp_c != 0.0 else 0.0
+                    for i in range(n):
+                        dwp[i] = ratio * dws[i]
+        else:
+            sig = float(state)
+            for j in range(ng):
+                g_a[j] = dl_g[j] if state == 1 else du_g[j]
+                g_b[j] = gap - p_g[j]
+            x_rev = _crossing(cl if state == 1 else cu, 1, 0.0, 1.0, sig, g_a, dtheta, ng, t)
+            x_lift = _crossing(cp, 0, gap, -1.0, 1.0, g_b, dtheta, ng, t)
+            x = _first(x_rev if x_rev > t else -1.0, x_lift if x_lift > t else -1.0)
+            e = t_end if (x < 0 or x > t_end) else x
+            lift = x >= 0 and x == x_lift and x_lift != x_rev
+            _integrals(t, e, hh, v, pm, True)
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += pm[i, j] * cp[j]
+                coef[i] += sig * mu * (n0 * v[i] - kn * acc)
+            if want_jac:
+                for i in range(n):
+                    for j in range(n):
+                        jtp[i, j] -= sig * mu * kn * pm[i, j]
+            if math.isnan(w0) and t <= 2 * math.pi <= e:
+                w0 = _value(cs, 2 * math.pi, 0)[0] - sig * a * (gap - _value(cp, 2 * math.pi, 0)[0])
+            t = e
+            if t < t_end:
+                if lift:
+                    state = 2
+                else:  # reversal: the slider sticks where the edge turned
+                    w = _value(cs, t, 0)[0] - sig * a * (gap - _value(cp, t, 0)[0])
+                    _phi(t, hh, dws)
+                    for i in range(n):
+                        dwp[i] = sig * a * dws[i]
+                    state = 0
+    if math.isnan(w0):
+        w0 = w
+    inv_pi = 1.0 / math.pi
+    for i in range(n):
+        sc = 0.5 * inv_pi if i == 0 else inv_pi
+        coef[i] *= sc
+        rn[i] *= sc
+        for j in range(n):
+            jts[i, j] *= sc
+            jtp[i, j] *= sc
+            jnn[i, j] *= sc
+            m_open[i, j] *= sc
+    return coef, jts, jtp, rn, jnn, m_open, w0, True
