@@ -480,8 +480,8 @@ def plot_work_precision(wp, path=None, floor: float = 1e-17, ax=None):
 
 def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     """Amplitude of an :class:`~frictionjoint.results.OutputSweep` against frequency (log scale):
-    the nonlinear points (stuck and slipping marked differently, unconverged points left out) and
-    the two linear limits as lines.
+    the nonlinear points (stuck and slipping marked differently, unstable ones crossed, unconverged
+    points left out) and the two linear limits as lines.
 
     Parameters
     ----------
@@ -505,6 +505,10 @@ def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     ax.plot(sw.omega[ok], sw.amplitude[ok], "-", lw=1.5, color="C0", label=label or f"nonlinear, {sw.output}")
     slip = ok & ~np.asarray(sw.stuck, bool)
     ax.plot(sw.omega[slip], sw.amplitude[slip], ".", ms=4, color="C3", label="root slips")
+    if getattr(sw, "stable", None) is not None:  # orbits the Floquet multipliers find unstable
+        bad = ok & np.array([v is False for v in sw.stable])
+        if bad.any():
+            ax.plot(sw.omega[bad], sw.amplitude[bad], "x", ms=5, color="k", label="unstable")
     ax.set_yscale("log")
     ax.set_xlabel("omega [rad/s]")
     ax.set_ylabel(f"first-harmonic amplitude of {sw.output} [m]")

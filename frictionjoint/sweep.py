@@ -222,7 +222,8 @@ METHODS = ("time", "hbm")
 
 def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
           direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
-          method: str = "time", n_harmonics: int = 7) -> FrequencyResponse | SystemSweep | OutputSweep:
+          method: str = "time", n_harmonics: int = 7,
+          stability: bool = False) -> FrequencyResponse | SystemSweep | OutputSweep:
     """Stepped-sine sweep: the one entry point for the library's models, FMUs and drivers.
 
     ``model`` says what is swept:
@@ -275,6 +276,9 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         <frictionjoint.structures.BladeAssembly.frequency_response>`).
     n_harmonics : int
         Harmonics of ``'hbm'``, >= 1.
+    stability : bool
+        ``'hbm'``: also judge each branch point by the Floquet multipliers of the exact orbit
+        started from it (the time-domain sweeps of blades and systems judge every orbit anyway).
 
     Returns
     -------
@@ -288,6 +292,10 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     if method == "hbm" and (isinstance(model, Driver) or callable(model) or _blade_definition(model) is None):
         raise ParameterError("method 'hbm' is for blade model definitions (the oscillator and FMU sweeps are "
                              "in the time domain; for a FrictionSystem use frictionjoint.hbm_sweep)")
+    if stability not in (True, False):
+        raise ParameterError(f"stability must be True or False, got {stability!r}")
+    if stability and method != "hbm":
+        raise ParameterError("stability=True is for method 'hbm' (the time-domain sweeps judge every orbit anyway)")
     if isinstance(model, type):
         raise ParameterError(f"model must be a Driver instance, not the class {model.__name__}")
     if callable(model) and not isinstance(model, Driver):
@@ -304,7 +312,7 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         if blade is None:
             raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver, a "
                                  f"build(omega) callable or a blade model definition, got {model!r}")
-        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics)
+        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics, stability)
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
@@ -346,7 +354,7 @@ def _blade_definition(model):
 
 
 def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, method="time",
-                 n_harmonics=7) -> OutputSweep:
+                 n_harmonics=7, stability=False) -> OutputSweep:
     """:func:`sweep` of a blade model definition (see there)."""
     from .structures import BladeAssembly
 
@@ -365,7 +373,7 @@ def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, m
     ws = check_grid("omegas", omegas, unit="rad/s")
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress,
-                                  method=method, n_harmonics=n_harmonics)
+                                  method=method, n_harmonics=n_harmonics, stability=stability)
 
 
 #: variables that make an FMU a blade FMU for :func:`sweep` (those of BladeDovetail.fmu)
@@ -459,6 +467,7 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
     """
     from tqdm import tqdm
 
+    from .solvers.hbm import lyapunov_stable
     from .solvers.steady import periodic_response
 
     _check_build(build)
@@ -480,7 +489,7 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
         phase=np.array([r.phase for r in rows]),
         dissipated_per_cycle=np.array([r.dissipated_per_cycle for r in rows]),
         stuck=np.array([r.stuck for r in rows]), converged=np.array([r.converged for r in rows]),
-        messages=tuple(r.message for r in rows))
+        messages=tuple(r.message for r in rows), stable=np.array([lyapunov_stable(r) for r in rows], dtype=object))
 
 
 def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int = 0, n_grid: int = 25,

@@ -163,3 +163,31 @@ def test_branch_from_a_start_without_balance_says_so():
     sw = fj.hbm_sweep(sysm, (2000.0, 3200.0), n_harmonics=7, n_points=20)
     assert not sw.success and len(sw.omega) == 1 and not sw.converged[0]
     assert "no balance at the start omega = 2000 rad/s" in sw.message
+
+
+def test_fold_pair_with_three_coexisting_orbits():
+    """The root block shaken radially only (100 N; no dashpots): the flanks' slip softens the
+    resonance near 2770 rad/s until the branch turns twice. The continuation flags both folds;
+    between them three balances coexist, each the first harmonic of an exact orbit (H = 7:
+    measured 1.5e-4, 1.4e-4 and, stuck, 7e-15), and the exact Floquet multipliers find the upper
+    and lower orbits stable and the middle one unstable (max |mu| 0.92, 1.05, 0.97), as the
+    branch's stability column does."""
+    sysm, _ = _system(fx=0.0, fy=100.0, normal_damping=0.0)
+    sw = fj.hbm_sweep(sysm, (3200.0, 2400.0), n_harmonics=7, n_points=40, stability=True)
+    assert sw.success
+    folds = np.flatnonzero(sw.fold)
+    assert len(folds) == 2
+    w_mid = float(sw.omega[folds].mean())
+    cross = np.flatnonzero(np.diff(np.sign(sw.omega - w_mid)))
+    assert len(cross) == 3
+    amps, verdicts = [], []
+    for k in cross:
+        a = (w_mid - sw.omega[k]) / (sw.omega[k + 1] - sw.omega[k])
+        hb = fj.harmonic_balance(sysm, w_mid, n_harmonics=7, guess=(1 - a) * sw.harmonics[k] + a * sw.harmonics[k + 1],
+                                 check=True)
+        assert hb.converged and hb.truncation_error <= 1e-3
+        amps.append(hb.harmonic_amplitude[1])
+        verdicts.append(hb.stable)
+        assert sw.stable[k] is hb.stable and sw.stable[k + 1] is hb.stable
+    assert amps[0] > amps[1] > amps[2] and amps[2] > 0.5 * amps[0]  # three distinct orbits
+    assert verdicts == [True, False, True]

@@ -440,6 +440,9 @@ class SystemSweep(PointsContract):
         Permanent stick; periodic orbit found.
     messages : tuple of str
         The solver's message per point.
+    stable : (n,) object ndarray, optional
+        Per point True/False from the orbit's Floquet multipliers
+        (:func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where no orbit was found.
     success, status, message
         The result contract (:func:`~frictionjoint.results.collection_status`).
     """
@@ -452,6 +455,7 @@ class SystemSweep(PointsContract):
     stuck: np.ndarray
     converged: np.ndarray
     messages: tuple = ()
+    stable: Optional[np.ndarray] = None
 
     @property
     def harmonics(self) -> np.ndarray:
@@ -464,6 +468,11 @@ class SystemSweep(PointsContract):
 
 
 _OUTPUT_COLUMNS = ("omega", "amplitude", "phase", "stuck", "converged", "dissipated_per_cycle")
+
+
+def _yes_no(value) -> str:
+    """A table cell of a True/False/None verdict."""
+    return "--" if value is None else ("yes" if value else "no")
 
 
 @dataclass(eq=False)
@@ -488,6 +497,11 @@ class OutputSweep(PointsContract):
         Friction energy per period [J].
     messages : tuple of str
         The solver's message per point.
+    stable : (n,) object ndarray, optional
+        Per point True/False from the Floquet multipliers of the exact orbit (of the point, or
+        started from the harmonic-balance point), None where unknown; None when not judged.
+    fold : (n,) bool ndarray, optional
+        Turning points of a harmonic-balance branch (then the points are in branch order).
     """
 
     omega: np.ndarray
@@ -498,6 +512,8 @@ class OutputSweep(PointsContract):
     converged: np.ndarray
     dissipated_per_cycle: np.ndarray
     messages: tuple = ()
+    stable: Optional[np.ndarray] = None
+    fold: Optional[np.ndarray] = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -519,16 +535,19 @@ class OutputSweep(PointsContract):
 
     def table(self) -> str:
         """The points as text: omega, amplitude and phase of the output, the linear limits'
-        amplitudes, stuck/converged."""
+        amplitudes, stuck/converged, and (when judged) stable and the branch's folds."""
         names = list(self.limits)
         head = f"{'omega [rad/s]':>14} {'|X| [m]':>12} {'phase [rad]':>11} " + \
-            " ".join(f"{n + ' [m]':>13}" for n in names) + f" {'stuck':>5} {'ok':>3}"
+            " ".join(f"{n + ' [m]':>13}" for n in names) + f" {'stuck':>5} {'ok':>3}" + \
+            (f" {'stable':>6}" if self.stable is not None else "") + (f" {'fold':>4}" if self.fold is not None else "")
         lines = [f"output {self.output}", head]
         for k, w in enumerate(self.omega):
             amp = f"{self.amplitude[k]:12.5e}" if self.converged[k] else f"{'--':>12}"
             lines.append(f"{w:14.6g} {amp} {self.phase[k]:11.5f} "
                          + " ".join(f"{abs(self.limits[n][k]):13.5e}" for n in names)
-                         + f" {'yes' if self.stuck[k] else 'no':>5} {'yes' if self.converged[k] else 'no':>3}")
+                         + f" {'yes' if self.stuck[k] else 'no':>5} {'yes' if self.converged[k] else 'no':>3}"
+                         + (f" {_yes_no(self.stable[k]):>6}" if self.stable is not None else "")
+                         + (f" {'<' if self.fold[k] else '':>4}" if self.fold is not None else ""))
         w_p, a_p = self.peak()
         lines.append(f"peak {a_p:.6g} m at {w_p:.6g} rad/s; {self.message}")
         return "\n".join(lines)
@@ -544,12 +563,14 @@ class OutputSweep(PointsContract):
         with open(path, "w", newline="") as f:
             wr = csv.writer(f)
             wr.writerow([*_OUTPUT_COLUMNS, *[f"{n}_{q}" for n in names for q in ("amplitude", "phase")],
-                         "output", "message"])
+                         "stable", "fold", "output", "message"])
             for k in range(self.omega.size):
+                st = "" if self.stable is None or self.stable[k] is None else int(bool(self.stable[k]))
                 wr.writerow([repr(float(self.omega[k])), repr(float(self.amplitude[k])), repr(float(self.phase[k])),
                              int(self.stuck[k]), int(self.converged[k]), repr(float(self.dissipated_per_cycle[k])),
                              *[repr(float(q)) for n in names for q in (abs(self.limits[n][k]),
                                                                          -np.angle(self.limits[n][k]))],
+                             st, "" if self.fold is None else int(bool(self.fold[k])),
                              self.output, self.messages[k] if k < len(self.messages) else ""])
 
     @classmethod
@@ -575,10 +596,18 @@ class OutputSweep(PointsContract):
 
         def harmonic(amp, ph):
             return col(amp) * np.exp(-1j * col(ph))
+
+        def optional(key, kind):
+            # written empty when not judged (the whole column) or unknown (one point)
+            if not any(r.get(key) for r in rows):
+                return None
+            return np.array([kind(int(r[key])) if r.get(key) else None for r in rows], dtype=object)
+        fold = optional("fold", bool)
         return cls(omega=col("omega"), output=rows[0]["output"], response=harmonic("amplitude", "phase"),
                    limits={n: harmonic(f"{n}_amplitude", f"{n}_phase") for n in names},
                    stuck=col("stuck", lambda v: bool(int(v))), converged=col("converged", lambda v: bool(int(v))),
-                   dissipated_per_cycle=col("dissipated_per_cycle"), messages=tuple(r["message"] for r in rows))
+                   dissipated_per_cycle=col("dissipated_per_cycle"), messages=tuple(r["message"] for r in rows),
+                   stable=optional("stable", bool), fold=None if fold is None else fold.astype(bool))
 
     def plot(self, ax: Axes | None = None, path: str | os.PathLike | None = None) -> Figure:
         """The output's amplitude against frequency with its two linear limits
