@@ -13,21 +13,11 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
+from benchmarks.hbm_truncation import root_block as _system  # the root block of the benchmark
 from frictionjoint.solvers import hysteresis
 from frictionjoint.solvers.hbm import Condensed
 
-G, MU, KN, KT = math.radians(40.0), 0.3, 1e6, 8e5
-
-
-def _system(omega=3000.0, fx=200.0, fy=400.0, normal_damping=40.0):
-    """A root block on its two flanks (as tests/test_normal_load_variation.py), shaken so that the
-    flanks slip, lift off and close again."""
-    st = fj.LinearStructure(np.diag([0.2, 0.2]), np.zeros((2, 2)), np.diag([2.0, 2.0]), dof_names=["X", "Y"])
-    root = fj.DovetailRoot(1000.0, flank_angle=G, friction_coefficient=MU, normal_stiffness=KN,
-                           tangential_stiffness=KT, tangential_dof="X", radial_dof="Y",
-                           normal_load_variation=True, normal_damping=normal_damping)
-    exc = [fj.HarmonicForce("X", fx), fj.HarmonicForce("Y", fy, phase=0.7)]
-    return fj.FrictionSystem(st, [root], omega=omega, excitation=exc), root
+MU, KN, KT = 0.3, 1e6, 8e5  # the root block's flanks
 
 
 def _path():
