@@ -233,9 +233,10 @@ def _add_sweep(sub) -> None:
                          "branch from START to STOP by continuation, about N points (blade models)")
     sw.add_argument("--harmonics", type=_count(1), default=7, metavar="H",
                     help="harmonics of --method hbm (default 7)")
-    sw.add_argument("--stability", action="store_true",
-                    help="--method hbm: judge each branch point by the Floquet multipliers of the exact orbit "
-                         "started from it (one shooting per point; --method time judges every orbit anyway)")
+    sw.add_argument("--check", action="store_true",
+                    help="--method hbm: check each branch point against the exact orbit started from it, its "
+                         "truncation error and stability (one shooting per point; --method time is exact and "
+                         "judges every orbit's stability anyway)")
     _add_csv_and_progress(sw, "table")
     sw.set_defaults(func=_sweep, subparser=sw)
 
@@ -350,11 +351,11 @@ def _sweep(args, parser) -> int:
               f"library: {how}, direction {args.direction}", flush=True)
         fr = sweep(args.model, omegas, params, direction=args.direction, outputs=outputs,
                    progress=not args.no_progress, method=args.method, n_harmonics=args.harmonics,
-                   stability=args.stability)
+                   check=args.check)
         print(fr.table())
         return _write(fr, args)
-    if args.method != "time" or args.stability:
-        parser.error("--method hbm and --stability are for blade model definitions (e.g. ti64_compressor_blade)")
+    if args.method != "time" or args.check:
+        parser.error("--method hbm and --check are for blade model definitions (e.g. ti64_compressor_blade)")
     if _is_blade_fmu(args.model):  # BladeDovetail.fmu: the blade on its root through fmpy
         if args.compare or args.outputs:
             parser.error("--compare and --outputs are for the single-DOF oscillator, not a blade FMU")

@@ -223,7 +223,7 @@ METHODS = ("time", "hbm")
 def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
           direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
           method: str = "time", n_harmonics: int = 7,
-          stability: bool = False) -> FrequencyResponse | SystemSweep | OutputSweep:
+          check: bool = False) -> FrequencyResponse | SystemSweep | OutputSweep:
     """Stepped-sine sweep: the one entry point for the library's models, FMUs and drivers.
 
     ``model`` says what is swept:
@@ -276,9 +276,10 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         <frictionjoint.structures.BladeAssembly.frequency_response>`).
     n_harmonics : int
         Harmonics of ``'hbm'``, >= 1.
-    stability : bool
-        ``'hbm'``: also judge each branch point by the Floquet multipliers of the exact orbit
-        started from it (the time-domain sweeps of blades and systems judge every orbit anyway).
+    check : bool
+        ``'hbm'``: check every branch point against the exact orbit started from it, its truncation
+        error and stability (the time-domain sweeps of blades and systems judge every orbit's
+        stability anyway).
 
     Returns
     -------
@@ -292,10 +293,11 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     if method == "hbm" and (isinstance(model, Driver) or callable(model) or _blade_definition(model) is None):
         raise ParameterError("method 'hbm' is for blade model definitions (the oscillator and FMU sweeps are "
                              "in the time domain; for a FrictionSystem use frictionjoint.hbm_sweep)")
-    if stability not in (True, False):
-        raise ParameterError(f"stability must be True or False, got {stability!r}")
-    if stability and method != "hbm":
-        raise ParameterError("stability=True is for method 'hbm' (the time-domain sweeps judge every orbit anyway)")
+    if check not in (True, False):
+        raise ParameterError(f"check must be True or False, got {check!r}")
+    if check and method != "hbm":
+        raise ParameterError("check=True is for method 'hbm' (the time domain is exact and judges every orbit's "
+                             "stability anyway)")
     if isinstance(model, type):
         raise ParameterError(f"model must be a Driver instance, not the class {model.__name__}")
     if callable(model) and not isinstance(model, Driver):
@@ -312,7 +314,7 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
         if blade is None:
             raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver, a "
                                  f"build(omega) callable or a blade model definition, got {model!r}")
-        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics, stability)
+        return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics, check)
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
     unknown = set(params) - allowed
@@ -354,7 +356,7 @@ def _blade_definition(model):
 
 
 def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, method="time",
-                 n_harmonics=7, stability=False) -> OutputSweep:
+                 n_harmonics=7, check=False) -> OutputSweep:
     """:func:`sweep` of a blade model definition (see there)."""
     from .structures import BladeAssembly
 
@@ -373,7 +375,7 @@ def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, m
     ws = check_grid("omegas", omegas, unit="rad/s")
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress,
-                                  method=method, n_harmonics=n_harmonics, stability=stability)
+                                  method=method, n_harmonics=n_harmonics, check=check)
 
 
 #: variables that make an FMU a blade FMU for :func:`sweep` (those of BladeDovetail.fmu)

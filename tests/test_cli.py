@@ -265,18 +265,22 @@ def test_sweep_blade_model_by_harmonic_balance(tmp_path):
 
     table = tmp_path / "hbm.csv"
     proc = run("sweep", "ti64_compressor_blade", "--set", "centrifugal_force=259", "--omega", "1950:2100:20",
-               "--method", "hbm", "--harmonics", "5", "--stability", "--csv", str(table), "--no-progress")
+               "--method", "hbm", "--harmonics", "5", "--check", "--csv", str(table), "--no-progress")
     assert proc.returncode == 0, proc.stderr
     assert "harmonic balance (H = 5)" in proc.stdout and "points converged" in proc.stdout
     assert "stable" in proc.stdout.splitlines()[2] and "fold" in proc.stdout.splitlines()[2]
     fr = OutputSweep.from_csv(table)
     assert fr.converged.all() and fr.omega[0] == 1950.0 and fr.omega[-1] >= 2100.0
-    # every point judged from its exact orbit (the blade's forced resonance has no fold: all stable)
+    # every point checked against its exact orbit (the blade's forced resonance has no fold: all
+    # stable); stuck points are exact, slipping ones carry the truncation (at H = 5 up to 64 % of
+    # the complex first harmonic just after the root starts to slip, where the phase swings)
     assert fr.stable is not None and all(v is True for v in fr.stable) and not fr.fold.any()
+    assert "trunc. err" in proc.stdout and np.all(np.isfinite(fr.truncation_error))
+    assert np.all(fr.truncation_error[fr.stuck] <= 1e-9) and np.all(fr.truncation_error[~fr.stuck] > 1e-6)
     assert fr.stuck.any() and not fr.stuck.all()
     s = fr.stuck
     assert np.max(np.abs(fr.response[s] - fr.limits["stuck"][s]) / np.abs(fr.limits["stuck"][s])) <= 1e-8
     bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--method", "hbm")
     assert bad.returncode != 0 and "blade model" in bad.stderr
-    bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--stability")
-    assert bad.returncode != 0 and "--stability" in bad.stderr
+    bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--check")
+    assert bad.returncode != 0 and "--check" in bad.stderr

@@ -86,7 +86,8 @@ def test_stuck_orbit_is_exact_at_any_h():
     """A motion that never slips is linear: every H gives the exact steady state (rounding)."""
     for hh in (1, 3, 7):
         hb = fj.harmonic_balance(jenkins_sdof(0.8, 0.05), n_harmonics=hh, check=True)
-        assert hb.converged and hb.exact.stuck
+        assert hb.converged and hb.exact.stuck and hb.stuck
+        assert not fj.harmonic_balance(jenkins_sdof(1.2, 0.2), n_harmonics=hh).stuck
         assert hb.truncation_error <= 1e-13 and hb.amplitude_error <= 1e-13
         assert np.max(np.abs(hb.harmonics[2:]), initial=0.0) <= 1e-15 and hb.dissipated_per_cycle == 0.0
 
@@ -148,19 +149,34 @@ def test_continuation_follows_the_branch_and_matches_point_solutions():
         assert np.max(np.abs(hb.harmonics - sw.harmonics[k])) <= 1e-8 * np.max(np.abs(hb.harmonics))
     with pytest.raises(ParameterError, match="omega_range"):
         hbm_sweep(jenkins_sdof(1.0, 0.2), (1.0, 1.0))
-    assert sw.stable is None
+    with pytest.raises(ParameterError, match="omega_range"):
+        hbm_sweep(jenkins_sdof(1.0, 0.2), [1.0])
+    with pytest.raises(ParameterError, match="check"):
+        hbm_sweep(jenkins_sdof(1.0, 0.2), (0.5, 3.0), check=[-1.0])
+    assert sw.stable is None and sw.truncation_error is None
 
 
 def test_stability_along_a_branch_from_the_exact_orbits():
-    """stability=True: each branch point's verdict from the Floquet multipliers of the exact orbit
-    started from it; the damped Jenkins SDOF's single-valued resonance is stable everywhere, and a
-    check point's verdict is the same."""
+    """check=True: each branch point's verdict from the Floquet multipliers of the exact orbit
+    started from it, and its truncation error; the damped Jenkins SDOF's single-valued resonance
+    is stable everywhere, and a single balance's check gives the same verdict. check=[frequencies]
+    checks only the branch points nearest them, with the same errors as a single balance's check."""
     from frictionjoint.solvers.continuation import hbm_sweep
 
-    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=5, n_points=15, stability=True)
+    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=5, n_points=15, check=True)
     assert sw.stable is not None and all(v is True for v in sw.stable)
+    assert np.all(sw.truncation_error <= 5e-2) and np.any(sw.truncation_error > 1e-6)
     hb = fj.harmonic_balance(jenkins_sdof(1.2, 0.2), n_harmonics=5, check=True)
     assert hb.stable is True and np.max(np.abs(hb.exact.floquet_multipliers)) < 1.0
+    some = hbm_sweep(jenkins_sdof(1.0, 0.2), np.linspace(0.8, 1.6, 15), n_harmonics=5, check=[1.0, 1.3])
+    np.testing.assert_array_equal(some.omega, sw.omega)  # the frequencies' form: n_points = 15
+    picked = [k for k in range(some.omega.size) if some.stable[k] is not None]
+    assert len(picked) == 2 and np.isnan(np.delete(some.truncation_error, picked)).all()
+    for k in picked:
+        assert some.stable[k] is True and abs(some.truncation_error[k] - sw.truncation_error[k]) <= 1e-12
+        one = fj.harmonic_balance(jenkins_sdof(float(some.omega[k]), 0.2), n_harmonics=5, guess=some.harmonics[k],
+                                  check=True)
+        assert abs(one.truncation_error - some.truncation_error[k]) <= 1e-6 * one.truncation_error
 
 
 @pytest.mark.slow
@@ -187,7 +203,7 @@ def test_blade_peak_against_the_time_domain(varying):
 def test_branch_plot(tmp_path):
     from frictionjoint.solvers.continuation import hbm_sweep
 
-    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=3, n_points=10, stability=True)
+    sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=3, n_points=10, check=True)
     sw.stable[3] = False  # an unstable stretch is drawn dashed
     fig = sw.plot(path=tmp_path / "branch.png", output=0)
     assert (tmp_path / "branch.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -163,7 +163,7 @@ def test_fold_pair_with_three_coexisting_orbits():
     and lower orbits stable and the middle one unstable (max |mu| 0.92, 1.05, 0.97), as the
     branch's stability column does."""
     sysm, _ = _system(fx=0.0, fy=100.0, normal_damping=0.0)
-    sw = fj.hbm_sweep(sysm, (3200.0, 2400.0), n_harmonics=7, n_points=40, stability=True)
+    sw = fj.hbm_sweep(sysm, (3200.0, 2400.0), n_harmonics=7, n_points=40, check=True)
     assert sw.success
     folds = np.flatnonzero(sw.fold)
     assert len(folds) == 2

@@ -502,6 +502,9 @@ class OutputSweep(PointsContract):
         started from the harmonic-balance point), None where unknown; None when not judged.
     fold : (n,) bool ndarray, optional
         Turning points of a harmonic-balance branch (then the points are in branch order).
+    truncation_error : (n,) ndarray, optional
+        A harmonic-balance branch checked against the exact orbits: each point's first-harmonic
+        error (:func:`~frictionjoint.solvers.hbm.truncation_error`), NaN where unknown.
     """
 
     omega: np.ndarray
@@ -514,6 +517,7 @@ class OutputSweep(PointsContract):
     messages: tuple = ()
     stable: Optional[np.ndarray] = None
     fold: Optional[np.ndarray] = None
+    truncation_error: Optional[np.ndarray] = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -539,7 +543,8 @@ class OutputSweep(PointsContract):
         names = list(self.limits)
         head = f"{'omega [rad/s]':>14} {'|X| [m]':>12} {'phase [rad]':>11} " + \
             " ".join(f"{n + ' [m]':>13}" for n in names) + f" {'stuck':>5} {'ok':>3}" + \
-            (f" {'stable':>6}" if self.stable is not None else "") + (f" {'fold':>4}" if self.fold is not None else "")
+            (f" {'stable':>6}" if self.stable is not None else "") + (f" {'fold':>4}" if self.fold is not None else "") + \
+            (f" {'trunc. err':>10}" if self.truncation_error is not None else "")
         lines = [f"output {self.output}", head]
         for k, w in enumerate(self.omega):
             amp = f"{self.amplitude[k]:12.5e}" if self.converged[k] else f"{'--':>12}"
@@ -547,7 +552,8 @@ class OutputSweep(PointsContract):
                          + " ".join(f"{abs(self.limits[n][k]):13.5e}" for n in names)
                          + f" {'yes' if self.stuck[k] else 'no':>5} {'yes' if self.converged[k] else 'no':>3}"
                          + (f" {_yes_no(self.stable[k]):>6}" if self.stable is not None else "")
-                         + (f" {'<' if self.fold[k] else '':>4}" if self.fold is not None else ""))
+                         + (f" {'<' if self.fold[k] else '':>4}" if self.fold is not None else "")
+                         + (f" {self.truncation_error[k]:10.2e}" if self.truncation_error is not None else ""))
         w_p, a_p = self.peak()
         lines.append(f"peak {a_p:.6g} m at {w_p:.6g} rad/s; {self.message}")
         return "\n".join(lines)
@@ -563,7 +569,7 @@ class OutputSweep(PointsContract):
         with open(path, "w", newline="") as f:
             wr = csv.writer(f)
             wr.writerow([*_OUTPUT_COLUMNS, *[f"{n}_{q}" for n in names for q in ("amplitude", "phase")],
-                         "stable", "fold", "output", "message"])
+                         "stable", "fold", "truncation_error", "output", "message"])
             for k in range(self.omega.size):
                 st = "" if self.stable is None or self.stable[k] is None else int(bool(self.stable[k]))
                 wr.writerow([repr(float(self.omega[k])), repr(float(self.amplitude[k])), repr(float(self.phase[k])),
@@ -571,6 +577,7 @@ class OutputSweep(PointsContract):
                              *[repr(float(q)) for n in names for q in (abs(self.limits[n][k]),
                                                                          -np.angle(self.limits[n][k]))],
                              st, "" if self.fold is None else int(bool(self.fold[k])),
+                             "" if self.truncation_error is None else repr(float(self.truncation_error[k])),
                              self.output, self.messages[k] if k < len(self.messages) else ""])
 
     @classmethod
@@ -607,7 +614,9 @@ class OutputSweep(PointsContract):
                    limits={n: harmonic(f"{n}_amplitude", f"{n}_phase") for n in names},
                    stuck=col("stuck", lambda v: bool(int(v))), converged=col("converged", lambda v: bool(int(v))),
                    dissipated_per_cycle=col("dissipated_per_cycle"), messages=tuple(r["message"] for r in rows),
-                   stable=optional("stable", bool), fold=None if fold is None else fold.astype(bool))
+                   stable=optional("stable", bool), fold=None if fold is None else fold.astype(bool),
+                   truncation_error=(col("truncation_error") if any(r.get("truncation_error") for r in rows)
+                                     else None))
 
     def plot(self, ax: Axes | None = None, path: str | os.PathLike | None = None) -> Figure:
         """The output's amplitude against frequency with its two linear limits

@@ -38,6 +38,8 @@ class HarmonicBalance:
         Final residual, relative to the joint coordinates' size.
     dissipated_per_cycle : float
         Friction energy per period of the balanced orbit [J].
+    stuck : bool
+        Every slider sticks over the whole period and no contact opens (a linear orbit: exact).
     stable : bool or None
         With ``check``: the matching exact orbit is not unstable (its Floquet multipliers within
         the unit circle, a neutral family of stuck orbits included); None: not computed.
@@ -64,6 +66,7 @@ class HarmonicBalance:
     iterations: int = 0
     residual: float = float("nan")
     dissipated_per_cycle: float = float("nan")
+    stuck: bool = False
     stable: Optional[bool] = None
     slider_positions: Optional[np.ndarray] = None
     truncation_error: Optional[float] = None
@@ -97,11 +100,16 @@ class HarmonicBalanceSweep:
         Friction energy per period [J].
     fold : (n,) bool ndarray
         A turning point (fold) of the branch lies between this point and the previous one.
+    stuck : (n,) bool ndarray
+        Every slider sticks over the whole period and no contact opens.
     converged : (n,) bool ndarray
         The corrector converged.
-    stable : (n,) object ndarray
-        With ``stability``: True/False per point (the matching exact orbit's Floquet multipliers,
-        :func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where not known.
+    stable : (n,) object ndarray or None
+        With ``check``: True/False per checked point (the matching exact orbit's Floquet
+        multipliers, :func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where not known.
+    truncation_error : (n,) ndarray or None
+        With ``check``: per checked point, the first harmonics' error against the exact orbit
+        started from it (:func:`~frictionjoint.solvers.hbm.truncation_error`), NaN elsewhere.
     n_harmonics : int
         ``H``.
     messages : tuple of str
@@ -122,6 +130,8 @@ class HarmonicBalanceSweep:
     messages: tuple = ()
     message: str = ""
     stable: Optional[np.ndarray] = None
+    truncation_error: Optional[np.ndarray] = None
+    stuck: Optional[np.ndarray] = None
 
     @property
     def success(self) -> bool:

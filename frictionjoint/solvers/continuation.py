@@ -13,11 +13,12 @@ come out in one run.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ParameterError, check_count, check_positive, check_system
 from ..results.harmonic import HarmonicBalanceSweep
 from ..system import FrictionSystem
-from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable
+from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable, truncation_error
 
 __all__ = ["hbm_sweep"]
 
@@ -26,33 +27,38 @@ def _at(system: FrictionSystem, omega: float) -> FrictionSystem:
     return FrictionSystem(system.structure, system.elements, omega=omega, excitation=system.excitation)
 
 
-def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmonics: int = 7, *, n_points: int = 200,
+def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int = 7, *, n_points: int | None = None,
               tol: float = 1e-10, max_points: int | None = None, progress: bool = False,
-              stability: bool = False) -> HarmonicBalanceSweep:
-    """Harmonic-balance branch from ``omega_range[0]`` to ``omega_range[1]`` by pseudo-arclength
+              check: bool | ArrayLike = False) -> HarmonicBalanceSweep:
+    """Harmonic-balance branch from ``omega_range[0]`` to ``omega_range[-1]`` by pseudo-arclength
     continuation (module docstring).
 
     Parameters
     ----------
     system : FrictionSystem
         The system (its excitation is kept; ``omega`` varies).
-    omega_range : (float, float)
-        Start and end angular frequency [rad/s], > 0, different (either order).
+    omega_range : sequence of float
+        Start and end angular frequency [rad/s], > 0, different (either order); or the
+        frequencies of a sweep (the branch runs from the first to the last, ``n_points`` defaults
+        to their number; the points are the branch's own).
     n_harmonics : int
         ``H`` >= 1.
-    n_points : int
+    n_points : int, optional
         About how many points the branch should have over the range without folds (the initial
-        step is ``1/n_points`` of the scaled range), >= 2.
+        step is ``1/n_points`` of the scaled range), >= 2; default 200, or the number of
+        frequencies given.
     tol : float
         Corrector tolerance, relative, in (0, 1).
     max_points : int, optional
         Points at most (default ``20 n_points``).
     progress : bool
         Show a progress bar (fraction of the range covered).
-    stability : bool
-        Also judge each point's stability by the Floquet multipliers of the exact time-domain
-        orbit started from it (:func:`~frictionjoint.solvers.hbm.exact_orbit`; one shooting per
-        point, usually a few Newton steps from the balanced state).
+    check : bool or sequence of float
+        Check points against the exact time-domain steady state started from them
+        (:func:`~frictionjoint.solvers.hbm.exact_orbit`; one shooting each, usually a few Newton
+        steps from the balanced state): their truncation error and their stability from the exact
+        orbit's Floquet multipliers. True: every point; frequencies [rad/s]: the branch point
+        nearest each.
 
     Returns
     -------
@@ -62,9 +68,22 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
 
     check_system("system", system, FrictionSystem)
     try:
-        w_a, w_b = (float(v) for v in omega_range)
+        ws_in = np.asarray(omega_range, dtype=float).reshape(-1)
+        if ws_in.size < 2:
+            raise ValueError
+        w_a, w_b = float(ws_in[0]), float(ws_in[-1])
     except (TypeError, ValueError):
-        raise ParameterError(f"omega_range must be two angular frequencies (start, end) [rad/s], got {omega_range!r}") from None
+        raise ParameterError(f"omega_range must be a start and an end angular frequency [rad/s] (or the "
+                             f"frequencies of a sweep), got {omega_range!r}") from None
+    if n_points is None:
+        n_points = ws_in.size if ws_in.size > 2 else 200
+    if check is not True and check is not False:
+        try:
+            targets = np.asarray(check, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError(f"check must be True, False or frequencies [rad/s], got {check!r}") from None
+        if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0):
+            raise ParameterError(f"check: frequencies must be finite and > 0 [rad/s], got {check!r}")
     check_positive("omega_range[0]", w_a)
     check_positive("omega_range[1]", w_b)
     if w_a == w_b:
@@ -112,7 +131,8 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
     y_prev = None
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
-    rows = [(w, c.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions)]
+    rows = [(w, c.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions,
+             jf.stuck)]
     message = ""
     if not first.converged:  # nothing to follow: say so rather than step from a wrong point
         message = (f"no balance at the start omega = {w_a:.6g} rad/s ({first.message}); start the branch "
@@ -168,7 +188,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
             y, t = yk, t_new
             w = y[nz] * ws
             rows.append((w, ck.harmonics(jf.r), jf.dissipated, bool(fold), True,
-                         f"converged in {it - 1} corrector iterations", jf.slider_positions))
+                         f"converged in {it - 1} corrector iterations", jf.slider_positions, jf.stuck))
             ds = min(ds * 1.5, ds_max) if it <= 4 else ds
             # z's scale follows the largest solution so far (a resonance many times the start's
             # size would otherwise make the arclength, and the number of points, that many times longer)
@@ -194,12 +214,20 @@ def hbm_sweep(system: FrictionSystem, omega_range: tuple[float, float], n_harmon
         bar.close()
     omegas = np.array([row[0] for row in rows])
     harm = np.array([row[1] for row in rows])
-    stable = None
-    if stability:
-        stable = np.array([lyapunov_stable(exact_orbit(_at(system, row[0]), row[1], row[6], peaks=False))
-                           for row in rows], dtype=object)
+    stable = trunc = None
+    if check is not False:
+        picked = (range(len(rows)) if check is True
+                  else sorted({int(np.argmin(np.abs(omegas - w))) for w in targets}))
+        stable = np.full(len(rows), None, dtype=object)
+        trunc = np.full(len(rows), np.nan)
+        for k in picked:
+            ex = exact_orbit(_at(system, rows[k][0]), rows[k][1], rows[k][6], peaks=False)
+            stable[k] = lyapunov_stable(ex)
+            err = truncation_error(rows[k][1], ex)
+            trunc[k] = np.nan if err is None else err
     return HarmonicBalanceSweep(
         omega=omegas, harmonics=harm, harmonic_amplitude=np.abs(harm[:, 1]), phase=-np.angle(harm[:, 1]),
         amplitude=np.array([_peaks(hm) for hm in harm]), dissipated_per_cycle=np.array([row[2] for row in rows]),
         fold=np.array([row[3] for row in rows]), converged=np.array([row[4] for row in rows]), n_harmonics=hh,
-        messages=tuple(row[5] for row in rows), message=message, stable=stable)
+        messages=tuple(row[5] for row in rows), message=message, stable=stable, truncation_error=trunc,
+        stuck=np.array([row[7] for row in rows]))

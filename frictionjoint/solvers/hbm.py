@@ -32,7 +32,7 @@ from ..results.harmonic import HarmonicBalance
 from ..system import FrictionSystem
 from . import hysteresis
 
-__all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable", "hill_exponents"]
+__all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable", "truncation_error", "hill_exponents"]
 
 
 class JointForces(NamedTuple):
@@ -50,6 +50,8 @@ class JointForces(NamedTuple):
     slider_positions: np.ndarray
     #: friction energy per period, ``sum oint T ds`` over the sliders [J]
     dissipated: float
+    #: every slider sticks over the whole period and no contact opens (a linear orbit)
+    stuck: bool
 
 
 def _loop_work(t: np.ndarray, c: np.ndarray, dmat: np.ndarray) -> float:
@@ -191,6 +193,7 @@ class Condensed:
         damp = None
         w0 = np.zeros(sysm.n_sliders)
         energy = 0.0
+        stuck = True
         dmat = hysteresis.derivative_matrix(self.n_harmonics)
         for q in range(self.n_q):
             sl = slice(q * nc, (q + 1) * nc)
@@ -205,7 +208,7 @@ class Condensed:
                 ic = sysm.slider_contact[i]
                 qn = self.contact_q[ic]
                 sn = slice(qn * nc, (qn + 1) * nc)
-                t, jts, jtp, rn, jnn, rn_w, m_open, w0[i], _ = hysteresis.flank_loop(
+                t, jts, jtp, rn, jnn, rn_w, m_open, w0[i], slips = hysteresis.flank_loop(
                     c, z[sn], sysm.slider_stiffness[i], self.mu[i], sysm.contact_stiffness[ic],
                     sysm.contact_damping[ic], sysm.contact_preload[ic], self.omega, self.w_ref[i], jacobian)
                 r[sn] += rn
@@ -220,16 +223,18 @@ class Condensed:
             elif sysm.rigid[i]:
                 t, jt = hysteresis.coulomb_loop(c, sysm.slip_force[i], jacobian)
                 w0[i] = float(hysteresis.evaluate(c, 0.0)[0])
+                slips = bool(np.any(c[1:]))  # a rigid slider in continuous sliding moves with u
                 if jacobian:
                     jac[sl, sl] += jt
             else:
-                t, jt, w0[i], _ = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
-                                                          self.w_ref[i], jacobian)
+                t, jt, w0[i], slips = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
+                                                              self.w_ref[i], jacobian)
                 if jacobian:
                     jac[sl, sl] += jt
             r[sl] += t
             energy += _loop_work(t, c, dmat)
-        return JointForces(r, jac, r_w, damp, w0, energy)
+            stuck = stuck and not slips
+        return JointForces(r, jac, r_w, damp, w0, energy, stuck)
 
     def harmonics(self, r: np.ndarray) -> np.ndarray:
         """All DOFs' complex harmonics ``(H + 1, n_dof)`` from the joint forces ``R``."""
@@ -365,7 +370,7 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
                           harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
                           converged=bool(converged), message=message, iterations=it, residual=rel,
                           dissipated_per_cycle=jf.dissipated,
-                          slider_positions=jf.slider_positions)
+                          slider_positions=jf.slider_positions, stuck=jf.stuck)
     if check:
         _check_exact(system, out)
     return out
@@ -405,15 +410,22 @@ def lyapunov_stable(orbit) -> bool | None:
     return bool(np.max(np.abs(mu), initial=0.0) <= 1.0 + STABILITY_MARGIN)
 
 
+def truncation_error(harmonics: np.ndarray, exact) -> float | None:
+    """``max |X1_hbm - X1_exact| / max |X1_exact|`` over the DOFs, of balanced ``harmonics`` against
+    an exact orbit (None if it was not found)."""
+    if not exact.converged:
+        return None
+    x1 = exact.harmonic_amplitude * np.exp(-1j * exact.phase)
+    return float(np.max(np.abs(harmonics[1] - x1)) / np.max(np.abs(x1)))
+
+
 def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
     """The exact time-domain steady state from the balanced orbit; the truncation error."""
-    harm = hb.harmonics
-    ex = exact_orbit(system, harm, hb.slider_positions)
+    ex = exact_orbit(system, hb.harmonics, hb.slider_positions)
     hb.exact = ex
     hb.stable = lyapunov_stable(ex)  # the Floquet multipliers of the matching exact orbit
+    hb.truncation_error = truncation_error(hb.harmonics, ex)
     if ex.converged:
-        x1 = ex.harmonic_amplitude * np.exp(-1j * ex.phase)
-        hb.truncation_error = float(np.max(np.abs(harm[1] - x1)) / np.max(np.abs(x1)))
         hb.amplitude_error = float(np.max(np.abs(hb.amplitude - ex.amplitude)) / np.max(ex.amplitude))
 
 

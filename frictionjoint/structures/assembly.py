@@ -185,7 +185,7 @@ class BladeAssembly:
         return next(iter(self.loads), None)
 
     def frequency_response(self, omegas: ArrayLike, dof: str | None = None, progress: bool = False,
-                           method: str = "time", n_harmonics: int = 7, stability: bool = False) -> OutputSweep:
+                           method: str = "time", n_harmonics: int = 7, check: bool = False) -> OutputSweep:
         """Stepped-sine sweep (:meth:`sweep`) of one DOF's first harmonic, with that DOF's linear
         frequency response in the root's two limits (every slider stuck, every slider slipping:
         :func:`~frictionjoint.linear_limits.limit_structures`) at the same frequencies.
@@ -205,9 +205,10 @@ class BladeAssembly:
             points; the points are the branch's, past a fold not monotonic in omega).
         n_harmonics : int
             Harmonics of ``'hbm'``.
-        stability : bool
-            ``'hbm'``: also judge each branch point by the Floquet multipliers of the exact orbit
-            started from it (one shooting per point). ``'time'`` judges every orbit anyway.
+        check : bool
+            ``'hbm'``: check every branch point against the exact orbit started from it (one
+            shooting per point): its truncation error and its stability from the exact Floquet
+            multipliers. ``'time'`` judges the stability of every orbit anyway.
 
         Returns
         -------
@@ -229,14 +230,14 @@ class BladeAssembly:
             if ws.size < 2:
                 raise ParameterError("omegas: the harmonic-balance branch needs a start and an end frequency")
             hb = hbm_sweep(self.system(float(ws[0])), (float(ws[0]), float(ws[-1])), n_harmonics=n_harmonics,
-                           n_points=int(ws.size), progress=progress, stability=bool(stability))
+                           n_points=int(ws.size), progress=progress, check=bool(check))
             limits = {name: st.harmonic_response(hb.omega, self._force) @ row
                       for name, st in limit_structures(self.system(float(ws[0]))).items()}
             return OutputSweep(omega=hb.omega, output=dof, response=hb.harmonics[:, 1] @ row, limits=limits,
-                               stuck=hb.dissipated_per_cycle <= 0.0, converged=hb.converged,
+                               stuck=hb.stuck, converged=hb.converged,
                                dissipated_per_cycle=hb.dissipated_per_cycle,
                                messages=tuple(f"HBM H = {hb.n_harmonics}: {m}" for m in hb.messages),
-                               stable=hb.stable, fold=hb.fold)
+                               stable=hb.stable, fold=hb.fold, truncation_error=hb.truncation_error)
         if method != "time":
             raise ParameterError(f"method must be 'time' or 'hbm', got {method!r}")
         # the first harmonics only: no displacement peaks located (half a point's time at the
