@@ -14,9 +14,12 @@ without time discretisation: each slider's force over the period from its own ex
 its Fourier coefficients and their derivatives in closed form (:mod:`.hysteresis`); the Jacobian
 ``I + G Z^-1 G^T dR/dq`` is analytic. Newton's method with a backtracking line search solves it.
 
-Scope: Jenkins sliders (Jenkins, Iwan, flat dovetail flanks with the frozen normal load) and rigid
-Coulomb sliders in continuous sliding (``T = F sgn(q')``: stops are not represented); harmonic
-forces and base motion, the joints' constant loads in the mean.
+Scope: Jenkins sliders (Jenkins, Iwan, flat dovetail flanks with the frozen normal load), flat
+dovetail flanks with normal-load variation and lift-off (the slider's band follows its contact's
+normal load; the contact's normal is a joint coordinate too, and while it is open its closed-state
+spring, dashpot and preload are taken out: :func:`.hysteresis.flank_loop`), and rigid Coulomb
+sliders in continuous sliding (``T = F sgn(q')``: stops are not represented); harmonic forces and
+base motion, the joints' constant loads in the mean.
 """
 from __future__ import annotations
 
@@ -339,6 +342,9 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     for it in range(1, max_iter + 1):
         scale = max(float(np.max(np.abs(z))), 1e-6 * scale_floor)
         rn = float(np.max(np.abs(res)))
+        if not math.isfinite(rn):
+            message = "a friction loop could not be resolved on its bracketing grid (non-finite joint forces)"
+            break
         if rn <= tol * scale:
             converged = True
             it -= 1

@@ -429,7 +429,14 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
     t_end = t0 + 2 * math.pi
     t = t0
     w0 = math.nan
+    pieces = 0
     while t < t_end:
+        pieces += 1
+        if pieces > 8 * ng:  # more pieces than the grid can bracket: no loop (never a hang)
+            for i in range(n):
+                coef[i] = math.nan
+                rn[i] = math.nan
+            return coef, jts, jtp, rn, jnn, m_open, math.nan, True
         if state == 0:
             for j in range(ng):
                 g_a[j] = w + b - (s_g[j] + a * p_g[j])  # L reaches w
