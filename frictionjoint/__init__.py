@@ -20,6 +20,7 @@ from .solvers.steady import periodic_response
 from .regime import RegimeMap, regime_map
 from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
 from .structure import LinearStructure
+from .study import Study, load_study, run_study
 from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, sweep, system_sweep
 from .system import FrictionSystem
 
@@ -27,6 +28,9 @@ __version__ = "0.1.0"
 
 __all__ = [
     "analytic",
+    "Study",
+    "load_study",
+    "run_study",
     "ContinuousIwan",
     "CoulombOscillator",
     "CoulombSlider",

@@ -130,13 +130,75 @@ def build_parser() -> argparse.ArgumentParser:
                     "and stop-regime maps of the Coulomb oscillator.",
         allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,build-fmus,host-env,bench}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,study,build-fmus,host-env,bench}")
     sub.required = True
     _add_demo(sub)
     _add_map(sub)
     _add_sweep(sub)
+    _add_study(sub)
     _add_tools(sub)
     return parser
+
+
+def _add_study(sub) -> None:
+    st = sub.add_parser(
+        "study", allow_abbrev=False,
+        help="run a design study (a TOML file): many sweeps over parameter grids and random samples",
+        description="Run a design study defined in a TOML file (frictionjoint.study.definition): one "
+                    "frequency sweep per point over grids, lists and random samples of the model's "
+                    "parameters, with the peak amplitude and frequency, the equivalent damping ratio, the "
+                    "energy dissipated per cycle and the slip state at the peak. Without --scheduler the "
+                    "points run on a local process pool; with it, on a running Dask cluster. Rows stream "
+                    "into the table as points finish; run again to resume an interrupted study.")
+    st.add_argument("file", metavar="FILE", help="the study definition (.toml)")
+    st.add_argument("--workers", type=_count(1), default=None, metavar="N",
+                    help="local worker processes (default: the machine's cores; 1: in this process)")
+    st.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                    help="a running Dask scheduler, e.g. tcp://host:8786 (start one with 'dask scheduler' and "
+                         "workers with 'dask worker tcp://host:8786')")
+    st.add_argument("--table", default=None, metavar="FILE",
+                    help="the table, .csv or .parquet (default: the study's 'table', or FILE with .csv)")
+    st.add_argument("--restart", action="store_true", help="discard the rows already in the table")
+    st.add_argument("--plot", dest="out", default=None, metavar="PNG",
+                    help="write the study's plot (damper curve, contour or Monte Carlo scatter and histogram)")
+    st.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    st.set_defaults(func=_study, subparser=st, csv=None)
+
+
+def _study(args, parser) -> int:
+    from .study import load_study, run_study
+
+    if args.workers is not None and args.scheduler is not None:
+        parser.error("--workers is for the local pool; a Dask cluster has its own workers")
+    study = load_study(args.file)
+    table = args.table if args.table is not None else study.table
+    _check_writable(parser, "--table", table)
+    where = (f"the Dask cluster at {args.scheduler}" if args.scheduler else
+             "this process" if args.workers == 1 else f"{args.workers or os.cpu_count()} local processes")
+    print(f"study {args.file}: {len(study.points())} points of {study.model} ({', '.join(study.varied)}), "
+          f"{study.omega[2]} frequencies {study.omega[0]:g}-{study.omega[1]:g} rad/s ({study.method}), on {where}; "
+          f"table {table}", flush=True)
+    try:
+        out = run_study(study, table, workers=args.workers, scheduler=args.scheduler, progress=not args.no_progress,
+                        restart=args.restart)
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted; the finished points are in {table} (run again to resume)", file=sys.stderr)
+        return 130
+    print(out.message)
+    q = out.percentiles()
+    if out.random:
+        print("peak amplitude percentiles: " + ", ".join(f"P{p:g} {v:.6g} m" for p, v in q.items()))
+    elif out.ok.any():
+        k = int(np.nanargmin(np.where(out.ok, out["peak_amplitude"], np.nan)))
+        print("lowest peak amplitude {:.6g} m at ".format(out["peak_amplitude"][k])
+              + ", ".join(f"{n} = {out[n][k]:.6g}" for n in out.varied))
+    for row in out.rows():
+        if row["status"] == "failed":
+            print(f"point {row['point']} failed: {row['error']}")
+    if args.out:
+        out.plot(path=args.out)
+        print(f"wrote {args.out}")
+    return 0
 
 
 def _add_demo(sub) -> None:
@@ -484,7 +546,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     sub = args.subparser
     if args.command not in ("build-fmus", "host-env"):
-        _check_writable(sub, "--plot" if args.command == "sweep" else "--out", args.out)
+        _check_writable(sub, "--plot" if args.command in ("sweep", "study") else "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:
         return args.func(args, sub)

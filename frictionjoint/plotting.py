@@ -11,7 +11,7 @@ import os
 import numpy as np
 
 __all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
-           "new_figure", "plot_target"]
+           "new_figure", "plot_target", "plot_study_curve", "plot_study_contour", "plot_study_monte_carlo"]
 
 _DPI = 130
 
@@ -562,5 +562,129 @@ def plot_hbm_sweep(sw, output=0, ax=None, path=None):
     ax.set_ylabel("first-harmonic amplitude [m]")
     ax.legend(fontsize="small")
     ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+    return fig
+
+
+_QUANTITY_LABELS = {"peak_amplitude": "peak amplitude [m]", "peak_omega": "peak frequency [rad/s]",
+                    "damping_ratio": "equivalent damping ratio [-]",
+                    "dissipated_at_peak": "energy dissipated per cycle at the peak [J]"}
+
+
+def plot_study_curve(table, x: str, quantity: str = "peak_amplitude", ax=None, path=None):
+    """A quantity of a study (:class:`~frictionjoint.results.StudyTable`) against one varied
+    parameter, its minimum marked: for ``centrifugal_force`` and ``peak_amplitude`` the friction
+    damper curve (the root load that minimises the peak). Points with some frequencies without a
+    periodic orbit are drawn hollow (their peak may be missed); failed ones are marked on the
+    axis.
+
+    Parameters
+    ----------
+    table : StudyTable
+    x : str
+        The varied parameter.
+    quantity : str
+        A quantity column.
+    ax : matplotlib Axes, optional
+    path : str or os.PathLike, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = _axes(ax, (7.0, 4.5))
+    xv, yv, ok = np.asarray(table[x], float), np.asarray(table[quantity], float), table.ok
+    order = np.argsort(xv)
+    good = ok[order] & np.isfinite(yv[order])
+    ax.plot(xv[order][good], yv[order][good], "o-", color="C0", ms=4, label=quantity)
+    if good.any():
+        k = order[good][int(np.argmin(yv[order][good]))]
+        ax.plot([xv[k]], [yv[k]], "*", ms=14, color="C3", label=f"minimum {yv[k]:.4g} at {x} = {xv[k]:.4g}")
+    part = table.partial & np.isfinite(yv)
+    if part.any():
+        ax.plot(xv[part], yv[part], "o", mfc="none", color="C1", label="some frequencies without an orbit")
+    bad = ~ok & ~part
+    if bad.any():
+        ax.plot(xv[bad], np.full(int(bad.sum()), np.nanmin(yv) if good.any() else 0.0), "x", color="k",
+                label="failed / no periodic orbit")
+    if np.all(xv[np.isfinite(xv)] > 0) and np.nanmax(xv) / np.nanmin(xv) > 20:
+        ax.set_xscale("log")
+    ax.set_xlabel(x)
+    ax.set_ylabel(_QUANTITY_LABELS.get(quantity, quantity))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    _save(fig, path)
+    return fig
+
+
+def plot_study_contour(table, x: str, y: str, quantity: str = "peak_amplitude", ax=None, path=None):
+    """A quantity of a study over two varied grid parameters (filled contour of the grid, points
+    without a peak blank, the minimum marked).
+
+    Parameters
+    ----------
+    table : StudyTable
+    x, y : str
+        The two grid parameters.
+    quantity : str
+    ax : matplotlib Axes, optional
+    path : str or os.PathLike, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = _axes(ax, (7.0, 5.0))
+    xv, yv = np.asarray(table[x], float), np.asarray(table[y], float)
+    zv = np.where(table.ok, np.asarray(table[quantity], float), np.nan)
+    xs, ys = np.unique(xv), np.unique(yv)
+    grid = np.full((ys.size, xs.size), np.nan)
+    grid[np.searchsorted(ys, yv), np.searchsorted(xs, xv)] = zv
+    cs = ax.contourf(xs, ys, grid, levels=20, cmap="viridis")
+    fig.colorbar(cs, ax=ax, label=_QUANTITY_LABELS.get(quantity, quantity))
+    ax.plot(xv, yv, ".", color="w", ms=2)
+    if np.isfinite(zv).any():
+        k = int(np.nanargmin(zv))
+        ax.plot([xv[k]], [yv[k]], "*", ms=14, color="C3", label=f"minimum {zv[k]:.4g}")
+        ax.legend(fontsize="small")
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    _save(fig, path)
+    return fig
+
+
+def plot_study_monte_carlo(table, quantity: str = "peak_amplitude", path=None):
+    """A Monte Carlo study: the quantity against each random parameter (scatter) and its histogram
+    with the 5th, 50th and 95th percentiles marked.
+
+    Parameters
+    ----------
+    table : StudyTable
+    quantity : str
+    path : str or os.PathLike, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(table.random) or list(table.varied)
+    fig = new_figure((4.0 * (len(names) + 1), 4.0))
+    fig.set_layout_engine("constrained")
+    axes = fig.subplots(1, len(names) + 1, squeeze=False)[0]
+    zv = np.asarray(table[quantity], float)
+    ok = table.ok & np.isfinite(zv)
+    for ax, name in zip(axes, names):
+        ax.plot(np.asarray(table[name], float)[ok], zv[ok], ".", ms=4, color="C0")
+        ax.set_xlabel(name)
+        ax.set_ylabel(_QUANTITY_LABELS.get(quantity, quantity))
+        ax.grid(True, alpha=0.3)
+    ax = axes[-1]
+    ax.hist(zv[ok], bins=max(5, int(np.sqrt(ok.sum()))), color="C0", alpha=0.7)
+    for q, v in table.percentiles(quantity).items():
+        ax.axvline(v, color="C3", ls="--" if q != 50 else "-", lw=1.2)
+        ax.text(v, ax.get_ylim()[1] * 0.95, f"P{q:g}", rotation=90, va="top", ha="right", fontsize="small")
+    ax.set_xlabel(_QUANTITY_LABELS.get(quantity, quantity))
+    ax.set_ylabel("points")
+    ax.set_title(f"{int(ok.sum())} of {len(table)} points", fontsize="small")
     _save(fig, path)
     return fig

@@ -242,7 +242,8 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
       the full model) with the root's two linear limits (returns an
       :class:`~frictionjoint.results.OutputSweep`); ``parameters`` are the root's
       (:class:`~frictionjoint.elements.DovetailRoot` arguments, e.g. ``centrifugal_force``,
-      ``friction_coefficient``) and ``tip_force_amplitude`` [N].
+      ``friction_coefficient``) and ``tip_force_amplitude`` [N];
+    - a :class:`~frictionjoint.structures.BladeAssembly`: as a blade model definition.
 
     The oscillator sweeps run one algorithm (:func:`frictionjoint.drivers.shoot`): the driver
     starts on the orbit where it can (the closed-form kernel's shooting with its exact Jacobian,
@@ -290,7 +291,10 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
 
     if method not in METHODS:
         raise ParameterError(f"method must be one of {METHODS}, got {method!r}")
-    if method == "hbm" and (isinstance(model, Driver) or callable(model) or _blade_definition(model) is None):
+    from .structures import BladeAssembly
+
+    if method == "hbm" and not isinstance(model, BladeAssembly) and (
+            isinstance(model, Driver) or callable(model) or _blade_definition(model) is None):
         raise ParameterError("method 'hbm' is for blade model definitions (the oscillator and FMU sweeps are "
                              "in the time domain; for a FrictionSystem use frictionjoint.hbm_sweep)")
     if check not in (True, False):
@@ -300,6 +304,8 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
                              "stability anyway)")
     if isinstance(model, type):
         raise ParameterError(f"model must be a Driver instance, not the class {model.__name__}")
+    if isinstance(model, BladeAssembly):  # a blade assembly of the library: as a model definition
+        return _blade_sweep(model, omegas, parameters, direction, outputs, progress, method, n_harmonics, check)
     if callable(model) and not isinstance(model, Driver):
         if parameters or direction != "up" or tuple(outputs) != ("x",):
             raise ParameterError("a build(omega) -> FrictionSystem sweep takes no parameters, outputs or "
@@ -355,23 +361,39 @@ def _blade_definition(model):
     return load_blade_model(model)
 
 
+def blade_assembly(model, parameters: dict | None = None):
+    """The blade of a model definition (a name in ``models/``, a ``.toml`` path or a loaded
+    :class:`~frictionjoint.structures.BladeModel`) or an assembly,
+    with ``parameters``: its root's (:meth:`BladeAssembly.with_root
+    <frictionjoint.structures.BladeAssembly.with_root>`) and ``tip_force_amplitude`` [N].
+
+    Returns
+    -------
+    BladeAssembly
+    """
+    from .structures import BladeAssembly, load_blade_model
+
+    params = dict(parameters or {})
+    tip_force = params.pop("tip_force_amplitude", None)
+    if isinstance(model, (str, os.PathLike)):
+        model = load_blade_model(model)
+    asm = model if isinstance(model, BladeAssembly) else BladeAssembly.from_model(model)
+    if params:
+        asm = asm.with_root(**params)
+    if tip_force is not None:
+        asm = BladeAssembly(asm.structure, asm.joints, {asm.tip: check_real("tip_force_amplitude", tip_force)})
+    return asm
+
+
 def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, method="time",
                  n_harmonics=7, check=False) -> OutputSweep:
     """:func:`sweep` of a blade model definition (see there)."""
-    from .structures import BladeAssembly
-
     if direction not in ("up", "down"):
         raise ParameterError(f"direction must be 'up' or 'down' for a blade model, got {direction!r}")
     outputs = tuple(outputs)
     if len(outputs) != 1:
         raise ParameterError(f"outputs: one output DOF for a blade model (default its tip), got {outputs!r}")
-    params = dict(parameters or {})
-    tip_force = params.pop("tip_force_amplitude", None)
-    asm = BladeAssembly.from_model(definition)
-    if params:
-        asm = asm.with_root(**params)
-    if tip_force is not None:
-        asm = BladeAssembly(asm.structure, asm.joints, {asm.tip: check_real("tip_force_amplitude", tip_force)})
+    asm = blade_assembly(definition, parameters)
     ws = check_grid("omegas", omegas, unit="rad/s")
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress,
@@ -483,6 +505,11 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
             r = periodic_response(system, peaks=peaks)
         else:
             r = periodic_response(system, z[:n], z[n:2 * n], z[2 * n:] if z.size > 2 * n else None, peaks=peaks)
+            if not r.converged:
+                # the previous orbit is one guess; rest is the other (near a stuck resonance the
+                # stuck orbits form a neutral family, and the neighbour's member can graze the
+                # slip limit where the period map is not smooth: shooting from it fails)
+                r = periodic_response(system, peaks=peaks)
         z = r.initial_state if r.converged else None
         rows.append(r)
     return SystemSweep(
@@ -552,12 +579,17 @@ def peak_response(build: Callable, omega_min: float, omega_max: float, dof: int 
 
     grid = np.linspace(lo, hi, n_grid)
     sw = system_sweep(build, grid, peaks=peaks)
-    amps = first_harmonic(sw)
+    # a frequency without a periodic orbit has no amplitude (NaN): it must not win the argmax, nor
+    # steer the search (there it counts as zero)
+    amps = np.where(sw.converged, first_harmonic(sw), -np.inf)
+    if not np.any(sw.converged):
+        return math.nan, math.nan, sw
     i = int(np.argmax(amps))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
 
     def neg(w):
-        return -float(first_harmonic(system_sweep(build, [w], peaks=False))[0])  # harmonics only
+        one = system_sweep(build, [w], peaks=False)  # harmonics only
+        return -float(first_harmonic(one)[0]) if one.converged[0] else 0.0
 
     res = scipy.optimize.minimize_scalar(neg, bounds=(a, b), method="bounded",
                                          options={"xatol": xtol * b})

@@ -17,7 +17,8 @@ from .harmonic import HarmonicBalance, HarmonicBalanceSweep
 from .regime_map import RegimeMap
 from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
 from .shakedown import CycleResult, MelanResult, ShakedownResult
+from .study import StudyTable
 
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
            "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
-           "collection_status"]
+           "collection_status", "StudyTable"]

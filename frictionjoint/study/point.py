@@ -1,0 +1,103 @@
+"""One study point: its frequency sweep, its peak refined between the sweep's points, and its row
+of quantities (:mod:`.quantities`). Self-contained and picklable, for any worker."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.optimize
+
+from .quantities import QUANTITIES, quantities
+
+__all__ = ["evaluate_point"]
+
+#: relative tolerance of a refined peak's frequency
+PEAK_XTOL = 1e-7
+
+
+def _refined_peak(asm, fr, method: str, harmonics: int):
+    """The peak between the sweep's points around its largest one: ``(omega, amplitude,
+    dissipated, slipping)``, or None (no neighbours, or the refinement failed).
+
+    Time domain: :meth:`BladeAssembly.peak <frictionjoint.structures.BladeAssembly.peak>` (exact
+    steady states, bounded search) and the steady state at the peak. Harmonic balance: a bounded
+    search of the balance's tip amplitude (same ``H``)."""
+    from ..solvers.hbm import harmonic_balance
+    from ..solvers.steady import periodic_response
+
+    ok = np.asarray(fr.converged, bool)
+    w, a = np.asarray(fr.omega, float)[ok], np.asarray(fr.amplitude, float)[ok]
+    if w.size < 2:
+        return None
+    i = int(np.argmax(a))
+    nb = [w[j] for j in (i - 1, i + 1) if 0 <= j < w.size]
+    lo, hi = min(nb + [w[i]]), max(nb + [w[i]])
+    row = asm._row(fr.output)
+    if method == "time":
+        w_pk, a_pk = asm.peak(lo, hi, fr.output, n_grid=5, xtol=PEAK_XTOL)
+        if not math.isfinite(a_pk):
+            return None
+        r = periodic_response(asm.system(w_pk), peaks=False)
+        return (w_pk, a_pk, r.dissipated_per_cycle, not r.stuck) if r.converged else None
+
+    def balance(om):
+        return harmonic_balance(asm.system(float(om)), n_harmonics=harmonics)
+
+    def neg(om):
+        hb = balance(om)
+        return -abs(hb.harmonics[1] @ row) if hb.converged else 0.0
+    res = scipy.optimize.minimize_scalar(neg, bounds=(lo, hi), method="bounded", options={"xatol": PEAK_XTOL * hi})
+    hb = balance(res.x)
+    if not hb.converged:
+        return None
+    return float(res.x), float(abs(hb.harmonics[1] @ row)), hb.dissipated_per_cycle, not hb.stuck
+
+
+def evaluate_point(task: dict) -> dict:
+    """One point's row: its sweep (:func:`frictionjoint.sweep`; a blade's peak refined between the
+    sweep's points) and quantities of interest; an exception is the row's error (status
+    ``'failed'``), not the study's.
+
+    Parameters
+    ----------
+    task : dict
+        ``point``, ``model``, ``omega`` (start, stop, number), ``fixed``, ``varied``, ``direction``,
+        ``method``, ``harmonics``, ``refine`` (:func:`frictionjoint.study.execution.tasks`).
+
+    Returns
+    -------
+    dict
+        The row: ``point``, the varied parameters, :data:`~.quantities.QUANTITIES`, ``status``
+        (``'ok'``; ``'partial'``: some frequencies without a periodic orbit, the peak may be among
+        them; ``'no orbit'``; ``'failed'``) and ``error``.
+    """
+    from ..structures import BladeAssembly
+    from ..sweep import _blade_definition, blade_assembly, sweep
+
+    row = {"point": task["point"], **task["varied"]}
+    try:
+        w0, w1, n = task["omega"]
+        ws = np.linspace(w0, w1, int(n))
+        params = {**task["fixed"], **task["varied"]}
+        model = task["model"]
+        definition = model if isinstance(model, BladeAssembly) else _blade_definition(model)
+        refined = None
+        if definition is not None:  # a blade: swept in the library, its peak refined
+            asm = blade_assembly(definition, params)
+            fr = asm.frequency_response(ws if task["direction"] == "up" else ws[::-1], method=task["method"],
+                                        n_harmonics=task["harmonics"])
+            if task.get("refine", True):
+                refined = _refined_peak(asm, fr, task["method"], task["harmonics"])
+        else:
+            fr = sweep(model, ws, params, direction=task["direction"], method=task["method"],
+                       n_harmonics=task["harmonics"])
+        row.update(quantities(fr.omega, fr.amplitude, fr.converged, fr.dissipated_per_cycle, fr.stuck, refined))
+        n_ok, n_all = row["converged_points"], row["points"]
+        # 'partial': frequencies without a periodic orbit, the peak may lie among them
+        row.update(status="ok" if n_ok == n_all else ("partial" if n_ok else "no orbit"),
+                   error="" if n_ok == n_all else f"{n_all - n_ok} of {n_all} frequencies without a periodic orbit")
+    except Exception as exc:  # noqa: BLE001 - a failed point is a row of the table, the study goes on
+        row.update({q: math.nan for q in QUANTITIES})
+        row.update(slipping_at_peak=None, peak_at_edge=None, converged_points=0, points=0, status="failed",
+                   error=f"{type(exc).__name__}: {exc}")
+    return row

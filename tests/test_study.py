@@ -1,0 +1,191 @@
+"""Design studies (frictionjoint.study): definition, quantities, execution serially, on the local
+process pool and on a Dask LocalCluster (bit-identical tables), resume after an interruption, failed
+points as rows, the CLI and the plots.
+
+References: the half-power bandwidth of a linear oscillator in closed form (the equivalent damping
+ratio); the blade's steady states themselves (the study's rows equal a direct sweep of the same
+point)."""
+import math
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.errors import ParameterError
+from frictionjoint.results import StudyTable
+from frictionjoint.study import Grid, Random, Study, Values, evaluate_point, load_study, quantities, run_study
+
+# a small study: the blade at two root loads x two random friction coefficients, a short sweep
+SMALL = dict(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 6),
+             vary={"centrifugal_force": Values((109.0, 259.0)),
+                   "friction_coefficient": Random("uniform", (("loc", 0.25), ("scale", 0.1)))},
+             n_samples=2, seed=5, refine_peak=False)
+
+
+def test_points_product_and_seeded_samples():
+    """Grids and lists form a Cartesian product (first parameter slowest), random parameters are
+    n draws from default_rng(seed), the same for every grid point; another seed other draws."""
+    st = Study(model="m", omega=(1.0, 2.0, 3),
+               vary={"a": Grid(1.0, 100.0, 3, "log"), "b": Values((5.0, 6.0)),
+                     "c": Random("norm", (("loc", 0.0), ("scale", 1.0)))}, n_samples=4, seed=11)
+    pts = st.points()
+    assert len(pts) == 3 * 2 * 4 and list(pts[0]) == ["a", "b", "c"]
+    assert [p["a"] for p in pts[::8]] == pytest.approx([1.0, 10.0, 100.0])
+    draws = np.random.default_rng(11).standard_normal(4)
+    assert [p["c"] for p in pts[:4]] == list(draws) == [p["c"] for p in pts[4:8]]
+    assert Study(**{**vars(st), "seed": 12}).points()[0]["c"] != pts[0]["c"]
+    assert st.fingerprint() == Study(**vars(st)).fingerprint() != Study(**{**vars(st), "seed": 12}).fingerprint()
+
+
+def test_bad_definitions_name_the_parameter(tmp_path):
+    with pytest.raises(ParameterError, match="vary.x.num"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(1.0, 2.0, 0)}).points()
+    with pytest.raises(ParameterError, match="vary.x.distribution"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("gaussian")}).points()
+    with pytest.raises(ParameterError, match="vary.x: bad parameters"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("uniform", (("width", 1.0),))}).points()
+    with pytest.raises(ParameterError, match="omega"):
+        Study(model="m", omega=(2.0, 2.0, 3), vary={"x": Values((1.0,))})
+    with pytest.raises(ParameterError, match="log grid"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(-1.0, 2.0, 3, "log")}).points()
+    bad = tmp_path / "bad.toml"
+    bad.write_text('model = "m"\n[sweep]\nomega = [1.0, 2.0, 3]\n[vary.x]\nstart = 1.0\n')
+    with pytest.raises(ParameterError, match="vary.x needs"):
+        load_study(bad)
+    bad.write_text('model = "m"\nfoo = 1\n')
+    with pytest.raises(ParameterError, match="unknown keys"):
+        load_study(bad)
+
+
+def test_half_power_damping_ratio_of_a_linear_oscillator():
+    """|X| = 1 / sqrt((1 - w^2)^2 + (2 zeta w)^2): the half-power points solve w^4 - 2 (1 - 2
+    zeta^2) w^2 + 1 - 8 zeta^2 (1 - zeta^2)... in closed form w^2 = 1 - 2 zeta^2 -+ 2 zeta sqrt(1 -
+    zeta^2) (level peak/sqrt 2); the quantity equals (w2 - w1)/(2 w_peak) of the closed form to
+    1e-6 on a fine sweep (linear interpolation between points)."""
+    for zeta in (0.01, 0.05):
+        w = np.linspace(0.8, 1.2, 40001)
+        a = 1.0 / np.sqrt((1 - w ** 2) ** 2 + (2 * zeta * w) ** 2)
+        q = quantities(w, a, np.ones(w.size, bool), np.zeros(w.size), np.zeros(w.size, bool))
+        w_pk = math.sqrt(1 - 2 * zeta ** 2)
+        a_pk = 1.0 / (2 * zeta * math.sqrt(1 - zeta ** 2))
+        # the level is the sampled peak's / sqrt 2: solve |X|^2 = a_max^2 / 2 in closed form
+        level2 = (q["peak_amplitude"] / math.sqrt(2)) ** -2
+        # (1 - w^2)^2 + 4 zeta^2 w^2 = level2: w^4 - (2 - 4 zeta^2) w^2 + 1 - level2 = 0
+        b = 2 - 4 * zeta ** 2
+        disc = math.sqrt(b * b - 4 * (1 - level2))
+        w1, w2 = math.sqrt((b - disc) / 2), math.sqrt((b + disc) / 2)
+        assert abs(q["peak_amplitude"] / a_pk - 1) <= 1e-8 and abs(q["peak_omega"] - w_pk) <= 1e-5
+        assert abs(q["damping_ratio"] / ((w2 - w1) / (2 * q["peak_omega"])) - 1) <= 1e-6
+        assert abs(q["damping_ratio"] / zeta - 1) <= 2e-3 * (zeta / 0.01)  # ~ zeta for light damping
+    # the peak at the end of the range, no half-power points inside it
+    q = quantities(w[:100], a[:100], np.ones(100, bool), np.zeros(100), np.zeros(100, bool))
+    assert q["peak_at_edge"] and math.isnan(q["damping_ratio"])
+
+
+def test_row_equals_a_direct_sweep_and_refined_peak():
+    """A point's row comes from the blade's own sweep (the same numbers as fj.sweep of the same
+    parameters), and the refined peak is the assembly's peak between the sweep's points."""
+    from frictionjoint.sweep import blade_assembly
+
+    task = dict(point=0, model="ti64_compressor_blade", omega=(1990.0, 2060.0, 8), fixed={"tip_force_amplitude": 1.0},
+                varied={"centrifugal_force": 259.0}, direction="up", method="time", harmonics=7, refine=True)
+    row = evaluate_point(task)
+    fr = fj.sweep("ti64_compressor_blade", np.linspace(1990.0, 2060.0, 8), {"centrifugal_force": 259.0})
+    assert row["status"] == "ok" and row["points"] == 8 and row["slipping_at_peak"] is True
+    assert row["peak_amplitude"] >= fr.amplitude.max()
+    asm = blade_assembly("ti64_compressor_blade", {"centrifugal_force": 259.0})
+    i = int(np.argmax(fr.amplitude))
+    w_pk, a_pk = asm.peak(fr.omega[i - 1], fr.omega[i + 1], asm.tip, n_grid=5, xtol=1e-7)
+    assert row["peak_amplitude"] == a_pk and row["peak_omega"] == w_pk
+
+
+def test_failed_point_is_a_row_and_the_study_finishes(tmp_path):
+    """A parameter outside its range fails its point only: the row says why."""
+    st = Study(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4),
+               vary={"centrifugal_force": Values((259.0, -5.0))}, refine_peak=False)
+    tab = run_study(st, tmp_path / "t.csv", workers=1)
+    assert list(tab["status"]) == ["ok", "failed"]
+    assert "centrifugal_force" in tab["error"][1] and "ParameterError" in tab["error"][1]
+    assert math.isnan(tab["peak_amplitude"][1]) and tab["peak_amplitude"][0] > 0
+    assert "1 failed" in tab.message
+
+
+def test_serial_pool_and_dask_give_bit_identical_tables(tmp_path):
+    """The same study serially, on the local process pool (2 workers) and on a Dask LocalCluster
+    with 2 worker processes: byte-identical CSV tables (floats written exactly), and the Parquet
+    table reads back to the same rows."""
+    distributed = pytest.importorskip("distributed")
+    st = Study(**SMALL)
+    run_study(st, tmp_path / "serial.csv", workers=1)
+    run_study(st, tmp_path / "pool.csv", workers=2)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl:
+        dask_tab = run_study(st, tmp_path / "dask.parquet", scheduler=cl.scheduler_address)
+    dask_tab.to_csv(tmp_path / "dask.csv")
+    serial = (tmp_path / "serial.csv").read_bytes()
+    assert serial == (tmp_path / "pool.csv").read_bytes() == (tmp_path / "dask.csv").read_bytes()
+    assert len(dask_tab) == 4 and np.all(dask_tab.ok)
+    back = StudyTable.read(tmp_path / "dask.parquet")
+    assert back.fingerprint == st.fingerprint() and back.random == ("friction_coefficient",)
+    back.to_csv(tmp_path / "back.csv")
+    assert (tmp_path / "back.csv").read_bytes() == serial
+
+
+def test_interrupted_study_resumes_without_computing_a_point_twice(tmp_path):
+    """Ctrl-C (KeyboardInterrupt) after two of four points: the journal holds those two; run
+    again, the study computes only the other two, and the final table is byte-identical to an
+    uninterrupted run's. A table of another study is refused."""
+    st = Study(**SMALL)
+    full = tmp_path / "full.csv"
+    run_study(st, full, workers=1)
+    first, second = [], []
+
+    def stop_after_two(row):
+        first.append(row["point"])
+        if len(first) == 2:
+            raise KeyboardInterrupt
+
+    part = tmp_path / "part.csv"
+    with pytest.raises(KeyboardInterrupt):
+        run_study(st, part, workers=1, on_row=stop_after_two)
+    assert len(StudyTable.read(part)) == 2
+    tab = run_study(st, part, workers=2, on_row=lambda row: second.append(row["point"]))
+    assert sorted(first + second) == [0, 1, 2, 3] and not set(first) & set(second)
+    assert part.read_bytes() == full.read_bytes() and len(tab) == 4
+    other = Study(**{**SMALL, "seed": 6})
+    with pytest.raises(ParameterError, match="another study"):
+        run_study(other, part, workers=1)
+
+
+def test_journal_line_cut_short_is_dropped(tmp_path):
+    """A line the runner was writing when it was stopped (no newline) is not a row."""
+    st = Study(**{**SMALL, "n_samples": 1})
+    path = tmp_path / "t.csv"
+    run_study(st, path, workers=1)
+    text = path.read_text()
+    path.write_text(text + "2,109.0,0.3,1e-4")  # half a row
+    assert len(StudyTable.read(path)) == 2
+
+
+def test_cli_study_and_plots(tmp_path):
+    """frictionjoint study FILE: the table, the summary and the plot; a Monte Carlo table's plot
+    (scatter and histogram with percentiles) and a two-parameter contour."""
+    from frictionjoint.cli import main
+
+    f = tmp_path / "curve.toml"
+    f.write_text('model = "ti64_compressor_blade"\ntable = "curve.csv"\n[vary.centrifugal_force]\nvalues = [109.0, 259.0]\n'
+                 '[sweep]\nomega = [1990.0, 2060.0, 4]\nrefine_peak = false\n')
+    assert main(["study", str(f), "--workers", "1", "--plot", str(tmp_path / "curve.png"), "--no-progress"]) == 0
+    tab = StudyTable.read(tmp_path / "curve.csv")
+    assert len(tab) == 2 and np.all(tab.ok)
+    assert (tmp_path / "curve.png").read_bytes()[:4] == b"\x89PNG"
+    mc = run_study(Study(**SMALL), tmp_path / "mc.csv", workers=1)
+    fig = mc.plot(path=tmp_path / "mc.png")
+    assert len(fig.axes) == 2 and (tmp_path / "mc.png").exists()
+    q = mc.percentiles()
+    assert q[5.0] <= q[50.0] <= q[95.0]
+    grid = Study(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4), refine_peak=False,
+                 vary={"centrifugal_force": Values((109.0, 259.0)), "friction_coefficient": Values((0.25, 0.35))})
+    fig = run_study(grid, tmp_path / "grid.csv", workers=1).plot(path=tmp_path / "grid.png")
+    assert fig.axes[0].get_xlabel() == "centrifugal_force" and fig.axes[0].get_ylabel() == "friction_coefficient"
+    with pytest.raises(SystemExit):
+        main(["study", str(f), "--workers", "1", "--scheduler", "tcp://127.0.0.1:1"])
