@@ -64,7 +64,7 @@ def test_readme_opens_with_the_two_commands():
 @pytest.mark.slow
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
-    assert len(python) == 4  # the library example, the system of FMUs, the blade models, harmonic balance
+    assert len(python) == 5  # the library example, the system of FMUs, the blade models, harmonic balance, studies
     monkeypatch.chdir(tmp_path)
     exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
     assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
@@ -166,3 +166,19 @@ def test_blade_root_study_example(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert out.read_bytes()[:8] == PNG_MAGIC
     assert proc.stdout.count("optimum:") == 2 and "121 of 121 points converged" in proc.stdout
+
+
+@pytest.mark.slow
+def test_readme_study_example_runs(tmp_path, monkeypatch):
+    """The README's study example (5 root loads on 2 local processes) writes its table and plot,
+    and the damper curve has its minimum inside the range of loads."""
+    import numpy as np
+
+    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][4]
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "readme"}
+    exec(compile(block, str(README) + ":study-example", "exec"), namespace)
+    table = namespace["table"]
+    assert len(table) == 5 and table.success
+    assert 0 < int(np.argmin(table["peak_amplitude"])) < 4
+    assert (tmp_path / "damper.csv").exists() and (tmp_path / "damper.png").read_bytes()[:4] == b"\x89PNG"

@@ -2,7 +2,10 @@
 of quantities (:mod:`.quantities`). Self-contained and picklable, for any worker."""
 from __future__ import annotations
 
+import functools
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 import scipy.optimize
@@ -53,6 +56,33 @@ def _refined_peak(asm, fr, method: str, harmonics: int):
     return float(res.x), float(abs(hb.harmonics[1] @ row)), hb.dissipated_per_cycle, not hb.stuck
 
 
+@functools.lru_cache(maxsize=8)
+def _blade(model: str, stamp: float):
+    """The blade assembly of a model definition, or None if ``model`` names none; built once per
+    process and definition file (``stamp``: its modification time): every point of a study shares
+    the blade's structure and reduction, only the root's parameters change."""
+    from ..structures import BladeAssembly
+    from ..sweep import _blade_definition
+
+    definition = _blade_definition(model)
+    return None if definition is None else BladeAssembly.from_model(definition)
+
+
+def _base_model(model):
+    """A blade assembly for ``model`` (cached), or None for a model that is not a blade definition."""
+    from ..structures import MODELS_DIR, BladeAssembly
+
+    if isinstance(model, BladeAssembly):
+        return model
+    if not isinstance(model, (str, os.PathLike)):
+        return None
+    path = Path(model)
+    for candidate in (path, MODELS_DIR / f"{path.stem}.toml"):
+        if candidate.suffix == ".toml" and candidate.is_file():
+            return _blade(str(model), candidate.stat().st_mtime)
+    return None
+
+
 def evaluate_point(task: dict) -> dict:
     """One point's row: its sweep (:func:`frictionjoint.sweep`; a blade's peak refined between the
     sweep's points) and quantities of interest; an exception is the row's error (status
@@ -71,8 +101,7 @@ def evaluate_point(task: dict) -> dict:
         (``'ok'``; ``'partial'``: some frequencies without a periodic orbit, the peak may be among
         them; ``'no orbit'``; ``'failed'``) and ``error``.
     """
-    from ..structures import BladeAssembly
-    from ..sweep import _blade_definition, blade_assembly, sweep
+    from ..sweep import blade_assembly, sweep
 
     row = {"point": task["point"], **task["varied"]}
     try:
@@ -80,10 +109,10 @@ def evaluate_point(task: dict) -> dict:
         ws = np.linspace(w0, w1, int(n))
         params = {**task["fixed"], **task["varied"]}
         model = task["model"]
-        definition = model if isinstance(model, BladeAssembly) else _blade_definition(model)
+        base = _base_model(model)
         refined = None
-        if definition is not None:  # a blade: swept in the library, its peak refined
-            asm = blade_assembly(definition, params)
+        if base is not None:  # a blade: swept in the library, its peak refined
+            asm = blade_assembly(base, params)
             fr = asm.frequency_response(ws if task["direction"] == "up" else ws[::-1], method=task["method"],
                                         n_harmonics=task["harmonics"])
             if task.get("refine", True):
