@@ -189,3 +189,49 @@ def test_cli_study_and_plots(tmp_path):
     assert fig.axes[0].get_xlabel() == "centrifugal_force" and fig.axes[0].get_ylabel() == "friction_coefficient"
     with pytest.raises(SystemExit):
         main(["study", str(f), "--workers", "1", "--scheduler", "tcp://127.0.0.1:1"])
+
+
+def test_study_of_the_blade_fmu_equals_the_library_study(tmp_path, fmus):
+    """The model may be an FMU: a study of BladeDovetail.fmu (through fmpy) gives the rows of the
+    same study of the library's blade definition (peaks taken at the sweep's points, as an FMU's
+    cannot be refined in the library) to 1e-8."""
+    common = dict(omega=(2000.0, 2040.0, 2), refine_peak=False,
+                  vary={"centrifugal_force": Values((259.0, 1458.0))})
+    fmu = run_study(Study(model=str(fmus["BladeDovetail"]), **common), tmp_path / "fmu.csv", workers=2)
+    lib = run_study(Study(model="ti64_compressor_blade", **common), tmp_path / "lib.csv", workers=1)
+    assert np.all(fmu.ok) and np.all(lib.ok)
+    for q in ("peak_amplitude", "dissipated_at_peak"):
+        assert np.max(np.abs(fmu[q] / lib[q] - 1)) <= 1e-8, q
+    np.testing.assert_array_equal(fmu["peak_omega"], lib["peak_omega"])
+
+
+def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
+    """SIGINT to `frictionjoint study` running on the local pool: exit status 130, the table holds
+    whole rows of the finished points only, and the same command finishes the others."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    f = tmp_path / "s.toml"
+    f.write_text('model = "ti64_compressor_blade"\n[vary.centrifugal_force]\nstart = 100.0\nstop = 1000.0\nnum = 8\n'
+                 '[sweep]\nomega = [1990.0, 2060.0, 6]\nrefine_peak = false\n')
+    table = tmp_path / "s.csv"
+    cmd = [sys.executable, "-m", "frictionjoint", "study", str(f), "--workers", "2", "--no-progress"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and (not table.exists() or table.read_text().count("\n") < 3):
+        time.sleep(0.1)  # header lines, then the first row
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, (out, err)
+    assert "run again to resume" in err
+    done = StudyTable.read(table)
+    assert 1 <= len(done) < 8 and np.all(done.ok)
+    again = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=dict(os.environ))
+    assert again.returncode == 0, again.stderr
+    final = StudyTable.read(table)
+    assert len(final) == 8 and list(final["point"]) == list(range(8)) and np.all(final.ok)
+    for k, p in enumerate(done["point"]):  # the rows written before the interruption are kept as they were
+        assert final["peak_amplitude"][p] == done["peak_amplitude"][k]

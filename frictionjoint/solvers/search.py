@@ -678,7 +678,10 @@ def _np_locate(itv, red, j, a, b, crossing, tol, h, start_zero):
     # dip: local minimum between a and b
     if dg(a) >= 0 or dg(b) <= 0:  # a sign change of g' that was rounding noise
         return None
-    tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=RTOL)
+    # disp=False: after _MAXITER iterations the best point so far, as the compiled _brentq (both
+    # tolerances are at a few ulps of the time, where g' is rounding noise and Brent's
+    # interpolation steps can use up the iterations without reaching them: scipy would raise)
+    tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=RTOL, maxiter=_MAXITER, disp=False)
     if start_zero and tm <= 1e-9 * h:
         return None
     gm = g(tm)
@@ -703,7 +706,7 @@ def _np_brent(g, a, b, xtol):
         return a
     if gb >= 0:
         return b
-    return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=RTOL)
+    return scipy.optimize.brentq(g, a, b, xtol=xtol, rtol=RTOL, maxiter=_MAXITER, disp=False)
 
 
 def _np_locate_tiny(g, a, b, xtol):
