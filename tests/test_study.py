@@ -183,6 +183,8 @@ def test_cli_study_and_plots(tmp_path):
     assert len(fig.axes) == 2 and (tmp_path / "mc.png").exists()
     q = mc.percentiles()
     assert q[5.0] <= q[50.0] <= q[95.0]
+    again = StudyTable.read(tmp_path / "mc.csv")  # the CSV's first line keeps the random parameters
+    assert again.random == ("friction_coefficient",) and len(again.plot().axes) == 2
     grid = Study(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4), refine_peak=False,
                  vary={"centrifugal_force": Values((109.0, 259.0)), "friction_coefficient": Values((0.25, 0.35))})
     fig = run_study(grid, tmp_path / "grid.csv", workers=1).plot(path=tmp_path / "grid.png")

@@ -19,14 +19,19 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["StudyTable", "STATUS_COLUMNS", "HEADER_PREFIX"]
+__all__ = ["StudyTable", "STATUS_COLUMNS", "HEADER_PREFIX", "header_line"]
 
 #: the last columns of every row: ``'ok'``, ``'partial'`` (some frequencies without a periodic
 #: orbit: the peak may be among them), ``'no orbit'`` (none converged) or ``'failed'``, and the
 #: error (or what is missing)
 STATUS_COLUMNS = ("status", "error")
-#: first line of a CSV study table: the study's fingerprint follows
+#: first line of a CSV study table: the study's fingerprint and its random parameters follow
 HEADER_PREFIX = "# frictionjoint study "
+
+
+def header_line(fingerprint: str, random) -> str:
+    """The first line of a CSV study table (with its newline)."""
+    return f"{HEADER_PREFIX}{fingerprint} random={','.join(random)}\n"
 _BOOL = ("slipping_at_peak", "peak_at_edge")
 _INT = ("point", "converged_points", "points")
 
@@ -59,23 +64,25 @@ def _parse(column: str, text: str):
     return float(text)
 
 
-def read_csv_rows(path: str | os.PathLike) -> tuple[str | None, list[str], list[dict]]:
-    """``(fingerprint, columns, rows)`` of a CSV study table; a last line cut short (no newline: the
-    runner was stopped while writing it) is dropped."""
+def read_csv_rows(path: str | os.PathLike) -> tuple[str | None, list[str], list[str], list[dict]]:
+    """``(fingerprint, random, columns, rows)`` of a CSV study table; a last line cut short (no
+    newline: the runner was stopped while writing it) is dropped."""
     text = Path(path).read_text()
-    fingerprint = None
+    fingerprint, random = None, []
     if text.startswith(HEADER_PREFIX):
         first, _, text = text.partition("\n")
-        fingerprint = first[len(HEADER_PREFIX):].strip()
+        fingerprint, _, rest = first[len(HEADER_PREFIX):].strip().partition(" ")
+        if rest.startswith("random="):
+            random = [v for v in rest[len("random="):].split(",") if v]
     if text and not text.endswith("\n"):
         text = text[:text.rfind("\n") + 1]
     reader = csv.reader(io.StringIO(text))
     try:
         columns = next(reader)
     except StopIteration:
-        return fingerprint, [], []
+        return fingerprint, random, [], []
     rows = [{c: _parse(c, v) for c, v in zip(columns, line)} for line in reader if len(line) == len(columns)]
-    return fingerprint, columns, rows
+    return fingerprint, random, columns, rows
 
 
 @dataclass(eq=False)
@@ -158,7 +165,7 @@ class StudyTable:
         cols = tuple(self.columns)
         tmp = path.with_name(path.name + ".tmp")
         with open(tmp, "w", newline="") as f:
-            f.write(f"{HEADER_PREFIX}{self.fingerprint}\n")
+            f.write(header_line(self.fingerprint, self.random))
             f.write(format_row({c: c for c in cols}, cols))
             for row in self.rows():
                 f.write(format_row(row, cols))
@@ -221,7 +228,8 @@ class StudyTable:
                 varied = [v for v in meta.get(b"varied", b"").decode().split(",") if v]
                 random = [v for v in meta.get(b"random", b"").decode().split(",") if v]
         else:
-            fingerprint, columns, rows = read_csv_rows(path)
+            fingerprint, found, columns, rows = read_csv_rows(path)
+            random = random or found
         if varied is None:
             varied = [c for c in columns if c != "point" and c not in QUANTITIES and c not in STATUS_COLUMNS]
         return cls.from_rows(rows, tuple(columns), varied, random, fingerprint or "", path)

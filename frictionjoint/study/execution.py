@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import ParameterError
-from ..results.study import HEADER_PREFIX, STATUS_COLUMNS, StudyTable, format_row, read_csv_rows
+from ..results.study import STATUS_COLUMNS, StudyTable, format_row, header_line, read_csv_rows
 from .definition import Random, Study
 from .point import evaluate_point
 from .quantities import QUANTITIES
@@ -53,7 +53,7 @@ def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, resta
                 p.unlink()
         return []
     if journal.exists():
-        fp, columns, rows = read_csv_rows(journal)
+        fp, _, _, rows = read_csv_rows(journal)
         source = journal
     elif table.exists():
         done = StudyTable.read(table)
@@ -115,7 +115,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     random = tuple(n for n, spec in study.vary.items() if isinstance(spec, Random))
 
     def finish() -> StudyTable:
-        rows = read_csv_rows(journal)[2] if journal.exists() else done
+        rows = read_csv_rows(journal)[3] if journal.exists() else done
         out = StudyTable.from_rows(rows, columns, study.varied, random, fingerprint, table)
         if len(out) == len(all_tasks):  # complete: the table sorted by point (and as Parquet)
             out.write(table)
@@ -130,7 +130,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
             tqdm(total=len(all_tasks), initial=len(done_ids), desc="study", unit="pt", file=sys.stderr,
                  disable=not progress, leave=False) as bar:
         if new_journal:
-            f.write(f"{HEADER_PREFIX}{fingerprint}\n")
+            f.write(header_line(fingerprint, random))
             f.write(format_row({c: c for c in columns}, columns))
             f.flush()
 
