@@ -237,3 +237,20 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
     assert len(final) == 8 and list(final["point"]) == list(range(8)) and np.all(final.ok)
     for k, p in enumerate(done["point"]):  # the rows written before the interruption are kept as they were
         assert final["peak_amplitude"][p] == done["peak_amplitude"][k]
+
+
+def test_harmonic_balance_point_refines_its_peak_on_the_balance():
+    """method = 'hbm': the point's sweep is the harmonic-balance branch, and its refined peak is
+    the balance's own maximum: at least the branch's largest point, and a balance at the refined
+    frequency gives the same amplitude."""
+    from frictionjoint.sweep import blade_assembly
+
+    task = dict(point=0, model="ti64_compressor_blade", omega=(1990.0, 2060.0, 10), fixed={},
+                varied={"centrifugal_force": 259.0}, direction="up", method="hbm", harmonics=5, refine=True)
+    row = evaluate_point(task)
+    assert row["status"] == "ok" and row["slipping_at_peak"] is True
+    asm = blade_assembly("ti64_compressor_blade", {"centrifugal_force": 259.0})
+    fr = asm.frequency_response(np.linspace(1990.0, 2060.0, 10), method="hbm", n_harmonics=5)
+    assert row["peak_amplitude"] >= fr.amplitude.max() and row["points"] == fr.omega.size
+    hb = fj.harmonic_balance(asm.system(row["peak_omega"]), n_harmonics=5)
+    assert abs(abs(hb.harmonics[1] @ asm._row(asm.tip)) / row["peak_amplitude"] - 1) <= 1e-9
