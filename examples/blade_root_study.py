@@ -14,7 +14,8 @@ excites its first bending mode. The root's centrifugal load sets the flanks' nor
 The script computes the damper curve (peak tip amplitude against the centrifugal load, and against
 the friction coefficient at a tenth of the load), marks the optimum, and draws the tip's frequency
 response at three loads with the root's two linear limits beside it. Every point is an exact
-periodic steady state (event-driven marching and shooting; no time step).
+periodic steady state (event-driven marching and shooting; no time step). The damper curves are
+design studies (frictionjoint.study): their points run on the machine's cores.
 
 Usage::
 
@@ -25,33 +26,31 @@ writes the figure to PNG (default ``blade_root_study.png``); POINTS (or the envi
 """
 import os
 import sys
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
 from frictionjoint.plotting import new_figure
 from frictionjoint.structures import BladeAssembly, load_blade_model
+from frictionjoint.study import Study, Values, run_study
 
 BAND = (1600.0, 2200.0)  # [rad/s]: both linear limits' first bending mode
 
 
-def peak(asm):
-    """Peak tip amplitude [m] and its frequency [rad/s]."""
-    w, amp = asm.peak(*BAND, dof=asm.tip, n_grid=31, xtol=1e-5)
-    return amp, w
-
-
-def damper_curve(asm, name, values):
-    """Peak tip amplitude for each value of a root parameter; prints the table."""
-    rows = []
+def damper_curve(asm, name, values, folder, fixed=None):
+    """Peak tip amplitude for each value of a root parameter: a study (frictionjoint.study) on the
+    machine's cores, each peak refined between 31 frequencies; prints the table."""
+    study = Study(model=asm, omega=(*BAND, 31), vary={name: Values(tuple(float(v) for v in values))},
+                  fixed=dict(fixed or {}))
+    table = run_study(study, Path(folder) / f"{name}.csv", restart=True)
+    rows = np.c_[table[name], table["peak_amplitude"], table["peak_omega"]]
     print(f"\n{name:>22} {'peak tip [m]':>13} {'at omega [rad/s]':>17}")
-    for v in values:
-        amp, w = peak(asm.with_root(**{name: float(v)}))
-        rows.append((v, amp, w))
-        print(f"{v:22.6g} {amp:13.5e} {w:17.6g}", flush=True)
-    rows = np.array(rows)
-    k = int(np.argmin(rows[:, 1]))
+    for v, amp, w in rows:
+        print(f"{v:22.6g} {amp:13.5e} {w:17.6g}")
+    k = int(np.nanargmin(rows[:, 1]))
     print(f"optimum: {name} = {rows[k, 0]:.6g}, peak tip amplitude {rows[k, 1]:.5e} m "
-          f"({rows[:, 1].max() / rows[k, 1]:.1f}x below the worst)")
+          f"({np.nanmax(rows[:, 1]) / rows[k, 1]:.1f}x below the worst; {table.message})")
     return rows, k
 
 
@@ -64,9 +63,10 @@ def main(argv):
     fc0, mu0 = root.centrifugal_force, root.friction_coefficient
     print(f"{model.name}: {asm.structure.n_dof} DOFs (Craig-Bampton), root {root!r}")
 
-    loads, k_load = damper_curve(asm, "centrifugal_force", fc0 * np.logspace(-3, 0, n))
-    low = asm.with_root(centrifugal_force=0.1 * fc0)
-    mus, k_mu = damper_curve(low, "friction_coefficient", mu0 * np.logspace(-2, 0, n))
+    with tempfile.TemporaryDirectory() as folder:
+        loads, k_load = damper_curve(asm, "centrifugal_force", fc0 * np.logspace(-3, 0, n), folder)
+        mus, k_mu = damper_curve(asm, "friction_coefficient", mu0 * np.logspace(-2, 0, n), folder,
+                                 fixed={"centrifugal_force": 0.1 * fc0})
 
     fig = new_figure((12.0, 9.0))
     ax_fc, ax_mu, ax_frf = fig.subplot_mosaic([["fc", "mu"], ["frf", "frf"]]).values()

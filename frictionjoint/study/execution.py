@@ -20,7 +20,7 @@ import os
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable
 
 from ..errors import ParameterError
 from ..results.study import STATUS_COLUMNS, StudyTable, format_row, header_line, read_csv_rows
@@ -67,7 +67,7 @@ def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, resta
 
 
 def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: int | None = None,
-              scheduler=None, progress: bool = False, restart: bool = False,
+              scheduler: str | Any | None = None, progress: bool = False, restart: bool = False,
               on_row: Callable[[dict], None] | None = None) -> StudyTable:
     """Run ``study``, streaming its rows into ``table`` (module docstring).
 
