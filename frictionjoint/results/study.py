@@ -134,6 +134,11 @@ class StudyTable:
         return bool(len(self) and np.all(self.ok))
 
     @property
+    def status(self) -> str:
+        """``'ok'`` (every point ok) or ``'incomplete'``."""
+        return "ok" if self.success else "incomplete"
+
+    @property
     def message(self) -> str:
         count = {s: int(np.count_nonzero(self.columns["status"] == s)) for s in ("ok", "partial", "no orbit", "failed")}
         return (f"{len(self)} points: {count['ok']} ok, {count['partial']} with some frequencies without a periodic "
@@ -242,8 +247,8 @@ class StudyTable:
             return {float(p): math.nan for p in q}
         return {float(p): float(np.percentile(v, p)) for p in q}
 
-    def plot(self, quantity: str = "peak_amplitude", ax: Axes | None = None,
-             path: str | os.PathLike | None = None) -> Figure:
+    def plot(self, ax: Axes | None = None, path: str | os.PathLike | None = None,
+             quantity: str = "peak_amplitude") -> Figure:
         """The plot that suits the study (:mod:`frictionjoint.plotting`): a Monte Carlo study
         (random parameters) its scatter against each random parameter and the histogram with
         percentiles; two grid parameters a contour of ``quantity``; one grid parameter the curve
@@ -251,14 +256,16 @@ class StudyTable:
 
         Parameters
         ----------
-        quantity : str
-            A quantity column.
         ax : matplotlib Axes, optional
             Draw into these axes (curve and contour only).
         path : str or os.PathLike, optional
             Write the figure there.
+        quantity : str
+            A quantity column.
         """
-        from ..plotting import plot_study_contour, plot_study_curve, plot_study_monte_carlo
+        from ..plotting import plot_study_contour, plot_study_curve, plot_study_monte_carlo, plot_target
+
+        ax, path = plot_target(ax, path)
 
         grid = [v for v in self.varied if v not in self.random]
         if self.random:

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
+from frictionjoint.study import Grid, Values
 from frictionjoint.contact import HalfPlaneContact, HertzCylinder, MindlinContact, Profile, RoundedFlatPunch, Wedge
 from frictionjoint.shakedown import PeriodicLoad, QuasiStaticFrictionSystem, melan_check, shakedown_check
 from frictionjoint.sweep import oscillator_sweep
@@ -300,6 +301,23 @@ CASES = [
      "initial_slip"),
     ("shakedown_check size mismatch", lambda: shakedown_check(_qs(2), _load()), "load"),
     ("melan_check size mismatch", lambda: melan_check(_qs(2), _load()), "load"),
+    # design studies
+    ("Study omega nan", lambda: fj.Study(model="m", omega=(NAN, 2.0, 3), vary={"x": Values((1.0,))}), "omega"),
+    ("Study omega count 1", lambda: fj.Study(model="m", omega=(1.0, 2.0, 1), vary={"x": Values((1.0,))}), "omega"),
+    ("Study n_samples 0", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}, n_samples=0),
+     "n_samples"),
+    ("Study seed < 0", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}, seed=-1), "seed"),
+    ("Study fixed nan text", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))},
+                                              fixed={"y": "a"}), "fixed.y"),
+    ("Study values inf", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((INF,))}).points(),
+     "vary.x.values"),
+    ("Study grid start nan", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(NAN, 1.0, 3)}).points(),
+     "vary.x"),
+    ("load_study missing", lambda: fj.load_study("/nonexistent/study.toml"), "study file"),
+    ("run_study workers 0", lambda: fj.run_study(fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}),
+                                                 "t.csv", workers=0), "workers"),
+    ("run_study table suffix", lambda: fj.run_study(fj.Study(model="m", omega=(1.0, 2.0, 3),
+                                                             vary={"x": Values((1.0,))}), "t.txt"), "table"),
 ]
 
 
