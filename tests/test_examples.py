@@ -176,7 +176,7 @@ def test_readme_study_example_runs(tmp_path, monkeypatch):
 
     block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][4]
     monkeypatch.chdir(tmp_path)
-    namespace = {"__name__": "readme"}
+    namespace = {"__name__": "__main__"}  # run as a script (its guard lets the pool's workers import it)
     exec(compile(block, str(README) + ":study-example", "exec"), namespace)
     table = namespace["table"]
     assert len(table) == 5 and table.success
