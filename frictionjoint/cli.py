@@ -166,6 +166,7 @@ def _add_study(sub) -> None:
 
 
 def _study(args, parser) -> int:
+    from .errors import WorkerError
     from .study import load_study, run_study
 
     if args.workers is not None and args.scheduler is not None:
@@ -184,6 +185,9 @@ def _study(args, parser) -> int:
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted; the finished points are in {table} (run again to resume)", file=sys.stderr)
         return 130
+    except WorkerError as exc:
+        print(f"{PROG}: {exc}", file=sys.stderr)
+        return 1
     print(out.message)
     q = out.percentiles()
     if out.random:

@@ -39,6 +39,10 @@ class FMUError(RuntimeError):
     the call and the FMU's log)."""
 
 
+class WorkerError(RuntimeError):
+    """A worker process of a study died (the message says how; the finished points are kept)."""
+
+
 class NoSolutionError(ParameterError):
     """The requested closed form does not exist for these parameters (message says why)."""
 

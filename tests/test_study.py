@@ -55,6 +55,21 @@ def test_bad_definitions_name_the_parameter(tmp_path):
     bad.write_text('model = "m"\nfoo = 1\n')
     with pytest.raises(ParameterError, match="unknown keys"):
         load_study(bad)
+    for text, name in (('model = "m"\nfixed = 3\n', r"\[fixed\]"), ('model = "m"\ntable = 5\n', "table"),
+                       ('model = "m"\n[sweep]\nomega = 3\n', "omega"),
+                       ('model = "m"\n[sweep]\nomega = [1.0, 2.0, 3]\n[vary.x]\nvalues = 2\n', "vary.x.values")):
+        bad.write_text(text)
+        with pytest.raises(ParameterError, match=name):
+            load_study(bad)
+    with pytest.raises(ParameterError, match="vary.x: parameters"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("uniform", (("scale", -1.0),))}).points()
+    with pytest.raises(ParameterError, match="omega"):
+        Study(model="m", omega=(1.0, 2.0, 3.7), vary={"x": Values((1.0,))})
+    with pytest.raises(ParameterError, match="column"):
+        Study(model="m", omega=(1.0, 2.0, 3), vary={"status": Values((1.0,))})
+    with pytest.raises(ParameterError, match="scheduler"):
+        run_study(Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}), tmp_path / "t.csv",
+                  scheduler="notanaddress")
 
 
 def test_half_power_damping_ratio_of_a_linear_oscillator():
@@ -77,6 +92,11 @@ def test_half_power_damping_ratio_of_a_linear_oscillator():
         assert abs(q["peak_amplitude"] / a_pk - 1) <= 1e-8 and abs(q["peak_omega"] - w_pk) <= 1e-5
         assert abs(q["damping_ratio"] / ((w2 - w1) / (2 * q["peak_omega"])) - 1) <= 1e-6
         assert abs(q["damping_ratio"] / zeta - 1) <= 2e-3 * (zeta / 0.01)  # ~ zeta for light damping
+    # a refined peak above sqrt 2 times every sample: the bandwidth is below the spacing (NaN)
+    ws = np.array([0.97, 0.985, 1.015, 1.03])
+    aw = 1.0 / np.sqrt((1 - ws ** 2) ** 2 + (0.02 * ws) ** 2)
+    q = quantities(ws, aw, np.ones(4, bool), np.zeros(4), np.zeros(4, bool), peak=(1.0, 50.0, 0.0, False))
+    assert q["peak_amplitude"] == 50.0 and math.isnan(q["damping_ratio"])
     # the peak at the end of the range, no half-power points inside it
     q = quantities(w[:100], a[:100], np.ones(100, bool), np.zeros(100), np.zeros(100, bool))
     assert q["peak_at_edge"] and math.isnan(q["damping_ratio"])
@@ -156,14 +176,27 @@ def test_interrupted_study_resumes_without_computing_a_point_twice(tmp_path):
         run_study(other, part, workers=1)
 
 
-def test_journal_line_cut_short_is_dropped(tmp_path):
-    """A line the runner was writing when it was stopped (no newline) is not a row."""
+def test_journal_cut_short_resumes_to_the_full_table(tmp_path):
+    """A journal cut anywhere (in a row, in the column line, after the first line) resumes to the
+    table of an uninterrupted run: the fragment is not a row, and new rows are not appended to it.
+    A row is one line: an error's line breaks are written as ' / '."""
+    from frictionjoint.results.study import format_row
+
     st = Study(**{**SMALL, "n_samples": 1})
-    path = tmp_path / "t.csv"
-    run_study(st, path, workers=1)
-    text = path.read_text()
-    path.write_text(text + "2,109.0,0.3,1e-4")  # half a row
-    assert len(StudyTable.read(path)) == 2
+    full = tmp_path / "full.csv"
+    run_study(st, full, workers=1)
+    text = full.read_text()
+    lines = text.splitlines(keepends=True)
+    for cut in (lines[0] + lines[1] + lines[2][:17],  # in the first row
+                lines[0] + lines[1][:20],              # in the column line
+                lines[0]):                             # after the fingerprint
+        path = tmp_path / "cut.csv"
+        path.write_text(cut)
+        assert len(StudyTable.read(path)) == 0
+        run_study(st, path, workers=1)
+        assert path.read_bytes() == full.read_bytes()
+    assert format_row({"a": 1.0, "error": "ValueError: one\ntwo\r\nthree"}, ("a", "error")) == \
+        "1.0,ValueError: one / two / three\n"
 
 
 def test_cli_study_and_plots(tmp_path):

@@ -38,7 +38,8 @@ _INT = ("point", "converged_points", "points")
 
 def format_row(row: dict, columns: tuple) -> str:
     """One CSV line (with its newline) of ``row``: floats exactly (``repr``), booleans 1/0, unknown
-    empty."""
+    empty; line breaks in text (an error's) as `` / ``, so that a row is one physical line and a
+    line cut short is recognised as such."""
     def cell(v):
         if v is None:
             return ""
@@ -46,6 +47,8 @@ def format_row(row: dict, columns: tuple) -> str:
             return "1" if v else "0"
         if isinstance(v, (float, np.floating)):
             return "" if math.isnan(v) else repr(float(v))
+        if isinstance(v, str):
+            return " / ".join(part for part in v.replace("\r\n", "\n").replace("\r", "\n").split("\n"))
         return v
     buf = io.StringIO()
     csv.writer(buf, lineterminator="\n").writerow([cell(row.get(c)) for c in columns])
@@ -67,7 +70,8 @@ def _parse(column: str, text: str):
 def read_csv_rows(path: str | os.PathLike) -> tuple[str | None, list[str], list[str], list[dict]]:
     """``(fingerprint, random, columns, rows)`` of a CSV study table; a last line cut short (no
     newline: the runner was stopped while writing it) is dropped."""
-    text = Path(path).read_text()
+    with open(path, newline="", encoding="utf-8") as f:
+        text = f.read()
     fingerprint, random = None, []
     if text.startswith(HEADER_PREFIX):
         first, _, text = text.partition("\n")
@@ -76,12 +80,19 @@ def read_csv_rows(path: str | os.PathLike) -> tuple[str | None, list[str], list[
             random = [v for v in rest[len("random="):].split(",") if v]
     if text and not text.endswith("\n"):
         text = text[:text.rfind("\n") + 1]
-    reader = csv.reader(io.StringIO(text))
-    try:
-        columns = next(reader)
-    except StopIteration:
+    lines = text.split("\n")[:-1]  # whole lines only; a row is one line (format_row)
+    if not lines:
         return fingerprint, random, [], []
-    rows = [{c: _parse(c, v) for c, v in zip(columns, line)} for line in reader if len(line) == len(columns)]
+    columns = next(csv.reader([lines[0]]))
+    rows = []
+    for line in lines[1:]:
+        fields = next(csv.reader([line]), [])
+        if len(fields) != len(columns):
+            continue
+        try:
+            rows.append({c: _parse(c, v) for c, v in zip(columns, fields)})
+        except ValueError:  # not a row of this table (e.g. a column line cut short and merged)
+            continue
     return fingerprint, random, columns, rows
 
 
@@ -169,7 +180,7 @@ class StudyTable:
         path = Path(path)
         cols = tuple(self.columns)
         tmp = path.with_name(path.name + ".tmp")
-        with open(tmp, "w", newline="") as f:
+        with open(tmp, "w", newline="", encoding="utf-8") as f:
             f.write(header_line(self.fingerprint, self.random))
             f.write(format_row({c: c for c in cols}, cols))
             for row in self.rows():

@@ -125,10 +125,13 @@ class Random:
                                  f"(e.g. 'uniform', 'norm', 'lognorm', 'truncnorm'), got {self.distribution!r}")
         try:
             frozen = dist(**dict(self.parameters))
-            frozen.mean()  # checks the parameters
+            median = float(frozen.median())  # NaN for parameters outside the distribution's range
         except (TypeError, ValueError) as exc:
             raise ParameterError(f"vary.{name}: bad parameters {dict(self.parameters)!r} for "
                                  f"{self.distribution!r}: {exc}") from None
+        if not math.isfinite(median):
+            raise ParameterError(f"vary.{name}: parameters {dict(self.parameters)!r} are outside the range of "
+                                 f"{self.distribution!r} (e.g. scale must be > 0)")
         return frozen
 
 
@@ -180,6 +183,13 @@ class Study:
     def __post_init__(self):
         if not isinstance(self.vary, dict) or not self.vary:
             raise ParameterError("vary must name at least one parameter: {name: Grid | Values | Random}")
+        if not isinstance(self.fixed, dict):
+            raise ParameterError(f"fixed must be a table of parameters and numbers, got {self.fixed!r}")
+        from .quantities import QUANTITIES
+
+        for name in self.vary:
+            if name in ("point", "status", "error") or name in QUANTITIES:
+                raise ParameterError(f"vary.{name}: {name!r} is a column of the study's table")
         for name, spec in self.vary.items():
             if not isinstance(spec, (Grid, Values, Random)):
                 raise ParameterError(f"vary.{name} must be a Grid, Values or Random, got {spec!r}")
@@ -187,9 +197,12 @@ class Study:
                 raise ParameterError(f"{name} is both fixed and varied")
         try:
             w0, w1, n = self.omega
+            if isinstance(n, bool) or float(n) != int(n):
+                raise ValueError
             w0, w1, n = float(w0), float(w1), int(n)
         except (TypeError, ValueError):
-            raise ParameterError(f"omega must be (start, stop, number) [rad/s], got {self.omega!r}") from None
+            raise ParameterError(f"omega must be (start, stop, number) [rad/s], the number an integer, got "
+                                 f"{self.omega!r}") from None
         if not (w0 > 0 and w1 > 0 and w0 != w1 and math.isfinite(w0) and math.isfinite(w1) and n >= 2):
             raise ParameterError(f"omega must be (start > 0, stop > 0, number >= 2), start != stop [rad/s], got "
                                  f"{self.omega!r}")
@@ -230,8 +243,15 @@ class Study:
         if rand_names:
             rng = np.random.default_rng(int(self.seed))
             for n in rand_names:
-                draws[n] = np.asarray(self.vary[n].frozen(n).rvs(size=int(self.n_samples), random_state=rng),
-                                      dtype=float)
+                frozen = self.vary[n].frozen(n)
+                try:
+                    draws[n] = np.asarray(frozen.rvs(size=int(self.n_samples), random_state=rng), dtype=float)
+                except (TypeError, ValueError) as exc:
+                    raise ParameterError(f"vary.{n}: cannot draw from {self.vary[n].distribution!r} with "
+                                         f"{dict(self.vary[n].parameters)!r}: {exc}") from None
+                if draws[n].shape != (int(self.n_samples),) or not np.all(np.isfinite(draws[n])):
+                    raise ParameterError(f"vary.{n}: the parameters {dict(self.vary[n].parameters)!r} must be "
+                                         "numbers giving finite samples")
         n_rand = int(self.n_samples) if rand_names else 1
         out = []
         for combo in itertools.product(*axes):
@@ -247,7 +267,16 @@ class Study:
         model = self.model
         if not isinstance(model, (str, os.PathLike)):  # an assembly: its pickled bytes
             model = hashlib.sha256(pickle.dumps(model)).hexdigest()
-        desc = dict(model=str(model), omega=list(self.omega), fixed=sorted(self.fixed.items()),
+        else:  # a file: its contents too (a model edited since is another study)
+            from ..structures import MODELS_DIR
+
+            path = Path(model)
+            for candidate in (path, MODELS_DIR / f"{path.stem}.toml"):
+                if candidate.is_file():
+                    model = f"{model}:{hashlib.sha256(candidate.read_bytes()).hexdigest()}"
+                    break
+        fixed = sorted((k, float(v)) for k, v in self.fixed.items())
+        desc = dict(model=str(model), omega=list(self.omega), fixed=fixed,
                     direction=self.direction, method=self.method,
                     harmonics=int(self.harmonics) if self.method == "hbm" else None, refine=self.refine_peak,
                     points=[[repr(v) for v in p.values()] for p in self.points()], varied=self.varied)
@@ -264,6 +293,8 @@ def _spec(name: str, entry) -> Grid | Values | Random:
     if "values" in keys:
         if keys != {"values"}:
             raise ParameterError(f"vary.{name}: 'values' takes no other keys, got {sorted(keys)}")
+        if not isinstance(entry["values"], list):
+            raise ParameterError(f"vary.{name}.values must be a list of numbers, got {entry['values']!r}")
         return Values(tuple(entry["values"]))
     if {"start", "stop", "num"} <= keys:
         extra = keys - {"start", "stop", "num", "spacing"}
@@ -298,6 +329,11 @@ def load_study(path: str | os.PathLike) -> Study:
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not valid TOML: {exc}") from None
     known = {"model", "table", "fixed", "vary", "samples", "sweep"}
+    for key in ("fixed", "vary", "samples", "sweep"):
+        if key in data and not isinstance(data[key], dict):
+            raise ParameterError(f"{path}: [{key}] must be a table, got {data[key]!r}")
+    if "table" in data and not isinstance(data["table"], str):
+        raise ParameterError(f"{path}: table must be a file name (.csv or .parquet), got {data['table']!r}")
     unknown = set(data) - known
     if unknown:
         raise ParameterError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(known)})")
@@ -311,8 +347,8 @@ def load_study(path: str | os.PathLike) -> Study:
     unknown = set(sweep) - {"omega", "direction", "method", "harmonics", "refine_peak"}
     if unknown:
         raise ParameterError(f"{path}: unknown keys in [sweep]: {sorted(unknown)}")
-    if "omega" not in sweep:
-        raise ParameterError(f"{path}: [sweep] omega = [start, stop, number] is missing")
+    if not isinstance(sweep.get("omega"), list) or len(sweep["omega"]) != 3:
+        raise ParameterError(f"{path}: [sweep] omega = [start, stop, number] is missing or not three numbers")
     samples = dict(data.get("samples", {}))
     unknown = set(samples) - {"n", "seed"}
     if unknown:

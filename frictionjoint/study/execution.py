@@ -19,10 +19,11 @@ import multiprocessing
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any, Callable
 
-from ..errors import ParameterError
+from ..errors import ParameterError, WorkerError
 from ..results.study import STATUS_COLUMNS, StudyTable, format_row, header_line, read_csv_rows
 from .definition import Random, Study
 from .point import evaluate_point
@@ -45,25 +46,52 @@ def _journal_path(table: Path) -> Path:
     return table if table.suffix == ".csv" else table.with_name(table.name + ".journal.csv")
 
 
-def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, restart: bool) -> list[dict]:
-    """The rows already computed for this study (from its journal, or a finished Parquet table)."""
+def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, columns: tuple, n_points: int,
+               restart: bool) -> list[dict]:
+    """The rows already computed for this study (from its journal, or a finished Parquet table):
+    whole rows of valid points, one per point."""
     if restart:
         for p in (journal, table):
             if p.exists():
                 p.unlink()
         return []
     if journal.exists():
-        fp, _, _, rows = read_csv_rows(journal)
+        fp, _, found, rows = read_csv_rows(journal)
         source = journal
     elif table.exists():
         done = StudyTable.read(table)
-        fp, rows, source = done.fingerprint, done.rows(), table
+        fp, found, rows, source = done.fingerprint, list(done.columns), done.rows(), table
     else:
+        return []
+    if fp is None and not rows:  # stopped before its first line was written: a new journal
         return []
     if fp != fingerprint:
         raise ParameterError(f"table {str(source)!r} holds another study (fingerprint {fp}, this study's "
                              f"{fingerprint}): choose another table, or restart=True to overwrite it")
-    return rows
+    if not rows:  # the column line missing or cut short: nothing to keep
+        return []
+    if tuple(found) != tuple(columns):
+        raise ParameterError(f"table {str(source)!r} has the columns {found}, this study writes {list(columns)}: "
+                             "choose another table, or restart=True to overwrite it")
+    unique = {}
+    for r in rows:  # one row per point of this study
+        if isinstance(r.get("point"), int) and 0 <= r["point"] < n_points:
+            unique.setdefault(r["point"], r)
+    return [unique[k] for k in sorted(unique)]
+
+
+def _write_journal(journal: Path, fingerprint: str, random: tuple, columns: tuple, rows: list[dict]) -> None:
+    """The journal anew, atomically: its two header lines and the rows kept (a resumed study
+    appends to whole lines only)."""
+    tmp = journal.with_name(journal.name + ".tmp")
+    with open(tmp, "w", newline="", encoding="utf-8") as f:
+        f.write(header_line(fingerprint, random))
+        f.write(format_row({c: c for c in columns}, columns))
+        for r in rows:
+            f.write(format_row(r, columns))
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, journal)
 
 
 def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: int | None = None,
@@ -109,13 +137,12 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     fingerprint = study.fingerprint()
     columns = ("point", *study.varied, *QUANTITIES, *STATUS_COLUMNS)
     journal = _journal_path(table)
-    done = _done_rows(study, table, journal, fingerprint, restart)
+    done = _done_rows(study, table, journal, fingerprint, columns, len(all_tasks), restart)
     done_ids = {r["point"] for r in done}
     todo = [t for t in all_tasks if t["point"] not in done_ids]
     random = tuple(n for n, spec in study.vary.items() if isinstance(spec, Random))
 
-    def finish() -> StudyTable:
-        rows = read_csv_rows(journal)[3] if journal.exists() else done
+    def finish(rows) -> StudyTable:
         out = StudyTable.from_rows(rows, columns, study.varied, random, fingerprint, table)
         if len(out) == len(all_tasks):  # complete: the table sorted by point (and as Parquet)
             out.write(table)
@@ -124,20 +151,19 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
         return out
 
     if not todo:
-        return finish()
-    new_journal = not journal.exists()
-    with open(journal, "a", newline="") as f, \
+        return finish(done)
+    # the journal anew with the rows kept: no line cut short, no half header, no duplicate
+    _write_journal(journal, fingerprint, random, columns, done)
+    rows = list(done)
+    with open(journal, "a", newline="", encoding="utf-8") as f, \
             tqdm(total=len(all_tasks), initial=len(done_ids), desc="study", unit="pt", file=sys.stderr,
                  disable=not progress, leave=False) as bar:
-        if new_journal:
-            f.write(header_line(fingerprint, random))
-            f.write(format_row({c: c for c in columns}, columns))
-            f.flush()
 
         def record(row):
-            f.write(format_row(row, columns))  # one write per row, flushed: a consistent journal
+            f.write(format_row(row, columns))  # one line per row, flushed: a consistent journal
             f.flush()
             os.fsync(f.fileno())
+            rows.append(row)
             bar.update()
             if on_row is not None:
                 on_row(row)
@@ -149,7 +175,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
                 record(evaluate_point(t))
         else:
             _run_pool(todo, workers or os.cpu_count() or 1, record)
-    return finish()
+    return finish(rows)
 
 
 def _run_pool(todo: list[dict], workers: int, record) -> None:
@@ -159,7 +185,12 @@ def _run_pool(todo: list[dict], workers: int, record) -> None:
     try:
         futures = [pool.submit(evaluate_point, t) for t in todo]
         for fut in as_completed(futures):
-            record(fut.result())
+            try:
+                row = fut.result()
+            except BrokenProcessPool as exc:
+                raise WorkerError(f"a worker process died ({exc}); the finished points are in the table: "
+                                  "run the study again to resume") from None
+            record(row)
     except BaseException:
         pool.shutdown(wait=False, cancel_futures=True)
         raise
@@ -178,14 +209,19 @@ def _run_dask(todo: list[dict], scheduler, record) -> None:
             raise ParameterError(f"scheduler must be an address (tcp://host:port) or a distributed.Client, got {scheduler!r}")
         try:
             client = Client(scheduler, timeout="10s")
-        except OSError as exc:
+        except (OSError, ValueError, TypeError) as exc:
             raise ParameterError(f"scheduler: no Dask scheduler at {scheduler!r} ({exc})") from None
     else:
         client = scheduler
     futures = client.map(evaluate_point, todo, pure=False)
     try:
         for fut in dask_completed(futures):
-            record(fut.result())
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - evaluate_point returns its errors: this is the worker's death
+                raise WorkerError(f"a Dask worker failed ({type(exc).__name__}: {exc}); the finished points are "
+                                  "in the table: run the study again to resume") from None
+            record(row)
     except BaseException:
         client.cancel(futures)
         raise

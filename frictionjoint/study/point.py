@@ -106,7 +106,7 @@ def evaluate_point(task: dict) -> dict:
     row = {"point": task["point"], **task["varied"]}
     try:
         w0, w1, n = task["omega"]
-        ws = np.linspace(w0, w1, int(n))
+        ws = np.linspace(min(w0, w1), max(w0, w1), int(n))  # 'up': increasing, whatever the order given
         params = {**task["fixed"], **task["varied"]}
         model = task["model"]
         base = _base_model(model)

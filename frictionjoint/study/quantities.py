@@ -7,7 +7,8 @@ sweep or branch order):
 - ``damping_ratio``: the equivalent viscous damping ratio from the half-power bandwidth,
   ``(omega_2 - omega_1) / (2 omega_peak)``, ``omega_1,2`` where the amplitude falls to
   ``peak / sqrt(2)`` on either side of the peak (linear interpolation between sweep points; NaN if
-  it does not fall that far inside the range). For a single mode with light viscous damping this
+  it does not fall that far inside the range, or the refined peak is so sharp that every sweep
+  point is below that level). For a single mode with light viscous damping this
   is the modal damping ratio; for a friction-damped resonance it is the damping ratio of the
   linear oscillator with the same bandwidth;
 - ``dissipated_at_peak`` [J]: the friction energy per cycle at the peak point;
@@ -72,7 +73,9 @@ def quantities(omega, amplitude, converged, dissipated, stuck, peak: tuple | Non
     if peak is not None and peak[1] >= a_pk:
         w_pk, a_pk, e_pk, slip_pk = float(peak[0]), float(peak[1]), float(peak[2]), bool(peak[3])
     level = a_pk / math.sqrt(2.0)
-    w1, w2 = _crossing(w, a, i, level, -1), _crossing(w, a, i, level, +1)
+    # a refined peak above sqrt 2 times every sample: the bandwidth is below the sweep's spacing
+    w1, w2 = ((_crossing(w, a, i, level, -1), _crossing(w, a, i, level, +1)) if a[i] >= level
+              else (math.nan, math.nan))
     out.update(peak_amplitude=a_pk, peak_omega=w_pk,
                damping_ratio=float(abs(w2 - w1) / (2.0 * w_pk)) if not (math.isnan(w1) or math.isnan(w2)) else math.nan,
                dissipated_at_peak=e_pk, slipping_at_peak=slip_pk, peak_at_edge=bool(i in (0, a.size - 1)))
