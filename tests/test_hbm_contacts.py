@@ -40,6 +40,7 @@ def _flank(cond, sysm, z, i, jacobian=True, omega=None):
                                  sysm.omega if omega is None else omega, 0.0, jacobian)
 
 
+@pytest.mark.slow
 def test_flank_loop_against_the_driven_dovetail():
     """Both flanks slip, lift off and close: the loop's friction-force and contact-correction
     coefficients equal those of DrivenDovetail driven along the same path (two periods, 2^15
@@ -112,6 +113,7 @@ def test_flank_whose_normal_does_not_move_is_a_jenkins_slider():
         assert not np.any(rn)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("damping, stable", [(0.0, False), (40.0, True)])
 def test_balance_with_lift_off_against_the_exact_orbit(damping, stable):
     """The root block at 3000 rad/s: in the exact orbit from the balanced one each flank lifts off
@@ -131,6 +133,7 @@ def test_balance_with_lift_off_against_the_exact_orbit(damping, stable):
     assert hb.stable is stable
 
 
+@pytest.mark.slow
 def test_continuation_through_lift_off_matches_point_solutions():
     """A branch down from 3200 rad/s into the frequencies where the flanks lift off over a large
     part of the period (the contacts' dashpots enter dr/domega): the single-frequency balance from
@@ -155,6 +158,7 @@ def test_branch_from_a_start_without_balance_says_so():
     assert "no balance at the start omega = 2000 rad/s" in sw.message
 
 
+@pytest.mark.slow
 def test_fold_pair_with_three_coexisting_orbits():
     """The root block shaken radially only (100 N; no dashpots): the flanks' slip softens the
     resonance near 2770 rad/s until the branch turns twice. The continuation flags both folds;

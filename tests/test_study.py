@@ -102,6 +102,7 @@ def test_half_power_damping_ratio_of_a_linear_oscillator():
     assert q["peak_at_edge"] and math.isnan(q["damping_ratio"])
 
 
+@pytest.mark.slow
 def test_row_equals_a_direct_sweep_and_refined_peak():
     """A point's row comes from the blade's own sweep (the same numbers as fj.sweep of the same
     parameters), and the refined peak is the assembly's peak between the sweep's points."""
@@ -130,6 +131,7 @@ def test_failed_point_is_a_row_and_the_study_finishes(tmp_path):
     assert "1 failed" in tab.message
 
 
+@pytest.mark.slow
 def test_serial_pool_and_dask_give_bit_identical_tables(tmp_path):
     """The same study serially, on the local process pool (2 workers) and on a Dask LocalCluster
     with 2 worker processes: byte-identical CSV tables (floats written exactly), and the Parquet
@@ -150,6 +152,7 @@ def test_serial_pool_and_dask_give_bit_identical_tables(tmp_path):
     assert (tmp_path / "back.csv").read_bytes() == serial
 
 
+@pytest.mark.slow
 def test_interrupted_study_resumes_without_computing_a_point_twice(tmp_path):
     """Ctrl-C (KeyboardInterrupt) after two of four points: the journal holds those two; run
     again, the study computes only the other two, and the final table is byte-identical to an
@@ -176,6 +179,7 @@ def test_interrupted_study_resumes_without_computing_a_point_twice(tmp_path):
         run_study(other, part, workers=1)
 
 
+@pytest.mark.slow
 def test_journal_cut_short_resumes_to_the_full_table(tmp_path):
     """A journal cut anywhere (in a row, in the column line, after the first line) resumes to the
     table of an uninterrupted run: the fragment is not a row, and new rows are not appended to it.
@@ -199,6 +203,7 @@ def test_journal_cut_short_resumes_to_the_full_table(tmp_path):
         "1.0,ValueError: one / two / three\n"
 
 
+@pytest.mark.slow
 def test_cli_study_and_plots(tmp_path):
     """frictionjoint study FILE: the table, the summary and the plot; a Monte Carlo table's plot
     (scatter and histogram with percentiles) and a two-parameter contour."""
@@ -240,6 +245,7 @@ def test_study_of_the_blade_fmu_equals_the_library_study(tmp_path, fmus):
     np.testing.assert_array_equal(fmu["peak_omega"], lib["peak_omega"])
 
 
+@pytest.mark.slow
 def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
     """SIGINT to `frictionjoint study` running on the local pool: exit status 130, the table holds
     whole rows of the finished points only, and the same command finishes the others."""
@@ -272,6 +278,7 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
         assert final["peak_amplitude"][p] == done["peak_amplitude"][k]
 
 
+@pytest.mark.slow
 def test_harmonic_balance_point_refines_its_peak_on_the_balance():
     """method = 'hbm': the point's sweep is the harmonic-balance branch, and its refined peak is
     the balance's own maximum: at least the branch's largest point, and a balance at the refined
