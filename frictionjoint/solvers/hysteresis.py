@@ -143,13 +143,21 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     return coef, (jac if jacobian else None), float(w0), bool(slips)
 
 
+_DERIVATIVES: dict = {}
+
+
 def derivative_matrix(n_harmonics: int) -> np.ndarray:
-    """``D`` with ``D c`` the coefficients of ``du/dtheta``: ``(a_h, b_h) -> h (b_h, -a_h)``."""
-    n = 2 * n_harmonics + 1
-    d = np.zeros((n, n))
-    for h in range(1, n_harmonics + 1):
-        d[2 * h - 1, 2 * h] = h
-        d[2 * h, 2 * h - 1] = -h
+    """``D`` with ``D c`` the coefficients of ``du/dtheta``: ``(a_h, b_h) -> h (b_h, -a_h)``; built
+    once per ``H`` (read-only: every loop of every Newton iteration uses it)."""
+    d = _DERIVATIVES.get(n_harmonics)
+    if d is None:
+        n = 2 * n_harmonics + 1
+        d = np.zeros((n, n))
+        for h in range(1, n_harmonics + 1):
+            d[2 * h - 1, 2 * h] = h
+            d[2 * h, 2 * h - 1] = -h
+        d.flags.writeable = False
+        d = _DERIVATIVES[n_harmonics] = d
     return d
 
 

@@ -153,6 +153,27 @@ def _phi(theta, hh, out):
 
 
 @_jit
+def _extremum(c, vals, sgn, dtheta, ng):
+    """Phase of the global maximum (``sgn = 1``) or minimum (``-1``) of ``u`` (``vals`` its grid
+    values): the extreme sample, refined on ``u' = 0`` between its neighbours."""
+    kk = 0
+    for j in range(ng):
+        if sgn * vals[j] > sgn * vals[kk]:
+            kk = j
+    lo = (kk - 1) * dtheta
+    hi = (kk + 1) * dtheta
+    dlo = _value(c, lo, 1)[0]
+    dhi = _value(c, hi, 1)[0]
+    if sgn * dlo >= 0 and sgn * dhi <= 0:
+        t = _root(c, 1, 0.0, lo, hi)
+    else:
+        t = kk * dtheta
+    if t < 0:
+        t += 2 * math.pi
+    return t
+
+
+@_jit
 def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
     """The loop of :func:`.hysteresis.jenkins_loop`; ``cos_table, sin_table``: ``(H, N)`` values of
     ``cos/sin(h theta_j)`` on the grid ``theta_j = 2 pi j / N``. Returns ``(coef, jac, w0,
@@ -177,22 +198,8 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
     jac = np.zeros((n, n))
     phi = np.empty(n)
     # global extrema, refined on u' = 0 between the largest sample's neighbours
-    ext = np.empty(2)
-    for e in range(2):
-        sgn = 1.0 if e == 0 else -1.0
-        kk = 0
-        for j in range(ng):
-            if sgn * u[j] > sgn * u[kk]:
-                kk = j
-        lo = (kk - 1) * dtheta
-        hi = (kk + 1) * dtheta
-        dlo = _value(c, lo, 1)[0]
-        dhi = _value(c, hi, 1)[0]
-        if sgn * dlo >= 0 and sgn * dhi <= 0:
-            ext[e] = _root(c, 1, 0.0, lo, hi)
-        else:
-            ext[e] = kk * dtheta
-    t_max, t_min = ext[0], ext[1]
+    t_max = _extremum(c, u, 1.0, dtheta, ng)
+    t_min = _extremum(c, u, -1.0, dtheta, ng)
     u_max = _value(c, t_max, 0)[0]
     u_min = _value(c, t_min, 0)[0]
     if u_max - u_min <= 2 * reach:  # never slips
@@ -209,9 +216,7 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
                 for i in range(n):
                     jac[0, i] -= k * phi[i]
         return coef, jac, w, False
-    if t_max < 0:
-        t_max += 2 * math.pi
-    t0 = t_max
+    t0 = t_max  # in [0, 2 pi) (_extremum)
     t_end = t0 + 2 * math.pi
     t = t0
     sig = 1.0
@@ -290,27 +295,6 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
         for j in range(n):
             jac[i, j] *= sc
     return coef, jac, w0, True
-
-
-@_jit
-def _extremum(c, vals, sgn, dtheta, ng):
-    """Phase of the global maximum (``sgn = 1``) or minimum (``-1``) of ``u`` (``vals`` its grid
-    values): the extreme sample, refined on ``u' = 0`` between its neighbours."""
-    kk = 0
-    for j in range(ng):
-        if sgn * vals[j] > sgn * vals[kk]:
-            kk = j
-    lo = (kk - 1) * dtheta
-    hi = (kk + 1) * dtheta
-    dlo = _value(c, lo, 1)[0]
-    dhi = _value(c, hi, 1)[0]
-    if sgn * dlo >= 0 and sgn * dhi <= 0:
-        t = _root(c, 1, 0.0, lo, hi)
-    else:
-        t = kk * dtheta
-    if t < 0:
-        t += 2 * math.pi
-    return t
 
 
 @_jit
