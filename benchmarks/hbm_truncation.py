@@ -66,6 +66,19 @@ def main(argv=None) -> int:
              "frequencies); rate: slope of log(error) against log H from H = 3 (stuck points are exact)",
              f"{'P [N]':>6} {'H':>3} {'X1 max':>9} {'X1 median':>9} {'peak max':>9} {'peak median':>11} {'ms/pt':>6}"]
     print("\n".join(lines), flush=True)
+
+    def emit(row):
+        print(row, flush=True)
+        lines.append(row)
+
+    def branch(label, system, omega_range, hh):
+        """One timed 200-point continuation: its row."""
+        t0 = time.perf_counter()
+        sw = fj.hbm_sweep(system, omega_range, n_harmonics=hh, n_points=200)
+        dt = time.perf_counter() - t0
+        emit(f"continuation, {label}, H = {hh}: {sw.omega.size} points in {dt:.2f} s "
+             f"({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
+
     for p in FORCES:
         exact = [fj.periodic_response(sdof(w, p)) for w in omegas]
         x1 = np.array([r.harmonic_amplitude[0] * np.exp(-1j * r.phase[0]) for r in exact])
@@ -83,51 +96,27 @@ def main(argv=None) -> int:
             dt = (time.perf_counter() - t0) / n_w * 1e3
             medians.append(float(np.median(e1)))
             maxima.append(float(max(e1)))
-            row = (f"{p:6.2f} {hh:3d} {max(e1):9.2e} {np.median(e1):9.2e} {max(ep):9.2e} {np.median(ep):11.2e} "
-                   f"{dt:6.1f}")
-            print(row, flush=True)
-            lines.append(row)
+            emit(f"{p:6.2f} {hh:3d} {max(e1):9.2e} {np.median(e1):9.2e} {max(ep):9.2e} {np.median(ep):11.2e} "
+                 f"{dt:6.1f}")
         hs = np.array(h_list[1:], float)
 
         def rate(errors):
             e = np.array(errors[1:])
             ok = e > 1e-13  # stuck points are exact at any H: no rate
             return float(np.polyfit(np.log(hs[ok]), np.log(e[ok]), 1)[0]) if ok.sum() >= 2 else math.nan
-        row = (f"{p:6.2f} observed rate of the first-harmonic error: max H^{rate(maxima):.2f}, "
-               f"median H^{rate(medians):.2f}")
-        print(row, flush=True)
-        lines.append(row)
+        emit(f"{p:6.2f} observed rate of the first-harmonic error: max H^{rate(maxima):.2f}, "
+             f"median H^{rate(medians):.2f}")
     # continuation timings
     sys0 = sdof(1.0, 0.2)
     fj.hbm_sweep(sys0, (0.5, 3.0), n_harmonics=3, n_points=10)  # compile and warm up
-    t0 = time.perf_counter()
-    sw = fj.hbm_sweep(sys0, (0.5, 3.0), n_harmonics=15, n_points=200)
-    dt = time.perf_counter() - t0
-    row = (f"continuation, Jenkins SDOF P = 0.2, H = 15: {sw.omega.size} points in {dt:.2f} s "
-           f"({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
-    print(row, flush=True)
-    lines.append(row)
+    branch("Jenkins SDOF P = 0.2", sys0, (0.5, 3.0), 15)
     asm = BladeAssembly.from_model(load_blade_model("ti64_compressor_blade")).with_root(centrifugal_force=259.0)
-    t0 = time.perf_counter()
-    sw = fj.hbm_sweep(asm.system(1600.0), (1600.0, 2200.0), n_harmonics=7, n_points=200)
-    dt = time.perf_counter() - t0
-    row = (f"continuation, blade on its dovetail (259 N), H = 7: {sw.omega.size} points in {dt:.2f} s "
-           f"({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
-    print(row, flush=True)
-    lines.append(row)
+    branch("blade on its dovetail (259 N)", asm.system(1600.0), (1600.0, 2200.0), 7)
     # the blade with normal-load variation and lift-off on the flanks
     asm_v = asm.with_root(normal_load_variation=True)
-    t0 = time.perf_counter()
-    sw = fj.hbm_sweep(asm_v.system(1600.0), (1600.0, 2200.0), n_harmonics=7, n_points=200)
-    dt = time.perf_counter() - t0
-    row = (f"continuation, blade on its dovetail (259 N), normal-load variation, H = 7: {sw.omega.size} points in "
-           f"{dt:.2f} s ({dt / sw.omega.size * 1e3:.1f} ms per point; {sw.message})")
-    print(row, flush=True)
-    lines.append(row)
-    row = ("# blade peak tip amplitude (first harmonic, 1 N at the tip), normal-load variation: the branch's maximum "
-           "(1950-2100 rad/s) against the exact time-domain peak (BladeAssembly.peak)")
-    lines.append(row)
-    print(row, flush=True)
+    branch("blade on its dovetail (259 N), normal-load variation", asm_v.system(1600.0), (1600.0, 2200.0), 7)
+    emit("# blade peak tip amplitude (first harmonic, 1 N at the tip), normal-load variation: the branch's maximum "
+         "(1950-2100 rad/s) against the exact time-domain peak (BladeAssembly.peak)")
     for fc in ((259.0,) if args.quick else (259.0, 615.0, 1458.0)):
         a = asm_v.with_root(centrifugal_force=fc)
         _, a_ex = a.peak(1950.0, 2100.0, a.tip, n_grid=15)
@@ -135,23 +124,17 @@ def main(argv=None) -> int:
         for hh in (3, 7, 11, 15):
             sw = fj.hbm_sweep(a.system(1950.0), (1950.0, 2100.0), n_harmonics=hh, n_points=60)
             errs.append(f"H = {hh}: {np.abs(sw.harmonics[:, 1] @ a._row(a.tip)).max() / a_ex - 1:+.2e}")
-        row = f"{fc:7.0f} N: exact {a_ex:.6e} m; " + ", ".join(errs)
-        print(row, flush=True)
-        lines.append(row)
+        emit(f"{fc:7.0f} N: exact {a_ex:.6e} m; " + ", ".join(errs))
     # a root block whose flanks lift off once per period (tests/test_hbm_contacts.py)
     block, _ = root_block()
-    row = "# root block on two flanks, 3000 rad/s, each flank lifts off once per period: error against its exact orbit"
-    lines.append(row)
-    print(row, flush=True)
+    emit("# root block on two flanks, 3000 rad/s, each flank lifts off once per period: error against its exact orbit")
     for hh in h_list:
         t0 = time.perf_counter()
         hb = fj.harmonic_balance(block, n_harmonics=hh)
         dt = (time.perf_counter() - t0) * 1e3
         hb = fj.harmonic_balance(block, n_harmonics=hh, check=True)
-        row = (f"H = {hh:2d}: first harmonic {hb.truncation_error:.2e}, peak {hb.amplitude_error:.2e}, dissipation "
-               f"{abs(hb.dissipated_per_cycle / hb.exact.dissipated_per_cycle - 1):.2e}, {dt:.1f} ms")
-        print(row, flush=True)
-        lines.append(row)
+        emit(f"H = {hh:2d}: first harmonic {hb.truncation_error:.2e}, peak {hb.amplitude_error:.2e}, dissipation "
+             f"{abs(hb.dissipated_per_cycle / hb.exact.dissipated_per_cycle - 1):.2e}, {dt:.1f} ms")
     if not args.quick:
         out = os.path.join(os.path.dirname(__file__), "results_hbm.txt")
         with open(out, "w") as f:
