@@ -23,6 +23,7 @@ __all__ = [
     "check_count",
     "check_vector",
     "check_system",
+    "check_bool",
 ]
 
 
@@ -108,6 +109,26 @@ def check_vector(name: str, value, n: int, what: str = "") -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} must be finite, got {value!r}")
     return arr
+
+
+_TRUE = {"true", "yes", "on", "1", "1.0"}
+_FALSE = {"false", "no", "off", "0", "0.0"}
+
+
+def check_bool(name: str, value) -> bool:
+    """Return ``value`` as a bool or raise :class:`ParameterError`.
+
+    Every interface's way of writing a switch is taken: ``True``/``False`` (Python, TOML's
+    ``true``/``false``), the numbers 1 and 0 (``--set NAME=1``, an FMU's Real or Integer
+    variable), and the words ``true``/``false``/``yes``/``no``/``on``/``off`` in any case.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (Real, np.number)) and value in (0, 1):
+        return bool(value)
+    if isinstance(value, str) and value.strip().lower() in _TRUE | _FALSE:
+        return value.strip().lower() in _TRUE
+    raise ParameterError(f"{name} must be True or False (or 1 or 0), got {value!r}")
 
 
 def check_system(name: str, value, cls: type):
