@@ -55,7 +55,7 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ParameterError, check_positive, check_real
+from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..structure import LinearStructure
 from .base import Attachment, Contact, Slider
 from .driven import DrivenSliders
@@ -171,9 +171,7 @@ class DovetailRoot:
         self.normal_damping = check_real("normal_damping", normal_damping)
         if self.normal_damping < 0:
             raise ParameterError(f"normal_damping must be >= 0 N s/m, got {normal_damping!r}")
-        if not isinstance(normal_load_variation, (bool, np.bool_)):
-            raise ParameterError(f"normal_load_variation must be True or False, got {normal_load_variation!r}")
-        self.normal_load_variation = bool(normal_load_variation)
+        self.normal_load_variation = check_bool("normal_load_variation", normal_load_variation)
         if self.normal_load_variation and flank_contact is not None:
             raise ParameterError("normal_load_variation needs flat flanks (flank_contact is None)")
         self.flank_contact = flank_contact

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..elements.dovetail import FLANK_OUTPUTS
-from ..errors import ParameterError, check_positive, check_real
+from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..solvers.eventlog import MarchState
 from ..solvers.events import EventLog, Marcher
 from ..solvers.response import displacement_observables, piece_fourier, piece_slip
@@ -104,7 +104,8 @@ class BladeRun:
             raise ParameterError(f"n_modes must be an integer >= 0, got {n_modes!r}")
         asm = BladeAssembly.from_model(model, n_modes=int(n_modes), rotor_speed=speed)
         changes = dict(friction_coefficient=p["friction_coefficient"], flank_angle=p["flank_angle"],
-                       normal_load_variation=bool(p["normal_load_variation"]))
+                       normal_load_variation=check_bool("normal_load_variation",
+                                                             p["normal_load_variation"]))
         if fc > 0:
             changes["centrifugal_force"] = fc
         asm = asm.with_root(**changes)
@@ -123,7 +124,7 @@ class BladeRun:
         n = self.system.n_dof
         x0 = v0 = np.zeros(n)
         w0 = None
-        if p["start_on_orbit"]:
+        if check_bool("start_on_orbit", p["start_on_orbit"]):
             orbit = periodic_response(self.system, marcher=self.marcher, peaks=False)  # its state only
             if orbit.converged and orbit.initial_state is not None:
                 z = orbit.initial_state
