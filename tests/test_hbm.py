@@ -89,6 +89,8 @@ def test_stuck_orbit_is_exact_at_any_h():
         assert hb.converged and hb.exact.stuck and hb.stuck
         assert not fj.harmonic_balance(jenkins_sdof(1.2, 0.2), n_harmonics=hh).stuck
         assert hb.truncation_error <= 1e-13 and hb.amplitude_error <= 1e-13
+        # exactly 0.0: no slider slips, so no friction work is summed (a stuck slider is a spring;
+        # its oint k (u - w) du as a sum of products had left 7e-23 of rounding)
         assert np.max(np.abs(hb.harmonics[2:]), initial=0.0) <= 1e-15 and hb.dissipated_per_cycle == 0.0
 
 

@@ -51,7 +51,8 @@ class JointForces(NamedTuple):
     damping: np.ndarray | None
     #: the sliders' positions at ``t = 0`` [m]
     slider_positions: np.ndarray
-    #: friction energy per period, ``sum oint T ds`` over the sliders [J]
+    #: friction energy per period, ``sum oint T ds`` over the sliders that slip or lift off (exactly 0
+    #: on a stuck orbit) [J]
     dissipated: float
     #: every slider sticks over the whole period and no contact opens (a linear orbit)
     stuck: bool
@@ -235,7 +236,9 @@ class Condensed:
                 if jacobian:
                     jac[sl, sl] += jt
             r[sl] += t
-            energy += _loop_work(t, c, dmat)
+            if slips:  # a slider that never slips (nor lifts off) is a spring over the period: it
+                # dissipates nothing, while its oint k (u - w) du as a sum of products only cancels to rounding
+                energy += _loop_work(t, c, dmat)
             stuck = stuck and not slips
         return JointForces(r, jac, r_w, damp, w0, energy, stuck)
 
