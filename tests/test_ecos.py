@@ -1,25 +1,90 @@
 """The FMUs in Ecos, a native C++ co-simulation host (ecospy), through SSP files.
 
 Ecos's library runs in its own process (frictionjoint.fmi.ecos.run_ecos, full precision); the
-``ecos`` executable runs with the environment of ``frictionjoint host-env``. Skipped, with the
-reason, only where Ecos cannot run on this machine (not installed, or its libtbb12 missing).
+``ecos`` executable runs with the environment of ``frictionjoint host-env``. Ecos's binaries need
+``libtbb.so.12``: PyPI's ``tbb`` wheel (test extra) ships it, so these tests run on a machine
+with no system package (frictionjoint.fmi.ecos.load_ecospy); they are skipped only on platforms
+for which the test extra installs no ecospy (it has wheels for Linux x86_64 only).
 """
 import math
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from frictionjoint.fmi.cosim import FMUSystem, joint_connections
 
-ecospy = pytest.importorskip("ecospy", reason="Ecos not installed (pip install ecospy)")
+if not (sys.platform == "linux" and platform.machine() == "x86_64"):
+    pytest.skip("ecospy (Ecos) has wheels for Linux x86_64 only", allow_module_level=True)
 
 
 @pytest.fixture(scope="module", autouse=True)
-def ecos_runs():
-    try:
-        ecospy.EcosLib.version()
-    except Exception as exc:  # noqa: BLE001 -- e.g. OSError: libtbb.so.12: cannot open shared object file
-        pytest.skip(f"the Ecos library cannot load here ({exc}); on Debian: apt-get install libtbb12")
+def ecospy():
+    """Ecos, loaded as the package loads it: a failure here is an error of every test, with the
+    reason (never a skip: the test extra installs everything Ecos needs)."""
+    from frictionjoint.fmi.ecos import load_ecospy
+
+    return load_ecospy()
+
+
+def bare_environment():
+    """This environment without the variables host-env sets: what a new shell has."""
+    return {k: v for k, v in os.environ.items() if k not in ("LD_LIBRARY_PATH", "LD_PRELOAD", "PYTHONPATH", "ECOS")}
+
+
+def system_has_libtbb():
+    out = subprocess.run(["ldconfig", "-p"], capture_output=True, text=True).stdout if os.path.exists("/sbin/ldconfig") else ""
+    return "libtbb.so.12" in out
+
+
+def test_ecospy_loads_in_a_fresh_process_with_the_tbb_wheel():
+    """A fresh Python, no LD_LIBRARY_PATH: load_ecospy gives a working Ecos library, and the
+    libtbb.so.12 mapped in the process is the tbb wheel's where the system has none (a bare
+    ``import ecospy`` there is an OSError: libtbb.so.12: cannot open shared object file)."""
+    from frictionjoint.fmi.ecos import tbb_library
+
+    code = ("from frictionjoint.fmi.ecos import load_ecospy\n"
+            "print(load_ecospy().EcosLib.version())\n"
+            "print(sorted({l.split()[-1] for l in open('/proc/self/maps') if 'libtbb.so' in l}))\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=bare_environment(), timeout=120)
+    assert p.returncode == 0, p.stderr
+    version, mapped = p.stdout.strip().splitlines()
+    assert version.startswith("v0.")
+    wheel = tbb_library()
+    assert wheel is not None, "the test extra installs PyPI's tbb wheel"
+    if not system_has_libtbb():
+        assert mapped == repr([str(wheel.resolve())])
+
+
+def test_host_env_runs_the_ecos_executable_from_a_new_shell():
+    """``eval "$(frictionjoint host-env)"`` in a shell with none of its variables, then ``$ECOS``
+    starts (without LD_LIBRARY_PATH to the tbb wheel it stops at the loader where the system has
+    no libtbb12: status 127)."""
+    script = f'set -e; eval "$({sys.executable} -m frictionjoint host-env)"; "$ECOS" --version'
+    p = subprocess.run(["bash", "-c", script], capture_output=True, text=True, env=bare_environment(), timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip().startswith("v0.")
+
+
+def test_a_failed_run_says_so_when_its_values_are_read(tmp_path):
+    """A file that is not an SSP: the result is a failure, and reading an output raises an error
+    saying the run failed and why (a KeyError subclass), not a bare KeyError('osc.x')."""
+    from frictionjoint.fmi.ecos import run_ecos
+    from frictionjoint.results.response import OutputNotRecordedError
+
+    bad = tmp_path / "bad.ssp"
+    bad.write_text("not an SSP archive")
+    r = run_ecos(bad, 1.0, 0.1, ["osc.x"], timeout=120)
+    assert not r.success and r.status == "failed"
+    for read in (lambda: r.values["osc.x"], lambda: r["osc.x"]):
+        with pytest.raises(OutputNotRecordedError) as exc:
+            read()
+        assert isinstance(exc.value, KeyError)
+        assert "failed" in str(exc.value) and r.message in str(exc.value)
 
 
 def relative(a, b):

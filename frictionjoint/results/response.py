@@ -219,6 +219,10 @@ class CoSimulationResult:
     success: bool = True
     message: str = "ok"
 
+    def __post_init__(self):
+        failure = None if self.success else f"the co-simulation ({self.host or 'host'}) failed: {self.message}"
+        self.values = RecordedOutputs(self.values, failure)
+
     @property
     def status(self) -> str:
         """``'ok'`` or ``'failed'`` (the result contract's word for ``success``)."""
@@ -226,6 +230,28 @@ class CoSimulationResult:
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.values[name]
+
+
+class OutputNotRecordedError(KeyError):
+    """An output a :class:`CoSimulationResult` does not hold: the message says why (its run
+    failed, with the reason, or the name was not among the recorded outputs)."""
+
+    def __str__(self) -> str:  # KeyError's str is the repr of its argument
+        return str(self.args[0]) if self.args else ""
+
+
+class RecordedOutputs(dict):
+    """``"component.variable"`` -> values; a name it does not hold raises
+    :class:`OutputNotRecordedError` saying why, not a bare ``KeyError``."""
+
+    def __init__(self, values=(), failure: Optional[str] = None):
+        super().__init__(values)
+        self.failure = failure
+
+    def __missing__(self, name):
+        if self.failure is not None:
+            raise OutputNotRecordedError(f"no values of {name!r}: {self.failure}")
+        raise OutputNotRecordedError(f"{name!r} was not recorded; the recorded outputs are {sorted(self)}")
 
 
 def collection_status(converged: ArrayLike, noun: str = "points") -> tuple[str, str]:
