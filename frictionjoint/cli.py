@@ -328,9 +328,11 @@ def _add_tools(sub) -> None:
         help="print the environment a non-Python FMU host needs (eval \"$(frictionjoint host-env)\")",
         description="Print shell exports for a host that is not Python (Ecos, a C/C++ master) to run "
                     "these FMUs with this Python: LD_PRELOAD of this interpreter's libpython (the FMUs' "
-                    "binary leaves the Python symbols to the process) and PYTHONPATH to this "
-                    "environment's site-packages (numpy, scipy); and, where ecospy is installed, ECOS, "
-                    "the path of an executable ecos.")
+                    "binary leaves the Python symbols to the process), PYTHONPATH to this "
+                    "environment's site-packages (numpy, scipy), LD_LIBRARY_PATH with the tbb wheel's "
+                    "folder (Ecos needs its libtbb.so.12), and ECOS, the path of an executable ecos, "
+                    "checked to start. Where Ecos cannot run it prints nothing, says why on stderr and "
+                    "exits with status 1, so that eval applies all or nothing.")
     he.set_defaults(func=_host_env, subparser=he, csv=None, out=None)
 
     be = sub.add_parser(
@@ -468,21 +470,18 @@ def _build_fmus(args, parser) -> int:
 
 
 def _host_env(args, parser) -> int:
+    """Everything is computed, and ecos started once, before anything is printed: where Ecos
+    cannot run, stdout stays empty (``eval`` applies nothing) and stderr says why (status 1)."""
     import shlex
 
     from .errors import FMUError
-    from .fmi.ecos import ecos_executable, host_environment
+    from .fmi.ecos import ecos_environment
 
     try:
-        env = host_environment()
+        env = ecos_environment()
     except FMUError as exc:
         parser.exit(1, f"{PROG} host-env: {exc}\n")
-    for name, value in env.items():
-        print(f"export {name}={shlex.quote(value)}")
-    try:
-        print(f"export ECOS={shlex.quote(str(ecos_executable()))}")
-    except FMUError as exc:
-        print(f"# {exc}")
+    print("\n".join(f"export {name}={shlex.quote(value)}" for name, value in env.items()))
     return 0
 
 
