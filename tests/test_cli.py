@@ -189,20 +189,59 @@ def test_sweep_rejects_an_fmu_without_oscillator_variables(fmus):
 
 
 def test_host_env_prints_what_a_native_host_needs(capsys):
+    """Every export, and ECOS, which starts with them (ecos --version) in a process that has only
+    them: LD_LIBRARY_PATH holds the tbb wheel's libtbb.so.12 (without it, where the system has
+    no libtbb12, ecos stops at the loader with status 127)."""
     import os
     import shlex
 
+    from frictionjoint.fmi.ecos import TBB_LIBRARY
+
     assert main(["host-env"]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
-    exports = dict(shlex.split(line[len("export "):])[0].split("=", 1) for line in lines if line.startswith("export "))
+    assert all(line.startswith("export ") for line in lines)
+    exports = dict(shlex.split(line[len("export "):])[0].split("=", 1) for line in lines)
     assert os.path.isfile(exports["LD_PRELOAD"]) and "libpython" in exports["LD_PRELOAD"]
     for path in exports["PYTHONPATH"].split(os.pathsep):
         assert os.path.isdir(path)
     import numpy
 
     assert any(numpy.__file__.startswith(p) for p in exports["PYTHONPATH"].split(os.pathsep))
-    if "ECOS" in exports:
-        assert os.access(exports["ECOS"], os.X_OK)
+    assert os.path.isfile(os.path.join(exports["LD_LIBRARY_PATH"].split(os.pathsep)[0], TBB_LIBRARY))
+    assert os.access(exports["ECOS"], os.X_OK)
+    env = {k: v for k, v in os.environ.items() if k not in ("LD_LIBRARY_PATH", "LD_PRELOAD", "PYTHONPATH")}
+    proc = subprocess.run([exports["ECOS"], "--version"], capture_output=True, text=True, timeout=60,
+                          env=dict(env, **exports))
+    assert proc.returncode == 0 and proc.stdout.startswith("v0."), proc.stderr
+
+
+@pytest.mark.parametrize("broken", ["ecos does not start", "ecospy not installed"])
+def test_host_env_where_ecos_cannot_run_prints_nothing_and_says_why(broken, tmp_path, monkeypatch, capsys):
+    """All or nothing for ``eval "$(frictionjoint host-env)"``: stdout empty, the reason and the
+    remedy on stderr, status 1, no traceback (it printed LD_PRELOAD and PYTHONPATH, then a
+    traceback or a comment, status 0)."""
+    import importlib.util
+
+    import frictionjoint.fmi.ecos as ecos
+
+    if broken == "ecos does not start":  # what the loader says without libtbb.so.12
+        fake = tmp_path / "ecos"
+        fake.write_text("#!/bin/sh\necho 'ecos: error while loading shared libraries: libtbb.so.12: cannot open "
+                        "shared object file: No such file or directory' >&2\nexit 127\n")
+        fake.chmod(0o755)
+        monkeypatch.setattr(ecos, "ecos_executable", lambda: fake)
+        reason = "libtbb.so.12"
+    else:
+        find_spec = importlib.util.find_spec
+        monkeypatch.setattr(importlib.util, "find_spec",
+                            lambda name, *a: None if name == "ecospy" else find_spec(name, *a))
+        reason = "not installed"
+    with pytest.raises(SystemExit) as exc:
+        main(["host-env"])
+    out, err = capsys.readouterr()
+    assert exc.value.code == 1
+    assert out == ""
+    assert reason in err and "pip install 'frictionjoint[ecos]'" in err and "Traceback" not in err
 
 
 def test_build_fmus_structure(tmp_path, capsys):
