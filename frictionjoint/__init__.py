@@ -9,6 +9,7 @@ from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
 from .elements.masing import ContinuousIwan
 from .errors import ConvergenceError, FMUError, NoSolutionError, ParameterError
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
+from .frequencies import omega_range
 from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
 from .solvers.events import EventLog, Marcher
@@ -61,6 +62,7 @@ __all__ = [
     "PeriodicLoad",
     "melan_check",
     "shakedown_check",
+    "omega_range",
     "oscillator_sweep",
     "periodic_response",
     "regime_map",

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import ParameterError, check_grid
+from .frequencies import check_omegas
 from .results.regime_map import RegimeMap
 
 __all__ = ["RegimeMap", "regime_map", "classify", "REGIMES"]
@@ -86,8 +87,10 @@ def regime_map(friction_ratios: ArrayLike, frequency_ratios: ArrayLike, progress
     ----------
     friction_ratios : (n_f,) array_like
         ``f = F/P0`` [-], each >= 0.
-    frequency_ratios : (n_r,) array_like
-        ``r = w/wn`` [-], each > 0.
+    frequency_ratios : str or (n_r,) array_like
+        ``r = w/wn`` [-], each > 0 (``omega = r`` rad/s): ``"START:STOP:N"`` or the ratios themselves,
+        as every frequency grid (:mod:`frictionjoint.frequencies`; ``(0.1, 2.0, 39)`` is refused
+        as ambiguous).
     progress : bool
         Show a progress bar (tqdm, on stderr).
     jobs : int
@@ -103,7 +106,7 @@ def regime_map(friction_ratios: ArrayLike, frequency_ratios: ArrayLike, progress
         If a ratio is negative (``f``), non-positive (``r``) or not finite, or ``jobs < 1``.
     """
     fs = check_grid("friction_ratios", friction_ratios, positive=False)
-    rs = check_grid("frequency_ratios", frequency_ratios)
+    rs = check_omegas("frequency_ratios", frequency_ratios)  # omega = r rad/s here
     if not isinstance(progress, (bool, np.bool_)):
         raise ParameterError(f"progress must be True or False, got {progress!r}")
     if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)) or jobs < 1:

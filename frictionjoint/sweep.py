@@ -23,8 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .analytic import den_hartog_curve
-from .errors import (ParameterError, check_count, check_grid, check_nonnegative, check_oscillator,
-                     check_positive, check_real, check_system)
+from .errors import (ParameterError, check_bool, check_count, check_nonnegative, check_oscillator, check_positive,
+                     check_real, check_system)
+from .frequencies import check_omegas
 from .regime import classify
 from .results.frequency import _HARMONIC_KEYS, FrequencyResponse, OutputSweep, SystemSweep, _masked, _wrap
 from .system import FrictionSystem
@@ -90,8 +91,10 @@ def oscillator_sweep(mass: float, stiffness: float, slip_force: float, force_amp
         Friction limit F [N], >= 0.
     force_amplitude : float
         Force amplitude P [N].
-    omegas : (n,) array_like
-        Excitation angular frequencies [rad/s], each > 0 (any order; duplicates allowed).
+    omegas : str or (n,) array_like
+        Excitation angular frequencies [rad/s], each > 0 (any order; duplicates allowed):
+        ``"START:STOP:N"`` or the frequencies themselves (:mod:`frictionjoint.frequencies`; a list
+        or tuple of three numbers whose last is whole, ``(0.5, 2.5, 60)``, is refused as ambiguous).
     damping : float
         Viscous damping c [N s/m], >= 0.
     base_amplitude : float
@@ -135,7 +138,7 @@ def _check_sweep(mass, stiffness, slip_force, force_amplitude, damping, base_amp
     """Validate the arguments every oscillator sweep takes; return ``(params, damping, omegas)``."""
     m, k, fr, p, y, _ = check_oscillator(mass, stiffness, slip_force, force_amplitude, base_amplitude)
     c = check_nonnegative("damping", damping)
-    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = check_omegas("omegas", omegas)
     if direction not in DIRECTIONS:
         raise ParameterError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
     if not isinstance(progress, (bool, np.bool_)):
@@ -255,8 +258,12 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
     ----------
     model : str, path, Driver or callable
         What is swept (see above).
-    omegas : (n,) array_like
-        Angular frequencies [rad/s], > 0.
+    omegas : str or (n,) array_like
+        Angular frequencies [rad/s], > 0: ``"START:STOP:N"`` (``N`` equally spaced from ``START`` to
+        ``STOP``; :func:`~frictionjoint.frequencies.omega_range` builds the same array) or the
+        frequencies themselves, as everywhere in the package (:mod:`frictionjoint.frequencies`). A
+        list or tuple of three numbers whose last is whole, ``(0.5, 2.5, 60)``, could be either and
+        is refused with a :class:`~frictionjoint.errors.ParameterError` that shows both forms.
     parameters : dict, optional
         Oscillator parameters (``mass``, ``stiffness``, ``damping``, ``slip_force``,
         ``force_amplitude``, ``base_amplitude``); ``omega``, ``x0``, ``v0`` are set by the sweep.
@@ -312,14 +319,16 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
                                  "direction (the system is built at each omega, in the given order)")
         return system_sweep(model, omegas, progress=progress)
     driver = model if isinstance(model, Driver) else None
+    if driver is None and not isinstance(model, (str, os.PathLike)):
+        raise ParameterError(f"model must be 'CoulombOscillator', a .fmu file, a blade model, a Driver or a "
+                             f"build(omega) callable, got {model!r}")
     if driver is None and _is_blade_fmu(model):
         return _blade_fmu_sweep(model, omegas, parameters, direction, outputs, progress)
     if driver is None and str(model) != "CoulombOscillator" and not (Path(model).suffix == ".fmu"
                                                                      and Path(model).is_file()):
         blade = _blade_definition(model)
         if blade is None:
-            raise ParameterError(f"model must be 'CoulombOscillator', an existing .fmu file, a Driver, a "
-                                 f"build(omega) callable or a blade model definition, got {model!r}")
+            raise model_not_found(model)
         return _blade_sweep(blade, omegas, parameters, direction, outputs, progress, method, n_harmonics, check)
     params = dict(parameters or {})
     allowed = set(OSCILLATOR_PARAMETERS) - {"omega", "x0", "v0", "harmonics"}
@@ -349,16 +358,41 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
 
 
 def _blade_definition(model):
-    """The blade model definition ``model`` names (a ``.toml`` file, or a name in ``models/``), or
-    None if it names none."""
+    """The blade model definition ``model`` names (a ``.toml`` file, or a name in ``models/`` with or
+    without ``.toml``), or None if it names none (a ``.fmu`` path never names one, found or not)."""
     from .structures import MODELS_DIR, load_blade_model
 
     if not isinstance(model, (str, os.PathLike)):
         return None
     path = Path(model)
+    if path.suffix not in ("", ".toml"):
+        return None
     if not ((path.suffix == ".toml" and path.is_file()) or (MODELS_DIR / f"{path.stem}.toml").is_file()):
         return None
     return load_blade_model(model)
+
+
+def model_not_found(model) -> ParameterError:
+    """The error for a ``model`` that names nothing :func:`sweep` can run: says "not found" and
+    lists what it takes, the blade models of ``models/`` by name."""
+    from .structures.models import MODELS_DIR, blade_model_names
+
+    path = Path(model)
+    what = {".fmu": "FMU file", ".toml": "blade model file"}.get(path.suffix, "model")
+    names = blade_model_names()
+    return ParameterError(
+        f"model: {what} {str(model)!r} not found; a sweep takes 'CoulombOscillator', an existing .fmu file "
+        f"(built by 'frictionjoint build-fmus', e.g. build/CoulombOscillator.fmu), a blade model of "
+        f"{MODELS_DIR} ({', '.join(names) if names else 'none there'}) or a blade model .toml file (in Python "
+        "also a Driver or a build(omega) callable)")
+
+
+#: the parameters of a blade model definition that a sweep's ``parameters`` (and the CLI's ``--set``)
+#: set by value: the root's numbers and switch (:class:`~frictionjoint.elements.DovetailRoot`; its DOF
+#: names and contact law are the definition's) and the tip force
+BLADE_SETTINGS = ("centrifugal_force", "friction_coefficient", "flank_angle", "normal_stiffness",
+                  "tangential_stiffness", "flank_half_width", "normal_damping", "normal_load_variation",
+                  "tip_force_amplitude")
 
 
 def blade_assembly(model, parameters: dict | None = None):
@@ -394,7 +428,7 @@ def _blade_sweep(definition, omegas, parameters, direction, outputs, progress, m
     if len(outputs) != 1:
         raise ParameterError(f"outputs: one output DOF for a blade model (default its tip), got {outputs!r}")
     asm = blade_assembly(definition, parameters)
-    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = check_omegas("omegas", omegas)
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     return asm.frequency_response(ws, dof=None if outputs == ("x",) else outputs[0], progress=progress,
                                   method=method, n_harmonics=n_harmonics, check=check)
@@ -431,15 +465,11 @@ def _blade_fmu_sweep(path, omegas, parameters, direction, outputs, progress) -> 
         raise ParameterError(f"direction must be 'up' or 'down' for a blade FMU, got {direction!r}")
     if tuple(outputs) != ("x",):
         raise ParameterError("outputs: a blade FMU sweep reports its tip (outputs takes no other)")
-    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = check_omegas("omegas", omegas)
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
-    params = dict(parameters or {})
     inst = FMUInstance(path)
     try:
-        unknown = [k for k in params if k not in inst.vr or k in ("omega", "start_on_orbit")]
-        if unknown:
-            raise ParameterError(f"parameters: {unknown} are not parameters of {Path(path).name} that a sweep "
-                                 "sets (omega and start_on_orbit are the sweep's)")
+        params = _fmu_parameters(inst, path, parameters, sweeps=("omega", "start_on_orbit"))
         response, converged, diss, messages = [], [], [], []
         for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
             inst.initialize(dict(params, omega=float(w), start_on_orbit=True))
@@ -463,6 +493,35 @@ def _blade_fmu_sweep(path, omegas, parameters, direction, outputs, progress) -> 
                        converged=np.array(converged), dissipated_per_cycle=diss, messages=tuple(messages))
 
 
+def _fmu_parameters(inst, path, parameters, sweeps) -> dict:
+    """``parameters`` checked against the FMU's parameters (but ``sweeps``, which the sweep sets)
+    and converted to each variable's type: a Boolean from any way of writing a switch
+    (:func:`~frictionjoint.errors.check_bool`: ``True``, ``1``, ``'true'``, ...), an Integer from a
+    whole number, a Real from a real number -- never a silent ``bool(0.5)`` or ``int(5.5)``."""
+    from fmpy import read_model_description
+
+    settable = sorted(v.name for v in read_model_description(str(path)).modelVariables
+                      if v.causality == "parameter" and v.name not in sweeps)
+    params = dict(parameters or {})
+    unknown = sorted(k for k in params if k not in settable)
+    if unknown:
+        raise ParameterError(f"parameters: {unknown} are not parameters of {Path(path).name} that a sweep sets; "
+                             f"allowed: {settable} ({' and '.join(sweeps)} are the sweep's)")
+    out = {}
+    for name, value in params.items():
+        kind = inst.types[name]
+        if kind == "Boolean":
+            out[name] = check_bool(name, value)
+        elif kind == "Integer":
+            number = check_real(name, value)
+            if not number.is_integer():
+                raise ParameterError(f"{name} must be a whole number (an FMU Integer), got {value!r}")
+            out[name] = int(number)
+        else:
+            out[name] = check_real(name, value)
+    return out
+
+
 def _check_build(build) -> None:
     if not callable(build):
         raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
@@ -476,8 +535,9 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
     ----------
     build : callable
         ``build(omega) -> FrictionSystem`` with harmonic excitation at ``omega``.
-    omegas : sequence of float
-        Angular frequencies [rad/s], > 0.
+    omegas : str or sequence of float
+        Angular frequencies [rad/s], > 0: ``"START:STOP:N"`` or the frequencies themselves
+        (:mod:`frictionjoint.frequencies`; ``(start, stop, n)`` is refused as ambiguous).
     progress : bool
         Show a progress bar.
     peaks : bool
@@ -495,7 +555,7 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
     from .solvers.steady import periodic_response
 
     _check_build(build)
-    ws = check_grid("omegas", omegas, unit="rad/s")
+    ws = check_omegas("omegas", omegas)
     rows = []
     z = None
     for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):

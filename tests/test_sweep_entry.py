@@ -12,7 +12,7 @@ from frictionjoint.fmi.driver import FMUDriver
 from frictionjoint.results import FrequencyResponse, SystemSweep
 
 PARAMS = dict(mass=1.0, stiffness=1.0, slip_force=0.3, force_amplitude=1.0)
-OMEGAS = [0.6, 1.5, 2.0]
+OMEGAS = np.array([0.6, 1.5, 2.0])  # an array: a list of three ending in a whole number is ambiguous
 
 
 class _Counting(LibraryDriver):

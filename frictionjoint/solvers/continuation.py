@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ParameterError, check_count, check_positive, check_system
+from ..errors import ParameterError, check_count, check_system
+from ..frequencies import check_omegas
 from ..results.harmonic import HarmonicBalanceSweep
 from ..system import FrictionSystem
 from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable, truncation_error
@@ -37,16 +38,19 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     ----------
     system : FrictionSystem
         The system (its excitation is kept; ``omega`` varies).
-    omega_range : sequence of float
-        Start and end angular frequency [rad/s], > 0, different (either order); or the
-        frequencies of a sweep (the branch runs from the first to the last, ``n_points`` defaults
-        to their number; the points are the branch's own).
+    omega_range : str or sequence of float
+        Where the branch runs [rad/s], in the package's one convention (:mod:`frictionjoint.frequencies`):
+        ``"START:STOP:N"`` (from ``START`` to ``STOP``, ``n_points`` defaulting to ``N``), or
+        frequencies: two, ``(start, stop)``, or those of a sweep (from the first to the last,
+        ``n_points`` defaulting to their number). Either order; first and last > 0 and different;
+        the points are the branch's own. ``(0.5, 3.0, 40)`` could be three frequencies or a range
+        of 40: refused (write ``"0.5:3.0:40"``).
     n_harmonics : int
         ``H`` >= 1.
     n_points : int, optional
         About how many points the branch should have over the range without folds (the initial
-        step is ``1/n_points`` of the scaled range), >= 2; default 200, or the number of
-        frequencies given.
+        step is ``1/n_points`` of the scaled range), >= 2; default 200 for ``(start, stop)``, else
+        ``N`` or the number of frequencies given.
     tol : float
         Corrector tolerance, relative, in (0, 1).
     max_points : int, optional
@@ -67,16 +71,13 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     from tqdm import tqdm
 
     check_system("system", system, FrictionSystem)
-    try:
-        ws_in = np.asarray(omega_range, dtype=float).reshape(-1)
-        if ws_in.size < 2:
-            raise ValueError
-        w_a, w_b = float(ws_in[0]), float(ws_in[-1])
-    except (TypeError, ValueError):
-        raise ParameterError(f"omega_range must be a start and an end angular frequency [rad/s] (or the "
-                             f"frequencies of a sweep), got {omega_range!r}") from None
+    ws_in = check_omegas("omega_range", omega_range)
+    if ws_in.size < 2:
+        raise ParameterError(f"omega_range must hold a start and an end angular frequency [rad/s] ('START:STOP:N', "
+                             f"(start, stop) or the frequencies of a sweep), got {omega_range!r}")
+    w_a, w_b = float(ws_in[0]), float(ws_in[-1])
     if n_points is None:
-        n_points = ws_in.size if ws_in.size > 2 else 200
+        n_points = ws_in.size if isinstance(omega_range, str) or ws_in.size > 2 else 200
     if check is not True and check is not False:
         try:
             targets = np.asarray(check, dtype=float).reshape(-1)
@@ -84,8 +85,6 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
             raise ParameterError(f"check must be True, False or frequencies [rad/s], got {check!r}") from None
         if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0):
             raise ParameterError(f"check: frequencies must be finite and > 0 [rad/s], got {check!r}")
-    check_positive("omega_range[0]", w_a)
-    check_positive("omega_range[1]", w_b)
     if w_a == w_b:
         raise ParameterError("omega_range must have two different frequencies")
     hh = check_count("n_harmonics", n_harmonics, 1)

@@ -166,8 +166,9 @@ class BladeAssembly:
 
         Parameters
         ----------
-        omegas : sequence of float
-            Angular frequencies [rad/s], > 0, in the order swept.
+        omegas : str or sequence of float
+            Angular frequencies [rad/s], > 0, in the order swept: ``"START:STOP:N"`` or the
+            frequencies themselves (:mod:`frictionjoint.frequencies`).
         progress : bool
             Show a progress bar.
 
@@ -192,8 +193,10 @@ class BladeAssembly:
 
         Parameters
         ----------
-        omegas : sequence of float
-            Angular frequencies [rad/s], > 0, in the order swept.
+        omegas : str or sequence of float
+            Angular frequencies [rad/s], > 0, in the order swept: ``"START:STOP:N"`` or the
+            frequencies themselves (:mod:`frictionjoint.frequencies`; ``(start, stop, n)`` is
+            refused as ambiguous).
         dof : str, optional
             The output, a DOF of the full model or of the structure (default :attr:`tip`).
         progress : bool
@@ -223,10 +226,10 @@ class BladeAssembly:
 
         row = self._row(dof)
         if method == "hbm":
+            from ..frequencies import check_omegas
             from ..solvers.continuation import hbm_sweep
-            from ..errors import check_grid
 
-            ws = check_grid("omegas", omegas, unit="rad/s")
+            ws = check_omegas("omegas", omegas)
             if ws.size < 2:
                 raise ParameterError("omegas: the harmonic-balance branch needs a start and an end frequency")
             hb = hbm_sweep(self.system(float(ws[0])), (float(ws[0]), float(ws[-1])), n_harmonics=n_harmonics,

@@ -22,7 +22,7 @@ from pathlib import Path
 from ..errors import ParameterError
 from .beam import BeamBlade
 
-__all__ = ["BladeModel", "load_blade_model", "MODELS_DIR"]
+__all__ = ["BladeModel", "load_blade_model", "blade_model_names", "MODELS_DIR"]
 
 #: the repository's model definitions (a source checkout: next to the package)
 MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
@@ -70,6 +70,14 @@ class BladeModel:
         return BeamBlade(**dict(self.blade_parameters, **overrides))
 
 
+def _tomllib():
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python < 3.11
+        import tomli as tomllib
+    return tomllib
+
+
 def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     """Read a blade model definition: a ``.toml`` path, or the name of a file in
     :data:`MODELS_DIR` (with or without ``.toml``).
@@ -83,20 +91,16 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     -------
     BladeModel
     """
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python < 3.11
-        import tomli as tomllib
-
+    tomllib = _tomllib()
     path = Path(name_or_path)
     if not path.is_file():
         stem = path.name if path.suffix == ".toml" else f"{path.name}.toml"
         path = MODELS_DIR / stem
     if not path.is_file():
-        known = sorted(p.stem for p in MODELS_DIR.glob("*.toml")) if MODELS_DIR.is_dir() else []
-        raise ParameterError(f"name_or_path must be a blade model file or one of {known}, got {str(name_or_path)!r}")
+        raise ParameterError(f"name_or_path: blade model {str(name_or_path)!r} not found; give a .toml file or one "
+                             f"of the blade models of {MODELS_DIR}: {blade_model_names()}")
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
     unknown = set(data) - set(_SECTIONS)
@@ -120,3 +124,23 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
                        dict(data.get("root", {})), dict(data.get("excitation", {})), path)
     model.blade()  # every value checked now, with the parameter's name in the error
     return model
+
+
+def blade_model_names() -> list[str]:
+    """The names of the blade model definitions in :data:`MODELS_DIR` (its ``.toml`` files with a
+    ``[blade]`` table; structure definitions such as ``two_dof_chain`` are not blade models).
+
+    Returns
+    -------
+    list of str
+        Sorted; empty outside a source checkout.
+    """
+    tomllib = _tomllib()
+    names = []
+    for path in sorted(MODELS_DIR.glob("*.toml")) if MODELS_DIR.is_dir() else []:
+        try:
+            if "blade" in tomllib.loads(path.read_text(encoding="utf-8")):
+                names.append(path.stem)
+        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):  # not a definition: not listed
+            continue
+    return names
