@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import frictionjoint.results as results
-from frictionjoint import oscillator_sweep
+from frictionjoint import oscillator_sweep, sweep
 from frictionjoint.results import FrequencyResponse, collection_status
 
 RESULT_TYPES = [getattr(results, n) for n in results.__all__ if inspect.isclass(getattr(results, n))]
@@ -41,7 +41,7 @@ def test_collection_status():
 
 
 def test_csv_round_trip_keeps_the_analytic_curve(tmp_path):
-    fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [0.6, 1.5, 2.0])
+    fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, np.array([0.6, 1.5, 2.0]))  # three frequencies, not a range
     assert fr.status == "ok" and fr.success and fr.message == "3 of 3 points converged"
     path = tmp_path / "fr.csv"
     fr.to_csv(path)
@@ -66,3 +66,55 @@ def test_plot_takes_the_former_positional_path(tmp_path):
 def test_no_points_is_no_success():
     fr = oscillator_sweep(1.0, 1.0, 0.3, 1.0, [1.5]).select("down")  # an up sweep has no down points
     assert len(fr) == 0 and not fr.success and fr.status == "failed"
+
+
+def test_closed_form_is_compared_only_where_it_is_the_motion():
+    """Den Hartog (1931) at r = 1/2, f = 0.3: U = tan(pi/(2r))/r = 0, so X = V P0/k = 4/3 m, a
+    stop-free motion that is one member of a family; the sweep's orbit there is another member,
+    with one stop per cycle (Hong & Liu 2000: odd stop counts exist), so the closed form is not its
+    motion. The point is left out of the headline (it was counted as stop-free, error 2.5e-2, and as
+    a point with stops); r = 0.8 is compared (unique, stop-free)."""
+    from frictionjoint.analytic import den_hartog
+
+    dh = den_hartog(0.5, 0.3)
+    assert dh.regime == "stop-free" and not dh.unique and abs(dh.amplitude - 4.0 / 3.0) <= 1e-12
+    fr = sweep("CoulombOscillator", [0.5, 0.8], {"force_amplitude": 1.0, "slip_force": 0.3})
+    assert list(fr.regime) == ["stops", "stop-free"] and fr.stops_per_cycle[0] == 1 and not fr.unique[0]
+    assert abs(fr.amplitude[0] - 4.0 / 3.0) >= 1e-2  # another orbit than Den Hartog's member
+    assert list(fr.applicable) == [False, True] and list(fr.analytic_regime) == ["not unique", "stop-free"]
+    for name in ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error"):
+        assert list(np.ma.getmaskarray(getattr(fr, name))) == [True, False]
+    assert fr.max_error()[0] <= 1e-9
+    last = fr.table().splitlines()
+    assert "at 1 of 2 points (stop-free" in last[-3]
+    assert last[-2].startswith("left out: 1 point with stops (not unique")
+
+
+def test_every_point_is_compared_or_left_out_once(tmp_path):
+    """A point cannot be both stop-free and with stops: whatever the builder put in the error
+    columns, a converged orbit that is not stop-free is not compared with a stop-free closed form
+    ('not unique' for a family member, 'other orbit' for a unique orbit), and the headline's
+    compared and left-out points add up to all points; a CSV round trip keeps it."""
+    n = 5
+    err = np.ma.MaskedArray(np.full(n, 0.1), mask=[False, False, False, True, True])
+    fr = FrequencyResponse(
+        omega=np.arange(1.0, n + 1), amplitude=np.ones(n), phase=np.ones(n), harmonic_amplitude=np.ones(n),
+        stops_per_cycle=np.array([0, 1, 2, 0, 0]), stuck=np.zeros(n, bool),
+        converged=np.array([True, True, True, True, False]), unique=np.array([True, False, True, True, True]),
+        regime=np.array(["stop-free", "stops", "stops", "stop-free", "not converged"]),
+        branch=np.array(["up"] * n), periods=np.ones(n), messages=("",) * n,
+        analytic_amplitude=err.copy(), analytic_phase=err.copy(),
+        analytic_regime=np.array(["stop-free", "stop-free", "stop-free", "damped", "stop-free"]),
+        amplitude_error=err.copy(), phase_error=err.copy(), natural_frequency=1.0)
+    assert list(fr.applicable) == [True, False, False, False, False]
+    assert list(fr.analytic_regime[:3]) == ["stop-free", "not unique", "other orbit"]
+    left = fr._left_out()
+    assert sum(int(t.split()[0]) for t in left) == n - 1 == n - fr.amplitude_error.count()
+    assert left == ["1 point with stops (not unique: Den Hartog's stop-free motion is another member of the "
+                    "family of periodic orbits)",
+                    "1 point with stops (Den Hartog's stop-free motion is not the orbit found)",
+                    "1 point stop-free (damped: no closed form)",
+                    "1 point not converged (no orbit to compare)"]
+    fr.to_csv(tmp_path / "fr.csv")
+    back = FrequencyResponse.from_csv(tmp_path / "fr.csv")
+    assert list(back.analytic_regime) == list(fr.analytic_regime) and back._left_out() == left

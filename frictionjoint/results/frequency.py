@@ -83,11 +83,15 @@ class FrequencyResponse(PointsContract):
         The solver's message per point.
     analytic_amplitude, analytic_phase : (n,) masked ndarray
         Closed-form amplitude [m] and first-harmonic phase lag [rad]; masked where the closed
-        form is not the motion.
+        form is not the motion: where it has no stop-free motion, and where the simulated orbit
+        is not stop-free although it has one (the point's regime cannot be both).
     analytic_regime : (n,) ndarray of str
         Why the closed form applies or not: ``'stop-free'`` (applies), ``'stops'``,
-        ``'unbounded'``, ``'stuck'``, ``'damped'`` (no closed form with viscous damping) or
-        ``'none'`` (no analytic model).
+        ``'unbounded'``, ``'stuck'``, ``'damped'`` (no closed form with viscous damping),
+        ``'none'`` (no analytic model), ``'not unique'`` (a stop-free closed form exists, but the
+        periodic orbit is one of a family, e.g. at ``r = 1/(2n)``, and the member found has stops)
+        or ``'other orbit'`` (a stop-free closed form exists, but the orbit found, unique, is not
+        stop-free).
     amplitude_error, phase_error : (n,) masked ndarray
         ``|amplitude - analytic| / analytic`` and ``|wrap(phase - analytic)| / |analytic|``
         [-]; masked where the closed form does not apply or the point did not converge.
@@ -123,6 +127,22 @@ class FrequencyResponse(PointsContract):
     analytic_name: str = "Den Hartog"
     parameters: dict = field(default_factory=dict)
     harmonics: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self):
+        # The closed form is the motion only where the simulated orbit is stop-free too: where a
+        # stop-free closed form exists but the orbit found has stops (at r = 1/(2n) the steady
+        # state is a family, and a member with one stop per cycle is as periodic as Den Hartog's),
+        # comparing the two measures the distance between two different orbits.
+        other = (np.asarray(self.converged, bool) & (np.asarray(self.regime) != "stop-free")
+                 & (np.asarray(self.analytic_regime) == "stop-free"))
+        if np.any(other):
+            for name in _MASKED_COLUMNS:
+                col = np.ma.array(getattr(self, name), copy=True)
+                col[other] = np.ma.masked
+                setattr(self, name, col)
+            words = np.asarray(self.analytic_regime).astype(object)
+            words[other] = np.where(np.asarray(self.unique, bool)[other], "other orbit", "not unique")
+            self.analytic_regime = words.astype(str)
 
     # ------------------------------------------------------------ views
     def __len__(self) -> int:
@@ -212,10 +232,13 @@ class FrequencyResponse(PointsContract):
 
         With ``compare`` (the default): branch, omega, r, amplitude, analytic amplitude,
         relative error, stops per cycle. Where the closed form is not the motion the error
-        column holds the regime word (``stops``, ``unbounded``, ``stuck``, ``damped``); where
-        the simulation found no periodic orbit the amplitude column says ``unbounded`` or
-        ``no conv.``; ``*`` marks an orbit that is one of a family (not unique). The table of
-        :meth:`harmonics_table` follows when outputs other than ``x`` were recorded.
+        column holds the word of :attr:`analytic_regime` (``stops``, ``unbounded``, ``stuck``,
+        ``damped``, ``not unique``, ...); where the simulation found no periodic orbit the
+        amplitude column says ``unbounded`` or ``no conv.``; ``*`` marks an orbit that is one of a
+        family (not unique). Below it, the largest errors over the compared points (stop-free in
+        the closed form and in the simulation) and the points left out, counted by what the
+        simulation found and why (each point once). The table of :meth:`harmonics_table` follows
+        when outputs other than ``x`` were recorded.
 
         Without ``compare``: only the simulated numbers (:meth:`harmonics_table`).
 
@@ -299,20 +322,39 @@ class FrequencyResponse(PointsContract):
         amp_err, ph_err = self.max_error()
         n_app = int(np.count_nonzero(~np.ma.getmaskarray(self.amplitude_error)))
         if amp_err is not None:
-            lines.append(f"max rel. error vs {name} at {n_app} stop-free points: amplitude "
-                         f"{amp_err:.1e}, phase {ph_err:.1e}")
-        words = {"stops": "with stops", "stuck": "permanently stuck",
-                 "unbounded": "growing without bound", "not converged": "not converged"}
-        extra = []
-        for word, text in words.items():
-            n = int(np.count_nonzero(self.regime == word))
-            if n:
-                extra.append(f"{n} point{'' if n == 1 else 's'} {text}")
-        if extra:
-            lines.append(", ".join(extra) + " (simulation only: no closed form there)")
+            lines.append(f"max rel. error vs {name} at {n_app} of {len(self)} points (stop-free, where the "
+                         f"closed form is the motion): amplitude {amp_err:.1e}, phase {ph_err:.1e}")
+        left = self._left_out()
+        if left:
+            lines.append("left out: " + ", ".join(left))
         if not np.all(self.unique):
             lines.append("* not unique: one member of a family of periodic orbits")
         return "\n".join(lines)
+
+    def _left_out(self) -> list[str]:
+        """The points the compare table's headline leaves out, grouped by what the simulation found
+        and why the closed form is not that motion: ``'2 points with stops (not unique: ...)'``;
+        with the compared points they count every point once."""
+        found = {"stop-free": "stop-free", "stops": "with stops", "stuck": "permanently stuck",
+                 "unbounded": "growing without bound", "not converged": "not converged"}
+        why = {"not unique": f"not unique: {self.analytic_name}'s stop-free motion is another member of the "
+                             "family of periodic orbits",
+               "other orbit": f"{self.analytic_name}'s stop-free motion is not the orbit found",
+               "damped": "damped: no closed form", "none": "no analytic model"}
+        groups: dict = {}
+        for i in np.flatnonzero(np.ma.getmaskarray(self.amplitude_error)):
+            sim, ana = str(self.regime[i]), str(self.analytic_regime[i])
+            if ana in why:
+                reason = why[ana]
+            elif sim == "not converged":
+                reason = "no orbit to compare"
+            elif sim != "stop-free":
+                reason = "simulation only: no closed form there"
+            else:  # stop-free, but the closed form has none (at a boundary of its regime)
+                reason = f"{self.analytic_name}: {ana}"
+            key = (found.get(sim, sim), reason)
+            groups[key] = groups.get(key, 0) + 1
+        return [f"{n} point{'' if n == 1 else 's'} {text} ({reason})" for (text, reason), n in groups.items()]
 
     def to_csv(self, path: str | os.PathLike) -> None:
         """Write one row per point; masked entries are empty cells, floats round-trip exactly.
