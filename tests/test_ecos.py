@@ -87,6 +87,23 @@ def test_a_failed_run_says_so_when_its_values_are_read(tmp_path):
         assert "failed" in str(exc.value) and r.message in str(exc.value)
 
 
+def test_a_relative_ssp_path_is_from_the_callers_folder(fmus, tmp_path, monkeypatch):
+    """``run_ecos("osc.ssp", ...)`` and ``ecos_cli("osc.ssp", ...)`` from the folder holding it:
+    Ecos runs in another folder (a temporary one, the CSV's), where the relative path named
+    nothing (the run failed: Ecos could not initialise)."""
+    from frictionjoint.fmi.ecos import ecos_cli, run_ecos
+
+    s = FMUSystem({"osc": fmus["CoulombOscillator"]}, [], {"osc": dict(slip_force=0.3, omega=1.5)})
+    s.to_ssp(tmp_path / "osc.ssp")
+    monkeypatch.chdir(tmp_path)
+    r = run_ecos("osc.ssp", 1.0, 0.1, ["osc.x"], timeout=120)
+    assert r.success, r.message
+    assert np.max(np.abs(r["osc.x"] - s.simulate(1.0, 0.1, ["osc.x"])["osc.x"])) <= 1e-12  # same motion
+    p = ecos_cli("osc.ssp", 1.0, 0.1, "out", debug=False, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert len((tmp_path / "out" / "osc.csv").read_text().strip().splitlines()) == 12  # header, t = 0, ten steps
+
+
 def relative(a, b):
     return np.max(np.abs(np.asarray(a) - np.asarray(b))) / max(np.max(np.abs(b)), 1e-300)
 

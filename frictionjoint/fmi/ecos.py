@@ -312,7 +312,11 @@ def _main(argv) -> None:
     EcosLib, EcosSimulation = ecospy.EcosLib, ecospy.EcosSimulation
     EcosLib.set_log_level("warn")
     names = [o.replace(".", "::", 1) for o in outputs]
-    sim = EcosSimulation(ssp_path=ssp, step_size=h)
+    try:
+        sim = EcosSimulation(ssp_path=ssp, step_size=h)
+    except Exception as exc:  # noqa: BLE001 -- ecospy raises a bare Exception with Ecos's last error
+        print(json.dumps({"ok": False, "message": f"Ecos could not load {ssp}: {exc}"}))
+        return
     if not sim.init(t0, "initialValues"):
         print(json.dumps({"ok": False, "message": f"Ecos could not initialise: {EcosLib.get_last_error()}"}))
         return
