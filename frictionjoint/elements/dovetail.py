@@ -59,6 +59,7 @@ from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..structure import LinearStructure
 from .base import Attachment, Contact, Slider
 from .driven import DrivenSliders
+from .iwan import check_n_sliders
 from .jenkins import Jenkins
 
 __all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail", "FLANK_OUTPUTS"]
@@ -137,7 +138,7 @@ class DovetailRoot:
         flank) with ``slip_force == mu normal_load`` and ``to_iwan(n_sliders)``; each flank is
         then the discrete Iwan element of that contact at the static normal load.
     n_sliders : int
-        Sliders per microslip flank, >= 1.
+        Sliders per microslip flank, in ``[1, MAX_SLIDERS]`` (:data:`~frictionjoint.elements.iwan.MAX_SLIDERS`).
     """
 
     def __init__(self, centrifugal_force: float, flank_angle: float, friction_coefficient: float,
@@ -184,8 +185,7 @@ class DovetailRoot:
         else:
             if not callable(flank_contact):
                 raise ParameterError("flank_contact must be a callable normal_load -> contact")
-            if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
-                raise ParameterError(f"n_sliders must be an integer >= 1, got {n_sliders!r}")
+            n_sliders = check_n_sliders("n_sliders", n_sliders)
             kt = check_positive("tangential_stiffness", tangential_stiffness) \
                 if tangential_stiffness is not None else None
             # the flank stiffness sets the static N0 (stuck run-up) and the contact at N0 sets the

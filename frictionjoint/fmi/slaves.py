@@ -6,6 +6,23 @@ located inside the step, so outputs at a communication point do not depend on th
 step), and :class:`~frictionjoint.elements.driven.DrivenSliders` for displacement-driven joints.
 Inputs are held over a step (zero-order hold). The whole internal state is deep-copied for FMU
 state get/set and pickled for serialisation.
+
+Statuses under pythonfmu 0.7.0's wrapper (``PySlaveInstance.cpp``, ``fmi2.cpp``): a Python exception
+in any call becomes ``fmi2Fatal`` (``handle_py_exception`` throws ``fatal_error``), and ``do_step``
+returning False becomes ``fmi2Discard`` (lastSuccessfulTime = the step's start, the state
+unchanged). A slave cannot return ``fmi2Error``. So a step the slave refuses (a negative or
+non-finite step, a step after ``fmi2Terminate``, an invalid input, a step beyond the march's
+budget) logs the reason at status error and returns False: ``fmi2Discard``, the instance stays
+usable. An invalid parameter raises at ``fmi2ExitInitializationMode`` (``fmi2Fatal`` with the
+message; :class:`~frictionjoint.fmi.wrapper.BalancedSlave` keeps the instance alive for a reset).
+The wrapper forwards log messages to the host only with debug logging on (``loggingOn`` or
+``fmi2SetDebugLogging``).
+
+A step answers in bounded time: the runs (:class:`CoulombOscillatorSlave`,
+:class:`BladeDovetailSlave`) march at most :attr:`_RunSlave.max_cycles` cycles of the excitation
+and of the structure per step, event by event; beyond, the oscillator skips whole periods once its
+motion is periodic (the state at a later time is the orbit's, exactly) and the blade refuses. The
+driven joints' steps cost one update whatever their length.
 """
 from __future__ import annotations
 
@@ -18,6 +35,7 @@ import pickle
 from collections import OrderedDict
 from typing import NamedTuple, Optional
 
+import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
 
@@ -27,8 +45,8 @@ from pythonfmu.enums import Fmi2Status
 from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
 from ..elements.dovetail import FLANK_OUTPUTS, DovetailRoot
 from ..elements.driven import DrivenSliders
-from ..elements.iwan import Iwan
-from ..errors import ParameterError, check_positive
+from ..elements.iwan import Iwan, check_n_sliders
+from ..errors import ConvergenceError, ParameterError, check_positive
 from ..solvers.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 from ..structure_file import StructureDefinition
@@ -46,6 +64,8 @@ STRUCTURE_RESOURCE = "structure.json"
 BLADE_RESOURCE = "blade_model.toml"
 
 _TYPES = {float: Real, int: Integer, bool: Boolean}
+#: the range of an FMI 2.0 Integer (fmi2Integer is a C int)
+_FMI_INTEGER_MAX = 2 ** 31 - 1
 
 
 class _Declaration(NamedTuple):
@@ -88,6 +108,7 @@ class _Slave(BalancedSlave):
         super().__init__(**kwargs)
         self.start_time = 0.0
         self._ready = False
+        self._terminated = False
 
     # -- declarations ------------------------------------------------------
     def _parameter(self, name, start, description, kind=float):
@@ -148,7 +169,16 @@ class _Slave(BalancedSlave):
         out = []
         for vr in vrs:
             d = self._declaration(vr, kind)
-            out.append(kind(getattr(self, d.name) if d.method is None else getattr(self, d.method)(*d.args)))
+            value = kind(getattr(self, d.name) if d.method is None else getattr(self, d.method)(*d.args))
+            # never a value the host would take for an answer: inf/NaN, or a count that the C int of
+            # fmi2Integer would wrap (an exception: fmi2Fatal with this message)
+            if kind is float and not math.isfinite(value) and d.method is not None:
+                raise ParameterError(f"output {d.name} is not finite ({value!r}): the inputs or parameters "
+                                     "are beyond what the model resolves in floating point")
+            if kind is int and not -_FMI_INTEGER_MAX - 1 <= value <= _FMI_INTEGER_MAX:
+                raise ParameterError(f"{d.name} = {value} is beyond the range of an FMI Integer "
+                                     f"[{-_FMI_INTEGER_MAX - 1}, {_FMI_INTEGER_MAX}]")
+            out.append(value)
         return out
 
     def _set_values(self, vrs, values, kind):
@@ -188,13 +218,29 @@ class _Slave(BalancedSlave):
             raise
         self._ready = True
 
+    def terminate(self):
+        self._terminated = True
+
+    def _refuse(self, message: str) -> bool:
+        """Log ``message`` at status error and refuse the step (``fmi2Discard``: pythonfmu's only
+        non-fatal bad status for a step; the state is that of the step's start)."""
+        self.log(message, status=Fmi2Status.error)
+        return False
+
     def do_step(self, current_time, step_size):
+        if self._terminated:
+            return self._refuse("do_step after terminate: the instance has ended its run (fmi2Reset "
+                                "starts a new one)")
+        if not (math.isfinite(current_time) and math.isfinite(step_size)):
+            return self._refuse(f"do_step needs a finite currentCommunicationPoint and "
+                                f"communicationStepSize, got {current_time!r}, {step_size!r}")
+        if step_size < 0:
+            return self._refuse(f"communicationStepSize must be >= 0 s, got {step_size!r}")
         # a host that ignores the error status of exitInitializationMode (Ecos does) steps on: an
         # error status (fmi2Discard) with the reason, not an exception on an unbuilt model
         if not self._ready:
-            self.log("do_step on an instance that was not initialised (see the error of "
-                     "exitInitializationMode)", status=Fmi2Status.error)
-            return False
+            return self._refuse("do_step on an instance that was not initialised (see the error of "
+                                "exitInitializationMode)")
         return self._do_step(current_time, step_size)
 
     def _get_fmu_state(self):
@@ -230,9 +276,17 @@ class _RunSlave(_Slave):
 
     #: the input the run holds over a step
     _held = ""
+    #: the most cycles (:meth:`_cycle_rate` times the step) one step marches event by event: a few
+    #: seconds of work at the densest events measured (see the subclasses)
+    max_cycles = 0.0
 
     def _idle(self, name):
         """An output before initialisation."""
+        raise NotImplementedError
+
+    def _cycle_rate(self) -> float:
+        """Cycles per second [1/s] of the excitation and of the structure's natural frequency:
+        a bound on the rate of events of a march, up to a small factor."""
         raise NotImplementedError
 
     def _out(self, name):
@@ -242,10 +296,23 @@ class _RunSlave(_Slave):
         try:
             self._run.hold(getattr(self, self._held))
         except ParameterError as exc:
-            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
-            return False
-        self._run.advance(current_time + step_size)
+            return self._refuse(f"invalid input: {exc}")
+        t_end = current_time + step_size
+        if t_end > self._run.t and (t_end - self._run.t) * self._cycle_rate() > self.max_cycles:
+            return self._long_step(t_end)
+        self._run.advance(t_end)
         return True
+
+    def _too_long(self, t_end) -> str:
+        """Why a step to ``t_end`` is not marched event by event."""
+        rate = self._cycle_rate()
+        return (f"a step to t = {t_end!r} s spans {(t_end - self._run.t) * rate:.3g} cycles of the excitation "
+                f"and of the structure ({rate:.3g} per s); one step marches at most {self.max_cycles:.3g} "
+                "event by event, to answer in bounded time: take shorter steps")
+
+    def _long_step(self, t_end) -> bool:
+        """A step beyond :attr:`max_cycles`: refused (the oscillator skips periods instead)."""
+        return self._refuse(self._too_long(t_end))
 
     def _snapshot(self):
         return None if self._run is None else self._run.snapshot()
@@ -262,6 +329,10 @@ class CoulombOscillatorSlave(_RunSlave):
     description = ("Mass on a Coulomb friction surface (exact stick/slip, Hong & Liu stop rules), spring to a "
                    "harmonically moving base; events located exactly inside do_step")
     _held = "force"
+    # 35-50 us per period of the README's case (2 to 4 events): 1e5 cycles, 6e4 periods, take ~3 s
+    max_cycles = 1e5
+    #: relative distance from the periodic orbit below which the march skips whole periods
+    periodic_tolerance = 1e-9
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -278,6 +349,82 @@ class CoulombOscillatorSlave(_RunSlave):
 
     def _idle(self, name):
         return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())
+
+    def _cycle_rate(self):
+        p = self._run.parameters
+        return (p["omega"] + math.sqrt(p["stiffness"] / p["mass"])) / (2 * math.pi)
+
+    def _long_step(self, t_end):
+        """March period by period until the motion is periodic (:meth:`_periodic`), skip the whole
+        periods up to ``t_end`` (the state after them is the same, the cumulative outputs grow by
+        the last period's increments) and march the rest; refused when the motion is not periodic
+        within the step's budget or the counts would leave the FMI Integer range."""
+        run = self._run
+        period = 2 * math.pi / run.parameters["omega"]
+        budget = int(self.max_cycles // (period * self._cycle_rate())) - 2  # two left for the rest
+        if budget < 1:
+            return self._refuse(self._too_long(t_end) + " (a period alone exceeds the budget: no period can "
+                                "be skipped)")
+        start = run.snapshot()
+        t0 = run.t
+        for k in range(1, budget + 1):
+            before = run.snapshot()
+            run.advance(t0 + k * period)  # t0 + k T, not accumulated
+            after = run.snapshot()
+            if self._periodic(before, after):
+                break
+        else:
+            message = (self._too_long(t_end) + f"; the motion did not become periodic within {budget} periods "
+                       "(whole periods are skipped once it is; start_on_orbit starts on the orbit)")
+            run.restore(start)
+            return self._refuse(message)
+        m = math.floor((t_end - t0) / period)
+        while m > k and t0 + m * period > t_end:
+            m -= 1
+        skip = m - k
+        events = [a - b for a, b in zip(after["events"], before["events"])]
+        # the counts at t_end: the skipped periods and at most two more marched
+        if after["events"][0] + (skip + 2) * events[0] > _FMI_INTEGER_MAX:
+            run.restore(start)
+            return self._refuse(f"a step to t = {t_end!r} s would count about {(m + 2) * events[0]:.3g} events "
+                                f"({events[0]} per period), beyond the range of the FMI Integer output "
+                                f"event_count ({_FMI_INTEGER_MAX}): take shorter steps")
+        if skip > 0:
+            state = dict(after)
+            state["t"] = t0 + m * period
+            state["diss"] = after["diss"] + skip * (after["diss"] - before["diss"])
+            state["integrals"] = after["integrals"] + skip * (after["integrals"] - before["integrals"])
+            state["events"] = tuple(a + skip * d for a, d in zip(after["events"], events))
+            run.restore(state)  # x, v, status, the velocity scale and peak_x: those of the period's end
+        run.advance(t_end)
+        return True
+
+    def _periodic(self, before, after) -> bool:
+        """Whether the state ``after`` one period from ``before`` (run snapshots) is on an attracting
+        periodic orbit: the same held force and slip status, and the same state bit for bit, or
+        within :attr:`periodic_tolerance` (or the resolution of the phase ``omega t`` in floating
+        point, if coarser) of the orbit, its distance estimated from the one-period return
+        ``|z1 - z0| / (1 - rho)`` with ``rho`` the spectral radius of the exact monodromy."""
+        if after["status"] != before["status"] or after["force"] != before["force"] or after["resettle"]:
+            return False
+        w = self._run.parameters["omega"]
+        gap = max(abs(after["x"] - before["x"]), abs(after["v"] - before["v"]) / w)
+        if gap == 0.0:
+            return True
+        scale = max(abs(after["x"]), abs(after["v"]) / w)
+        tol = scale * (self.periodic_tolerance + 64 * math.ulp(w * after["t"]))
+        if not gap <= tol:  # (NaN: not periodic)
+            return False
+        run = self._run
+        try:
+            jac = run.osc.monodromy(after["t"], after["x"] - after["force"] / run.parameters["stiffness"],
+                                    after["v"])
+        except (ConvergenceError, ParameterError):
+            return False
+        if jac is None:
+            return False
+        rho = float(max(abs(np.linalg.eigvals(jac))))
+        return rho < 1.0 and gap <= tol * (1.0 - rho)
 
 
 class _DrivenSlave(_Slave):
@@ -608,6 +755,9 @@ class BladeDovetailSlave(_RunSlave):
                    "centrifugal load, harmonic tip force; exact event-driven stick/slip (and lift-off with "
                    "normal_load_variation) located inside do_step")
     _held = "tip_force"
+    # about 2 ms per period of the default blade with slipping flanks (8 events), 2.6 cycles per
+    # period: 5000 cycles take ~4 s
+    max_cycles = 5000.0
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -622,6 +772,12 @@ class BladeDovetailSlave(_RunSlave):
     def _initialise(self):
         params = {k: getattr(self, k) for k in blade_parameters(self._model)}
         self._run = BladeRun(self._model, params, start_time=self.start_time, tip_force=self.tip_force)
+        freqs = self._run.system.structure.natural_frequencies()
+        positive = freqs[freqs > 0]
+        self._natural = float(positive[0]) if positive.size else 0.0
+
+    def _cycle_rate(self):
+        return (self._run.parameters["omega"] + self._natural) / (2 * math.pi)
 
     def _idle(self, name):
         return BLADE_OUTPUTS[name][0]()
