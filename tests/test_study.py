@@ -16,60 +16,69 @@ from frictionjoint.results import StudyTable
 from frictionjoint.study import Grid, Random, Study, Values, evaluate_point, load_study, quantities, run_study
 
 # a small study: the blade at two root loads x two random friction coefficients, a short sweep
-SMALL = dict(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4),
+SMALL = dict(model="ti64_compressor_blade", omega="1990:2060:4",
              vary={"centrifugal_force": Values((109.0, 259.0)),
                    "friction_coefficient": Random("uniform", (("loc", 0.25), ("scale", 0.1)))},
              n_samples=2, seed=5, refine_peak=False)
 
 
+BLADE = "ti64_compressor_blade"
+
+
 def test_points_product_and_seeded_samples():
     """Grids and lists form a Cartesian product (first parameter slowest), random parameters are
     n draws from default_rng(seed), the same for every grid point; another seed other draws."""
-    st = Study(model="m", omega=(1.0, 2.0, 3),
-               vary={"a": Grid(1.0, 100.0, 3, "log"), "b": Values((5.0, 6.0)),
-                     "c": Random("norm", (("loc", 0.0), ("scale", 1.0)))}, n_samples=4, seed=11)
+    st = Study(model=BLADE, omega="1:2:3",
+               vary={"centrifugal_force": Grid(1.0, 100.0, 3, "log"), "flank_angle": Values((0.5, 0.6)),
+                     "friction_coefficient": Random("norm", (("loc", 0.3), ("scale", 0.01)))}, n_samples=4, seed=11)
     pts = st.points()
-    assert len(pts) == 3 * 2 * 4 and list(pts[0]) == ["a", "b", "c"]
-    assert [p["a"] for p in pts[::8]] == pytest.approx([1.0, 10.0, 100.0])
-    draws = np.random.default_rng(11).standard_normal(4)
-    assert [p["c"] for p in pts[:4]] == list(draws) == [p["c"] for p in pts[4:8]]
-    assert Study(**{**vars(st), "seed": 12}).points()[0]["c"] != pts[0]["c"]
-    assert st.fingerprint() == Study(**vars(st)).fingerprint() != Study(**{**vars(st), "seed": 12}).fingerprint()
+    assert len(pts) == 3 * 2 * 4 == st.n_points
+    assert list(pts[0]) == ["centrifugal_force", "flank_angle", "friction_coefficient"]
+    assert [p["centrifugal_force"] for p in pts[::8]] == pytest.approx([1.0, 10.0, 100.0])
+    draws = 0.3 + 0.01 * np.random.default_rng(11).standard_normal(4)
+    assert [p["friction_coefficient"] for p in pts[:4]] == pytest.approx(list(draws), rel=1e-15)
+    assert [p["friction_coefficient"] for p in pts[:4]] == [p["friction_coefficient"] for p in pts[4:8]]
+    again = dict(vars(st), omega="1:2:3")
+    assert Study(**{**again, "seed": 12}).points()[0]["friction_coefficient"] != pts[0]["friction_coefficient"]
+    assert st.fingerprint() == Study(**again).fingerprint() != Study(**{**again, "seed": 12}).fingerprint()
+    # the same frequencies written as a range or listed are the same study
+    assert Study(**{**again, "omega": np.linspace(1.0, 2.0, 3)}).fingerprint() == st.fingerprint()
 
 
 def test_bad_definitions_name_the_parameter(tmp_path):
+    one = {"centrifugal_force": Values((100.0,))}
     with pytest.raises(ParameterError, match="vary.x.num"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(1.0, 2.0, 0)}).points()
-    with pytest.raises(ParameterError, match="vary.x.distribution"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("gaussian")}).points()
-    with pytest.raises(ParameterError, match="vary.x: bad parameters"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("uniform", (("width", 1.0),))}).points()
+        Study(model=BLADE, omega="1:2:3", vary={"x": Grid(1.0, 2.0, 0)})
+    with pytest.raises(ParameterError, match="vary.friction_coefficient.distribution"):
+        Study(model=BLADE, omega="1:2:3", vary={"friction_coefficient": Random("gaussian")})
+    with pytest.raises(ParameterError, match="vary.friction_coefficient: bad parameters"):
+        Study(model=BLADE, omega="1:2:3", vary={"friction_coefficient": Random("uniform", (("width", 1.0),))})
     with pytest.raises(ParameterError, match="omega"):
-        Study(model="m", omega=(2.0, 2.0, 3), vary={"x": Values((1.0,))})
+        Study(model=BLADE, omega="0:2:3", vary=one)
     with pytest.raises(ParameterError, match="log grid"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(-1.0, 2.0, 3, "log")}).points()
+        Study(model=BLADE, omega="1:2:3", vary={"centrifugal_force": Grid(-1.0, 2.0, 3, "log")})
     bad = tmp_path / "bad.toml"
-    bad.write_text('model = "m"\n[sweep]\nomega = [1.0, 2.0, 3]\n[vary.x]\nstart = 1.0\n')
+    bad.write_text(f'model = "{BLADE}"\n[sweep]\nomega = "1:2:3"\n[vary.x]\nstart = 1.0\n')
     with pytest.raises(ParameterError, match="vary.x needs"):
         load_study(bad)
-    bad.write_text('model = "m"\nfoo = 1\n')
+    bad.write_text(f'model = "{BLADE}"\nfoo = 1\n')
     with pytest.raises(ParameterError, match="unknown keys"):
         load_study(bad)
-    for text, name in (('model = "m"\nfixed = 3\n', r"\[fixed\]"), ('model = "m"\ntable = 5\n', "table"),
-                       ('model = "m"\n[sweep]\nomega = 3\n', "omega"),
-                       ('model = "m"\n[sweep]\nomega = [1.0, 2.0, 3]\n[vary.x]\nvalues = 2\n', "vary.x.values")):
+    for text, name in ((f'model = "{BLADE}"\nfixed = 3\n', r"\[fixed\]"), (f'model = "{BLADE}"\ntable = 5\n', "table"),
+                       (f'model = "{BLADE}"\n[sweep]\nomega = "a:2:3"\n', "omega"),
+                       (f'model = "{BLADE}"\n[sweep]\nomega = [1990.0, 2060.0, 4]\n', "'1990.0:2060.0:4'"),
+                       (f'model = "{BLADE}"\n[sweep]\nomega = "1:2:3"\n[vary.x]\nvalues = 2\n', "vary.x.values")):
         bad.write_text(text)
         with pytest.raises(ParameterError, match=name):
             load_study(bad)
-    with pytest.raises(ParameterError, match="vary.x: parameters"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Random("uniform", (("scale", -1.0),))}).points()
+    with pytest.raises(ParameterError, match="vary.friction_coefficient: parameters"):
+        Study(model=BLADE, omega="1:2:3", vary={"friction_coefficient": Random("uniform", (("scale", -1.0),))})
     with pytest.raises(ParameterError, match="omega"):
-        Study(model="m", omega=(1.0, 2.0, 3.7), vary={"x": Values((1.0,))})
+        Study(model=BLADE, omega=(1.0, 2.0, 3.7, 0.0), vary=one)
     with pytest.raises(ParameterError, match="column"):
-        Study(model="m", omega=(1.0, 2.0, 3), vary={"status": Values((1.0,))})
+        Study(model=BLADE, omega="1:2:3", vary={"status": Values((1.0,))})
     with pytest.raises(ParameterError, match="scheduler"):
-        run_study(Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}), tmp_path / "t.csv",
-                  scheduler="notanaddress")
+        run_study(Study(model=BLADE, omega="1:2:3", vary=one), tmp_path / "t.csv", scheduler="notanaddress")
 
 
 def test_half_power_damping_ratio_of_a_linear_oscillator():
@@ -108,7 +117,7 @@ def test_row_equals_a_direct_sweep_and_refined_peak():
     parameters), and the refined peak is the assembly's peak between the sweep's points."""
     from frictionjoint.sweep import blade_assembly
 
-    task = dict(point=0, model="ti64_compressor_blade", omega=(1990.0, 2060.0, 5), fixed={"tip_force_amplitude": 1.0},
+    task = dict(point=0, model="ti64_compressor_blade", omega="1990:2060:5", fixed={"tip_force_amplitude": 1.0},
                 varied={"centrifugal_force": 259.0}, direction="up", method="time", harmonics=7, refine=True)
     row = evaluate_point(task)
     fr = fj.sweep("ti64_compressor_blade", np.linspace(1990.0, 2060.0, 5), {"centrifugal_force": 259.0})
@@ -122,7 +131,7 @@ def test_row_equals_a_direct_sweep_and_refined_peak():
 
 def test_failed_point_is_a_row_and_the_study_finishes(tmp_path):
     """A parameter outside its range fails its point only: the row says why."""
-    st = Study(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4),
+    st = Study(model="ti64_compressor_blade", omega="1990:2060:4",
                vary={"centrifugal_force": Values((259.0, -5.0))}, refine_peak=False)
     tab = run_study(st, tmp_path / "t.csv", workers=1)
     assert list(tab["status"]) == ["ok", "failed"]
@@ -211,7 +220,7 @@ def test_cli_study_and_plots(tmp_path):
 
     f = tmp_path / "curve.toml"
     f.write_text('model = "ti64_compressor_blade"\ntable = "curve.csv"\n[vary.centrifugal_force]\nvalues = [109.0, 259.0]\n'
-                 '[sweep]\nomega = [1990.0, 2060.0, 4]\nrefine_peak = false\n')
+                 '[sweep]\nomega = "1990:2060:4"\nrefine_peak = false\n')
     assert main(["study", str(f), "--workers", "1", "--plot", str(tmp_path / "curve.png"), "--no-progress"]) == 0
     tab = StudyTable.read(tmp_path / "curve.csv")
     assert len(tab) == 2 and np.all(tab.ok)
@@ -223,7 +232,7 @@ def test_cli_study_and_plots(tmp_path):
     assert q[5.0] <= q[50.0] <= q[95.0]
     again = StudyTable.read(tmp_path / "mc.csv")  # the CSV's first line keeps the random parameters
     assert again.random == ("friction_coefficient",) and len(again.plot().axes) == 2
-    grid = Study(model="ti64_compressor_blade", omega=(1990.0, 2060.0, 4), refine_peak=False,
+    grid = Study(model="ti64_compressor_blade", omega="1990:2060:4", refine_peak=False,
                  vary={"centrifugal_force": Values((109.0, 259.0)), "friction_coefficient": Values((0.25, 0.35))})
     fig = run_study(grid, tmp_path / "grid.csv", workers=1).plot(path=tmp_path / "grid.png")
     assert fig.axes[0].get_xlabel() == "centrifugal_force" and fig.axes[0].get_ylabel() == "friction_coefficient"
@@ -235,7 +244,7 @@ def test_study_of_the_blade_fmu_equals_the_library_study(tmp_path, fmus):
     """The model may be an FMU: a study of BladeDovetail.fmu (through fmpy) gives the rows of the
     same study of the library's blade definition (peaks taken at the sweep's points, as an FMU's
     cannot be refined in the library) to 1e-8."""
-    common = dict(omega=(2000.0, 2040.0, 2), refine_peak=False,
+    common = dict(omega="2000:2040:2", refine_peak=False,
                   vary={"centrifugal_force": Values((259.0, 1458.0))})
     fmu = run_study(Study(model=str(fmus["BladeDovetail"]), **common), tmp_path / "fmu.csv", workers=2)
     lib = run_study(Study(model="ti64_compressor_blade", **common), tmp_path / "lib.csv", workers=1)
@@ -257,7 +266,7 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
 
     f = tmp_path / "s.toml"
     f.write_text('model = "ti64_compressor_blade"\n[vary.centrifugal_force]\nstart = 100.0\nstop = 1000.0\nnum = 8\n'
-                 '[sweep]\nomega = [1990.0, 2060.0, 6]\nrefine_peak = false\n')
+                 '[sweep]\nomega = "1990:2060:6"\nrefine_peak = false\n')
     table = tmp_path / "s.csv"
     cmd = [sys.executable, "-m", "frictionjoint", "study", str(f), "--workers", "2", "--no-progress"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -285,7 +294,7 @@ def test_harmonic_balance_point_refines_its_peak_on_the_balance():
     frequency gives the same amplitude."""
     from frictionjoint.sweep import blade_assembly
 
-    task = dict(point=0, model="ti64_compressor_blade", omega=(1990.0, 2060.0, 10), fixed={},
+    task = dict(point=0, model="ti64_compressor_blade", omega="1990:2060:10", fixed={},
                 varied={"centrifugal_force": 259.0}, direction="up", method="hbm", harmonics=5, refine=True)
     row = evaluate_point(task)
     assert row["status"] == "ok" and row["slipping_at_peak"] is True

@@ -67,33 +67,68 @@ def _parse(column: str, text: str):
     return float(text)
 
 
-def read_csv_rows(path: str | os.PathLike) -> tuple[str | None, list[str], list[str], list[dict]]:
-    """``(fingerprint, random, columns, rows)`` of a CSV study table; a last line cut short (no
-    newline: the runner was stopped while writing it) is dropped."""
-    with open(path, newline="", encoding="utf-8") as f:
-        text = f.read()
-    fingerprint, random = None, []
+def read_csv_rows(path: str | os.PathLike, columns=None) -> tuple[str | None, list[str], list[str], list[dict]]:
+    """``(fingerprint, random, columns, rows)`` of a CSV study table.
+
+    A last line cut short (no newline: the runner was stopped while writing it) is dropped; a
+    byte-order mark and Windows line ends (a file saved by a Windows editor) are read through.
+    Anything else that is not a row is refused, never skipped: finished rows are not lost silently.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    columns : sequence of str, optional
+        The columns the table should have (the runner's): a table whose column line was lost is
+        read with them.
+
+    Raises
+    ------
+    ParameterError
+        The file is not UTF-8, has no column line (and ``columns`` is not given), or holds a whole
+        line that is not a row of the table (the message gives the line's number and why).
+    """
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as f:
+            text = f.read().replace("\r\n", "\n")
+    except UnicodeDecodeError as exc:
+        raise ParameterError(f"study table {str(path)!r} is not UTF-8 text (offset {exc.start}): not a study "
+                             "table") from None
+    fingerprint, random, first = None, [], 1
     if text.startswith(HEADER_PREFIX):
-        first, _, text = text.partition("\n")
-        fingerprint, _, rest = first[len(HEADER_PREFIX):].strip().partition(" ")
+        line, _, text = text.partition("\n")
+        fingerprint, _, rest = line[len(HEADER_PREFIX):].strip().partition(" ")
         if rest.startswith("random="):
             random = [v for v in rest[len("random="):].split(",") if v]
+        first = 2
     if text and not text.endswith("\n"):
         text = text[:text.rfind("\n") + 1]
     lines = text.split("\n")[:-1]  # whole lines only; a row is one line (format_row)
-    if not lines:
+    numbered = [(first + i, line) for i, line in enumerate(lines) if line.strip()]
+    if not numbered:
         return fingerprint, random, [], []
-    columns = next(csv.reader([lines[0]]))
+    head = next(csv.reader([numbered[0][1]]))
+    if head and head[0] == "point":
+        found, numbered = head, numbered[1:]
+    elif columns is not None:  # the column line lost: the rows read with the table's columns
+        found = list(columns)
+    else:
+        raise ParameterError(f"study table {str(path)!r}, line {numbered[0][0]}: no column line (point, ...) "
+                             "before the rows")
     rows = []
-    for line in lines[1:]:
+    for number, line in numbered:
         fields = next(csv.reader([line]), [])
-        if len(fields) != len(columns):
-            continue
-        try:
-            rows.append({c: _parse(c, v) for c, v in zip(columns, fields)})
-        except ValueError:  # not a row of this table (e.g. a column line cut short and merged)
-            continue
-    return fingerprint, random, columns, rows
+        why = None
+        if len(fields) != len(found):
+            why = f"{len(fields)} fields, the table has {len(found)} columns"
+        else:
+            try:
+                rows.append({c: _parse(c, v) for c, v in zip(found, fields)})
+            except ValueError as exc:
+                why = f"a value is not of its column ({exc})"
+        if why is not None:
+            raise ParameterError(f"study table {str(path)!r}, line {number} is not a row of the table ({why}): "
+                                 "repair or remove that line")
+    return fingerprint, random, found, rows
 
 
 @dataclass(eq=False)
@@ -230,12 +265,18 @@ class StudyTable:
         from ..study.quantities import QUANTITIES
 
         path = Path(path)
+        if path.is_dir():
+            raise ParameterError(f"study table {str(path)!r} is a directory, not a .csv or .parquet file")
         if not path.is_file():
             raise ParameterError(f"study table {str(path)!r} does not exist")
         if path.suffix == ".parquet":
+            import pyarrow as pa
             import pyarrow.parquet as pq
 
-            t = pq.read_table(path)
+            try:
+                t = pq.read_table(path)
+            except (OSError, pa.ArrowException) as exc:
+                raise ParameterError(f"study table {str(path)!r} is not a readable Parquet file ({exc})") from None
             meta = t.schema.metadata or {}
             columns = t.column_names
             rows = t.to_pylist()
@@ -246,6 +287,8 @@ class StudyTable:
         else:
             fingerprint, found, columns, rows = read_csv_rows(path)
             random = random or found
+        if rows and "point" not in columns:
+            raise ParameterError(f"study table {str(path)!r} has no column 'point': not a study table")
         if varied is None:
             varied = [c for c in columns if c != "point" and c not in QUANTITIES and c not in STATUS_COLUMNS]
         return cls.from_rows(rows, tuple(columns), varied, random, fingerprint or "", path)

@@ -30,14 +30,22 @@ TOML form::
     seed = 1
 
     [sweep]
-    omega = [1950.0, 2100.0, 40]         # start, stop, number of frequencies [rad/s]
+    omega = "1950:2100:40"               # START:STOP:N [rad/s], or the list of frequencies
     direction = "up"
     method = "time"                      # or "hbm"
     harmonics = 7                        # of "hbm"
     refine_peak = true                   # a blade's peak refined between the sweep's points
+    time_limit = 600.0                   # [s] per point (default 600): then a failed row
 
 The points are the Cartesian product of the grids and lists, times the ``n`` random samples
 (drawn once, the same for every grid point).
+
+The frequencies follow the one convention of :mod:`frictionjoint.frequencies` (``"START:STOP:N"``
+or the frequencies themselves; ``[1950.0, 2100.0, 40]`` could mean either and is refused). A
+definition is checked whole when it is loaded, before any point runs: the model exists, every
+fixed and varied parameter is one of the model's (a switch such as ``normal_load_variation`` takes
+``true``/``false`` or 1/0), fixed values are finite, and the number of points, counted from the
+grids' sizes before any is built, is at most :data:`MAX_POINTS`.
 """
 from __future__ import annotations
 
@@ -48,17 +56,31 @@ import math
 import os
 import pickle
 from dataclasses import dataclass, field
+from numbers import Integral, Real
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, check_bool
+from ..frequencies import FORM, check_omegas
 
-__all__ = ["Grid", "Values", "Random", "Study", "load_study"]
+__all__ = ["Grid", "Values", "Random", "Study", "load_study", "MAX_POINTS", "DEFAULT_TIME_LIMIT", "model_parameters"]
 
 SPACINGS = ("linear", "log")
 METHODS = ("time", "hbm")
+#: the most points of one study: counted from the grids' sizes before any point is built (a table
+#: of more rows is a typing error or a study to split; its points alone would fill the memory)
+MAX_POINTS = 100_000
+#: a point's default time limit [s] (``[sweep] time_limit``): a point that has not finished by then
+#: is a failed row saying so
+DEFAULT_TIME_LIMIT = 600.0
+
+
+def _count(name: str, value, low: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, (Integral, np.integer)) or value < low:
+        raise ParameterError(f"{name} must be an integer >= {low}, got {value!r}")
+    return int(value)
 
 
 @dataclass(frozen=True)
@@ -71,9 +93,11 @@ class Grid:
     num: int
     spacing: str = "linear"
 
-    def values(self, name: str) -> np.ndarray:
-        if not (isinstance(self.num, (int, np.integer)) and not isinstance(self.num, bool) and self.num >= 1):
-            raise ParameterError(f"vary.{name}.num must be an integer >= 1, got {self.num!r}")
+    def size(self, name: str) -> int:
+        """The number of values (checked, without building them)."""
+        n = _count(f"vary.{name}.num", self.num)
+        if n > MAX_POINTS:
+            raise ParameterError(f"vary.{name}.num must be <= {MAX_POINTS} (the most points of a study), got {n}")
         try:
             a, b = float(self.start), float(self.stop)
         except (TypeError, ValueError):
@@ -82,11 +106,14 @@ class Grid:
             raise ParameterError(f"vary.{name}: start and stop must be finite, got {a!r}, {b!r}")
         if self.spacing not in SPACINGS:
             raise ParameterError(f"vary.{name}.spacing must be one of {SPACINGS}, got {self.spacing!r}")
-        if self.spacing == "log":
-            if a <= 0 or b <= 0:
-                raise ParameterError(f"vary.{name}: a log grid needs start and stop > 0, got {a!r}, {b!r}")
-            return np.geomspace(a, b, int(self.num))
-        return np.linspace(a, b, int(self.num))
+        if self.spacing == "log" and (a <= 0 or b <= 0):
+            raise ParameterError(f"vary.{name}: a log grid needs start and stop > 0, got {a!r}, {b!r}")
+        return n
+
+    def values(self, name: str) -> np.ndarray:
+        n = self.size(name)
+        a, b = float(self.start), float(self.stop)
+        return np.geomspace(a, b, n) if self.spacing == "log" else np.linspace(a, b, n)
 
 
 @dataclass(frozen=True)
@@ -95,6 +122,10 @@ class Values:
 
     values_: tuple
 
+    def size(self, name: str) -> int:
+        """The number of values (checked)."""
+        return int(self.values(name).size)
+
     def values(self, name: str) -> np.ndarray:
         if len(self.values_) == 0:
             raise ParameterError(f"vary.{name}.values must not be empty")
@@ -102,8 +133,10 @@ class Values:
             v = np.array(self.values_, dtype=float)
         except (TypeError, ValueError):
             raise ParameterError(f"vary.{name}.values must be numbers, got {list(self.values_)!r}") from None
-        if not np.all(np.isfinite(v)):
-            raise ParameterError(f"vary.{name}.values must be finite, got {list(self.values_)!r}")
+        if v.ndim != 1 or not np.all(np.isfinite(v)):
+            raise ParameterError(f"vary.{name}.values must be finite numbers, got {list(self.values_)!r}")
+        if v.size > MAX_POINTS:
+            raise ParameterError(f"vary.{name}.values: at most {MAX_POINTS} values, got {v.size}")
         return v
 
 
@@ -135,23 +168,154 @@ class Random:
         return frozen
 
 
-@dataclass
+#: the kinds of a parameter's value: a real number, a whole number or a switch
+KINDS = ("real", "int", "bool")
+#: DovetailRoot arguments that are not numbers (DOF names, a contact law): not a study's parameters
+_ROOT_NOT_NUMBERS = ("tangential_dof", "radial_dof", "rocking_dof", "flank_contact")
+
+
+def _root_parameters() -> dict:
+    """The blade root's parameters a study sets (:class:`~frictionjoint.elements.DovetailRoot`'s
+    numeric and switch arguments, from its signature) and ``tip_force_amplitude``."""
+    import inspect
+
+    from ..elements import DovetailRoot
+
+    out = {}
+    for name, p in inspect.signature(DovetailRoot.__init__).parameters.items():
+        if name == "self" or name in _ROOT_NOT_NUMBERS:
+            continue
+        ann = str(p.annotation)
+        out[name] = "bool" if ann in ("bool", "<class 'bool'>") else "int" if ann in ("int", "<class 'int'>") else "real"
+    out["tip_force_amplitude"] = "real"
+    return out
+
+
+#: why a study refuses a model that is not a blade (its quantities are a blade's: the tip's first
+#: harmonic, the root's dissipation and slip state)
+_NOT_A_BLADE = ("a study's model is a blade (its rows are the tip's first harmonic and the root's dissipation); "
+                "sweep the Coulomb oscillator with frictionjoint.sweep or 'frictionjoint sweep'")
+
+
+def _fmu_parameters(path: Path) -> dict:
+    """The parameters of a blade FMU a study sets (its parameter variables but ``omega`` and
+    ``start_on_orbit``, the sweep's)."""
+    from fmpy import read_model_description
+
+    from ..sweep import BLADE_FMU_VARIABLES
+
+    try:
+        variables = read_model_description(str(path)).modelVariables
+    except Exception as exc:  # noqa: BLE001 - any unreadable FMU: the model is refused with the reason
+        raise ParameterError(f"model: {str(path)!r} is not a readable FMU ({type(exc).__name__}: {exc})") from None
+    if not set(BLADE_FMU_VARIABLES) <= {v.name for v in variables}:
+        raise ParameterError(f"model: {path.name} is not a blade FMU (BladeDovetail.fmu): {_NOT_A_BLADE}")
+    kinds = {"Real": "real", "Integer": "int", "Boolean": "bool"}
+    return {v.name: kinds.get(v.type, "real") for v in variables
+            if v.causality == "parameter" and v.name not in ("omega", "start_on_orbit")}
+
+
+def _known_models() -> list[str]:
+    """The model names a study takes without a path: the blade definitions in ``models/``."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python < 3.11
+        import tomli as tomllib
+    from ..structures import MODELS_DIR
+
+    names = []
+    for p in sorted(MODELS_DIR.glob("*.toml")) if MODELS_DIR.is_dir() else []:
+        try:
+            if "blade" in tomllib.loads(p.read_text(encoding="utf-8")):
+                names.append(p.stem)
+        except (OSError, ValueError):
+            continue
+    return names
+
+
+def model_parameters(model) -> dict:
+    """The parameters a study of ``model`` may fix or vary, ``{name: kind}`` (kind in
+    :data:`KINDS`); checks that the model exists.
+
+    Parameters
+    ----------
+    model : str, os.PathLike or BladeAssembly
+        A blade definition (a name in ``models/`` or a ``.toml`` path), a blade FMU
+        (``BladeDovetail.fmu``) or a :class:`~frictionjoint.structures.BladeAssembly`.
+
+    Raises
+    ------
+    ParameterError
+        The model names nothing (the message lists the models), or cannot be read.
+    """
+    from ..structures import BladeAssembly
+
+    if isinstance(model, BladeAssembly):
+        if len(model.joints) != 1 or not hasattr(model.joints[0], "replace"):
+            raise ParameterError("model: a study varies the root of an assembly with one DovetailRoot joint")
+        return _root_parameters()
+    if not isinstance(model, (str, os.PathLike)):
+        raise ParameterError(f"model must be a model name, a .toml or .fmu path or a BladeAssembly, got "
+                             f"{type(model).__name__}")
+    if str(model) == "CoulombOscillator":
+        raise ParameterError(f"model 'CoulombOscillator': {_NOT_A_BLADE}")
+    path = Path(model)
+    if path.suffix == ".fmu":
+        if not path.is_file():
+            raise ParameterError(f"model: FMU {str(model)!r} not found")
+        return _fmu_parameters(path)
+    from ..sweep import _blade_definition
+
+    try:
+        definition = _blade_definition(model)
+    except ParameterError as exc:
+        raise ParameterError(f"model {str(model)!r}: {exc}") from None
+    if definition is None:
+        where = "file not found" if path.suffix == ".toml" else "not found"
+        raise ParameterError(f"model {str(model)!r}: {where}; the models are {_known_models()} (or a blade "
+                             "definition's .toml path, or an .fmu path)")
+    return _root_parameters()
+
+
+def _check_value(key: str, kind: str, value):
+    """A fixed value of ``kind``: a switch as a bool, a whole number as an int, a real number as a
+    finite float."""
+    if kind == "bool":
+        return check_bool(key, value)
+    if isinstance(value, bool) or not isinstance(value, (Real, np.number)):
+        raise ParameterError(f"{key} must be a {'whole ' if kind == 'int' else ''}number, got {value!r}")
+    if not math.isfinite(value):
+        raise ParameterError(f"{key} must be finite, got {value!r}")
+    if kind == "int":
+        if not float(value).is_integer():
+            raise ParameterError(f"{key} must be a whole number, got {value!r}")
+        return int(value)
+    return float(value)
+
+
+@dataclass(eq=False)
 class Study:
-    """A design study (module docstring).
+    """A design study (module docstring), checked whole when it is made: the model exists, every
+    parameter is the model's, fixed values are finite, and its points number at most
+    :data:`MAX_POINTS`.
 
     Parameters
     ----------
     model : str, os.PathLike or BladeAssembly
         A blade model definition (a name in ``models/`` or a ``.toml`` path), a blade ``.fmu``
         (``BladeDovetail.fmu``), or a :class:`~frictionjoint.structures.BladeAssembly`.
-    omega : (float, float, int)
-        The sweep of every point: start, stop [rad/s] and number of frequencies.
+    omega : str or (n,) array_like
+        The frequencies of every point's sweep [rad/s] (:mod:`frictionjoint.frequencies`):
+        ``"START:STOP:N"`` or the frequencies themselves (a blade sweeps them in increasing order,
+        or decreasing with ``direction='down'``; ``'hbm'``: the branch from the lowest to the
+        highest, about ``n`` points). Kept as the array of frequencies.
     vary : dict
-        ``{parameter: Grid | Values | Random}``; parameters of the model's root (e.g.
-        ``centrifugal_force``, ``friction_coefficient``, ``normal_stiffness``, ``flank_angle``) or
-        ``tip_force_amplitude``.
+        ``{parameter: Grid | Values | Random}``; parameters of the model (a blade: its root's, e.g.
+        ``centrifugal_force``, ``friction_coefficient``, ``normal_stiffness``, ``flank_angle``,
+        and ``tip_force_amplitude``; :func:`model_parameters`).
     fixed : dict, optional
-        Parameters of every point.
+        Parameters of every point: finite numbers, or true/false (or 1/0) for a switch such as
+        ``normal_load_variation``.
     n_samples : int
         Random samples (with any :class:`Random` parameter), >= 1.
     seed : int
@@ -166,10 +330,14 @@ class Study:
         slip state there.
     table : str or os.PathLike, optional
         Where :func:`~frictionjoint.study.run_study` writes the table by default.
+    time_limit : float
+        A point's time limit [s], > 0 (default :data:`DEFAULT_TIME_LIMIT`): a point not finished by
+        then is a failed row saying so (:mod:`frictionjoint.study.execution`). Not part of the
+        study's fingerprint: a resumed study computes such points again.
     """
 
     model: Any
-    omega: tuple
+    omega: Any
     vary: dict
     fixed: dict = field(default_factory=dict)
     n_samples: int = 1
@@ -179,8 +347,15 @@ class Study:
     harmonics: int = 7
     refine_peak: bool = True
     table: Any = None
+    time_limit: float = DEFAULT_TIME_LIMIT
 
     def __post_init__(self):
+        omega = check_omegas("omega", self.omega)
+        if self.method == "hbm" and omega.min() == omega.max():
+            raise ParameterError(f"omega: the harmonic-balance branch needs two frequencies at least, from the "
+                                 f"lowest to the highest, e.g. {FORM}")
+        omega.flags.writeable = False
+        self.omega = omega
         if not isinstance(self.vary, dict) or not self.vary:
             raise ParameterError("vary must name at least one parameter: {name: Grid | Values | Random}")
         if not isinstance(self.fixed, dict):
@@ -195,31 +370,60 @@ class Study:
                 raise ParameterError(f"vary.{name} must be a Grid, Values or Random, got {spec!r}")
             if name in self.fixed:
                 raise ParameterError(f"{name} is both fixed and varied")
-        try:
-            w0, w1, n = self.omega
-            if isinstance(n, bool) or float(n) != int(n):
-                raise ValueError
-            w0, w1, n = float(w0), float(w1), int(n)
-        except (TypeError, ValueError):
-            raise ParameterError(f"omega must be (start, stop, number) [rad/s], the number an integer, got "
-                                 f"{self.omega!r}") from None
-        if not (w0 > 0 and w1 > 0 and w0 != w1 and math.isfinite(w0) and math.isfinite(w1) and n >= 2):
-            raise ParameterError(f"omega must be (start > 0, stop > 0, number >= 2), start != stop [rad/s], got "
-                                 f"{self.omega!r}")
-        self.omega = (w0, w1, n)
         if self.direction not in ("up", "down"):
             raise ParameterError(f"direction must be 'up' or 'down', got {self.direction!r}")
         if self.method not in METHODS:
             raise ParameterError(f"method must be one of {METHODS}, got {self.method!r}")
-        for name, value, low in (("n_samples", self.n_samples, 1), ("harmonics", self.harmonics, 1),
-                                 ("seed", self.seed, 0)):
-            if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= low):
-                raise ParameterError(f"{name} must be an integer >= {low}, got {value!r}")
+        self.n_samples = _count("n_samples", self.n_samples)
+        self.harmonics = _count("harmonics", self.harmonics)
+        self.seed = _count("seed", self.seed, 0)
         if self.refine_peak not in (True, False):
             raise ParameterError(f"refine_peak must be true or false, got {self.refine_peak!r}")
-        for name, value in self.fixed.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ParameterError(f"fixed.{name} must be a number, got {value!r}")
+        limit = self.time_limit
+        if isinstance(limit, bool) or not isinstance(limit, (Real, np.number)) or not (math.isfinite(limit) and limit > 0):
+            raise ParameterError(f"time_limit must be a finite number of seconds > 0, got {limit!r}")
+        self.time_limit = float(limit)
+        for name, value in self.fixed.items():  # the type before the model: fixed.NAME named either way
+            if isinstance(value, str) or not isinstance(value, (Real, np.number, np.bool_)):
+                raise ParameterError(f"fixed.{name} must be a number (or true/false), got {value!r}")
+        count = self.n_points  # from the grids' sizes, before any point is built
+        if count > MAX_POINTS:
+            parts = " x ".join([f"{spec.size(k)} (vary.{k})" for k, spec in self.vary.items()
+                                if not isinstance(spec, Random)] + ([f"{self.n_samples} (samples.n)"] if self.random else []))
+            raise ParameterError(f"the study has {parts} = {count} points, more than {MAX_POINTS}: fewer values, "
+                                 "or several studies")
+        kinds = model_parameters(self.model)
+        allowed = sorted(kinds)
+        for key, names in (("fixed", self.fixed), ("vary", self.vary)):
+            for name in names:
+                if name not in kinds:
+                    raise ParameterError(f"{key}.{name}: not a parameter of {self._model_name()}; its parameters are "
+                                         f"{allowed}")
+        self.fixed = {name: _check_value(f"fixed.{name}", kinds[name], v) for name, v in self.fixed.items()}
+        for name, spec in self.vary.items():
+            if isinstance(spec, Random):
+                if kinds[name] != "real":
+                    raise ParameterError(f"vary.{name}: a {'switch' if kinds[name] == 'bool' else 'whole number'} "
+                                         "cannot be random; give its values")
+                spec.frozen(name)
+            else:
+                for v in spec.values(name):
+                    _check_value(f"vary.{name}", kinds[name], float(v))
+
+    @property
+    def n_points(self) -> int:
+        """The number of points, from the grids' sizes and the samples (no point built)."""
+        sizes = [spec.size(name) for name, spec in self.vary.items() if not isinstance(spec, Random)]
+        return math.prod(sizes) * (int(self.n_samples) if self.random else 1)
+
+    @property
+    def kinds(self) -> dict:
+        """``{parameter: kind}`` of the fixed and varied parameters (:func:`model_parameters`)."""
+        kinds = model_parameters(self.model)
+        return {name: kinds[name] for name in (*self.vary, *self.fixed)}
+
+    def _model_name(self) -> str:
+        return str(self.model) if isinstance(self.model, (str, os.PathLike)) else type(self.model).__name__
 
     @property
     def varied(self) -> list[str]:
@@ -261,6 +465,14 @@ class Study:
                 out.append({n: p[n] for n in self.vary})  # definition order
         return out
 
+    def _omega_key(self) -> list:
+        """The frequencies in the fingerprint: ``[start, stop, n]`` for an even grid (as tables
+        written before the frequencies could be listed), else every frequency."""
+        w = self.omega
+        if w.size >= 2 and np.array_equal(w, np.linspace(w[0], w[-1], w.size)):
+            return [float(w[0]), float(w[-1]), int(w.size)]
+        return [repr(float(v)) for v in w]
+
     def fingerprint(self) -> str:
         """A hash of everything that decides the table's rows (model, sweep, fixed parameters and
         every point's varied ones): a table written for another study is not resumed."""
@@ -276,7 +488,7 @@ class Study:
                     model = f"{model}:{hashlib.sha256(candidate.read_bytes()).hexdigest()}"
                     break
         fixed = sorted((k, float(v)) for k, v in self.fixed.items())
-        desc = dict(model=str(model), omega=list(self.omega), fixed=fixed,
+        desc = dict(model=str(model), omega=self._omega_key(), fixed=fixed,
                     direction=self.direction, method=self.method,
                     harmonics=int(self.harmonics) if self.method == "hbm" else None, refine=self.refine_peak,
                     points=[[repr(v) for v in p.values()] for p in self.points()], varied=self.varied)
@@ -325,7 +537,12 @@ def load_study(path: str | os.PathLike) -> Study:
     if not path.is_file():
         raise ParameterError(f"study file {str(path)!r} does not exist")
     try:
-        data = tomllib.loads(path.read_text())
+        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark (a Windows editor's) is not the text
+    except UnicodeDecodeError as exc:
+        raise ParameterError(f"{path}: not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start}); "
+                             "save the study file as UTF-8") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not valid TOML: {exc}") from None
     known = {"model", "table", "fixed", "vary", "samples", "sweep"}
@@ -344,11 +561,11 @@ def load_study(path: str | os.PathLike) -> Study:
     if Path(model).suffix in (".toml", ".fmu") and local.is_file():
         model = str(local)
     sweep = dict(data.get("sweep", {}))
-    unknown = set(sweep) - {"omega", "direction", "method", "harmonics", "refine_peak"}
+    unknown = set(sweep) - {"omega", "direction", "method", "harmonics", "refine_peak", "time_limit"}
     if unknown:
         raise ParameterError(f"{path}: unknown keys in [sweep]: {sorted(unknown)}")
-    if not isinstance(sweep.get("omega"), list) or len(sweep["omega"]) != 3:
-        raise ParameterError(f"{path}: [sweep] omega = [start, stop, number] is missing or not three numbers")
+    if "omega" not in sweep:
+        raise ParameterError(f"{path}: [sweep] omega is missing: {FORM}")
     samples = dict(data.get("samples", {}))
     unknown = set(samples) - {"n", "seed"}
     if unknown:
@@ -356,7 +573,11 @@ def load_study(path: str | os.PathLike) -> Study:
     vary = {name: _spec(name, entry) for name, entry in dict(data.get("vary", {})).items()}
     table = data.get("table")
     table = (path.parent / table) if table is not None else path.with_suffix(".csv")
-    return Study(model=model, omega=tuple(sweep["omega"]), vary=vary, fixed=dict(data.get("fixed", {})),
-                 n_samples=samples.get("n", 1), seed=samples.get("seed", 0),
-                 direction=sweep.get("direction", "up"), method=sweep.get("method", "time"),
-                 harmonics=sweep.get("harmonics", 7), refine_peak=sweep.get("refine_peak", True), table=table)
+    try:
+        return Study(model=model, omega=sweep["omega"], vary=vary, fixed=dict(data.get("fixed", {})),
+                     n_samples=samples.get("n", 1), seed=samples.get("seed", 0),
+                     direction=sweep.get("direction", "up"), method=sweep.get("method", "time"),
+                     harmonics=sweep.get("harmonics", 7), refine_peak=sweep.get("refine_peak", True), table=table,
+                     time_limit=sweep.get("time_limit", DEFAULT_TIME_LIMIT))
+    except ParameterError as exc:  # the file and the key
+        raise ParameterError(f"{path}: {exc}") from None

@@ -1,44 +1,69 @@
-"""Running a study: each point independently, serially, on a local process pool
-(:class:`concurrent.futures.ProcessPoolExecutor`, the default) or on a running
-``dask.distributed`` cluster; rows stream into the table as points finish.
+"""Running a study: each point independently, serially, on a local process pool (the default)
+or on a running ``dask.distributed`` cluster; rows stream into the table as points finish.
 
 - **Deterministic.** A point's row depends on its inputs only (the study's definition fixes them,
   random samples included), so the same study gives the same bits serially, on the pool and on any
   Dask worker; the table is sorted by point when the study ends.
 - **Streaming and resumable.** Each finished point is one line appended to a CSV journal and
   flushed to disk (for a ``.parquet`` table the journal is ``<table>.journal.csv``, converted when
-  the study ends). A study run again on the same table computes only the points missing from it;
-  the first line of the journal is the study's fingerprint, so a table of another study is refused.
-- **Robust.** A point that raises is a row with status ``'failed'`` and the error; Ctrl-C stops
-  the workers and leaves the journal with the finished points (a line cut short is dropped when
-  it is read).
+  the study ends). A study run again on the same table computes only the points missing from it
+  (and those that reached their time limit); the first line of the journal is the study's
+  fingerprint, so a table of another study is refused, and so is a row whose parameters are not
+  those of its point. A journal is never discarded silently: a byte-order mark or a lost column
+  line is read through, anything else that is not a row is refused with its line number.
+- **Robust.** A point that raises is a row with status ``'failed'`` and the error; so is a point
+  that reaches the study's ``time_limit`` (:mod:`.point`: raised in the point's thread, serially,
+  on the pool and on Dask). The local pool's workers are processes of this runner's own: one that
+  is still busy a grace period after the limit (stuck in one compiled call) is killed and replaced,
+  and every worker ends when its parent does (``PR_SET_PDEATHSIG`` on Linux and a watchdog on its
+  parent's pid: a runner killed by SIGTERM or SIGKILL leaves no worker behind). Ctrl-C stops the
+  workers and leaves the journal with the finished points (a line cut short is dropped when it is
+  read).
 """
 from __future__ import annotations
 
+import collections
+import ctypes
 import multiprocessing
+import multiprocessing.connection
 import os
+import signal
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
+import threading
+import time
 from pathlib import Path
 from typing import Any, Callable
 
 from ..errors import ParameterError, WorkerError
 from ..results.study import STATUS_COLUMNS, StudyTable, format_row, header_line, read_csv_rows
 from .definition import Random, Study
-from .point import evaluate_point
+from .point import TIME_LIMIT_ERROR, evaluate_point, time_limit_row
 from .quantities import QUANTITIES
 
-__all__ = ["run_study", "evaluate_point", "tasks"]
+__all__ = ["run_study", "evaluate_point", "tasks", "TableConflict"]
+
+
+class TableConflict(ParameterError):
+    """The table holds rows that are not this study's (another study's, other columns, a row whose
+    parameters are not its point's): overwrite it only when asked."""
+
+    def __init__(self, reason: str):
+        self.reason = reason
+        super().__init__(self.advice("restart=True"))
+
+    def advice(self, restart: str) -> str:
+        """The message with the way to overwrite the table of the caller's interface (``restart``:
+        ``'restart=True'`` in Python, ``'--restart'`` on the command line)."""
+        return f"{self.reason}: choose another table, or {restart} to overwrite it"
 
 
 def tasks(study: Study) -> list[dict]:
-    """The study's points as self-contained tasks (picklable: the model, the sweep and the point's
-    parameters)."""
-    w0, w1, n = study.omega
-    return [dict(point=k, model=study.model, omega=(w0, w1, n), fixed=dict(study.fixed), varied=p,
+    """The study's points as self-contained tasks (picklable: the model, the sweep, the point's
+    parameters and its time limit)."""
+    kinds = {k: v for k, v in study.kinds.items() if v != "real"}
+    return [dict(point=k, model=study.model, omega=study.omega, fixed=dict(study.fixed), varied=p,
                  direction=study.direction, method=study.method, harmonics=int(study.harmonics),
-                 refine=bool(study.refine_peak))
+                 refine=bool(study.refine_peak), kinds=kinds, time_limit=float(study.time_limit))
             for k, p in enumerate(study.points())]
 
 
@@ -46,17 +71,18 @@ def _journal_path(table: Path) -> Path:
     return table if table.suffix == ".csv" else table.with_name(table.name + ".journal.csv")
 
 
-def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, columns: tuple, n_points: int,
+def _done_rows(table: Path, journal: Path, fingerprint: str, columns: tuple, all_tasks: list[dict],
                restart: bool) -> list[dict]:
     """The rows already computed for this study (from its journal, or a finished Parquet table):
-    whole rows of valid points, one per point."""
+    whole rows, one per point, each with its point's parameters; not those that reached their time
+    limit (computed again)."""
     if restart:
         for p in (journal, table):
             if p.exists():
                 p.unlink()
         return []
     if journal.exists():
-        fp, _, found, rows = read_csv_rows(journal)
+        fp, _, found, rows = read_csv_rows(journal, columns)
         source = journal
     elif table.exists():
         done = StudyTable.read(table)
@@ -65,18 +91,30 @@ def _done_rows(study: Study, table: Path, journal: Path, fingerprint: str, colum
         return []
     if fp is None and not rows:  # stopped before its first line was written: a new journal
         return []
+    if fp is None:
+        raise TableConflict(f"table {str(source)!r} has rows but not its first line (the study's fingerprint): "
+                            "it cannot be told whose rows they are")
     if fp != fingerprint:
-        raise ParameterError(f"table {str(source)!r} holds another study (fingerprint {fp}, this study's "
-                             f"{fingerprint}): choose another table, or restart=True to overwrite it")
-    if not rows:  # the column line missing or cut short: nothing to keep
+        raise TableConflict(f"table {str(source)!r} holds another study (fingerprint {fp}, this study's "
+                            f"{fingerprint})")
+    if not rows:  # the column line missing or cut short, no row: nothing to keep
         return []
     if tuple(found) != tuple(columns):
-        raise ParameterError(f"table {str(source)!r} has the columns {found}, this study writes {list(columns)}: "
-                             "choose another table, or restart=True to overwrite it")
+        raise TableConflict(f"table {str(source)!r} has the columns {found}, this study writes {list(columns)}")
     unique = {}
-    for r in rows:  # one row per point of this study
-        if isinstance(r.get("point"), int) and 0 <= r["point"] < n_points:
-            unique.setdefault(r["point"], r)
+    for r in rows:  # one row per point of this study, with that point's parameters
+        k = r.get("point")
+        if not (isinstance(k, int) and 0 <= k < len(all_tasks)):
+            raise TableConflict(f"table {str(source)!r} has a row of point {k!r}, this study's points are 0 to "
+                                f"{len(all_tasks) - 1}")
+        expected = all_tasks[k]["varied"]
+        differ = {n: (r.get(n), v) for n, v in expected.items() if r.get(n) != v}
+        if differ:
+            shown = ", ".join(f"{n} = {got!r} (the study's {want!r})" for n, (got, want) in differ.items())
+            raise TableConflict(f"table {str(source)!r}: the row of point {k} has {shown}: not this point's result")
+        if str(r.get("error", "")).startswith(TIME_LIMIT_ERROR):
+            continue  # the machine's, not the study's: computed again
+        unique.setdefault(k, r)
     return [unique[k] for k in sorted(unique)]
 
 
@@ -129,6 +167,11 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     table = Path(table if table is not None else (study.table or "study.csv"))
     if table.suffix not in (".csv", ".parquet"):
         raise ParameterError(f"table must end in .csv or .parquet, got {str(table)!r}")
+    for p in (table, _journal_path(table)):
+        if p.is_dir():
+            raise ParameterError(f"table {str(p)!r} is a directory: give a file name ending in .csv or .parquet")
+    if not table.absolute().parent.is_dir():
+        raise ParameterError(f"table: the folder of {str(table)!r} does not exist")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
     if workers is not None and scheduler is not None:
@@ -137,7 +180,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     fingerprint = study.fingerprint()
     columns = ("point", *study.varied, *QUANTITIES, *STATUS_COLUMNS)
     journal = _journal_path(table)
-    done = _done_rows(study, table, journal, fingerprint, columns, len(all_tasks), restart)
+    done = _done_rows(table, journal, fingerprint, columns, all_tasks, restart)
     done_ids = {r["point"] for r in done}
     todo = [t for t in all_tasks if t["point"] not in done_ids]
     random = tuple(n for n, spec in study.vary.items() if isinstance(spec, Random))
@@ -174,27 +217,128 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
             for t in todo:
                 record(evaluate_point(t))
         else:
-            _run_pool(todo, workers or os.cpu_count() or 1, record)
+            _run_pool(todo, workers or os.cpu_count() or 1, record, study.time_limit)
     return finish(rows)
 
 
-def _run_pool(todo: list[dict], workers: int, record) -> None:
-    """The points on a local process pool (spawned workers: no state inherited from this
-    process)."""
-    pool = ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=multiprocessing.get_context("spawn"))
+def _grace(limit: float) -> float:
+    """How long after a point's time limit [s] the local pool kills a worker still busy with it (the
+    point's own limit, raised in its thread, normally ends it first: this is for one stuck in a
+    compiled call): 10 % of the limit, between 2 s and 60 s."""
+    return min(60.0, max(2.0, 0.1 * limit))
+
+
+def _end_with_parent(parent: int) -> None:
+    """End this process when its parent ``parent`` dies: the kernel's parent-death signal on Linux
+    (``prctl(PR_SET_PDEATHSIG, SIGKILL)``) and, everywhere, a thread that watches the parent's pid
+    (an orphan is re-parented)."""
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # 1: PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover - no prctl: the watchdog alone
+            pass
+    if os.getppid() != parent:  # the parent died before the signal was asked for
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent:
+                os._exit(1)
+    threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+
+
+def _worker_main(conn, parent: int) -> None:
+    """A pool worker: points from ``conn`` until ``None`` (or the runner's end)."""
+    _end_with_parent(parent)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the runner's to handle: it ends the workers
+    while True:
+        try:
+            task = conn.recv()
+        except (EOFError, OSError):
+            return
+        if task is None:
+            return
+        conn.send(evaluate_point(task))
+
+
+class _Worker:
+    """One spawned worker process of the local pool and the point it runs."""
+
+    def __init__(self, ctx):
+        self.conn, child = ctx.Pipe()
+        self.process = ctx.Process(target=_worker_main, args=(child, os.getpid()), daemon=True,
+                                   name="frictionjoint-study-worker")
+        self.process.start()
+        child.close()
+        self.task = None
+        self.deadline = None
+
+    def send(self, task: dict, limit: float) -> None:
+        self.task = task
+        self.deadline = time.monotonic() + limit + _grace(limit)
+        self.conn.send(task)
+
+    def kill(self) -> None:
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join(5.0)
+        self.conn.close()
+
+
+def _run_pool(todo: list[dict], workers: int, record, limit: float) -> None:
+    """The points on a local pool of spawned worker processes (no state inherited from this
+    process): a worker still busy a grace period after its point's time limit is killed, its row
+    the time limit's, and replaced (module docstring)."""
+    ctx = multiprocessing.get_context("spawn")
+    pending = collections.deque(todo)
+    pool = []
     try:
-        futures = [pool.submit(evaluate_point, t) for t in todo]
-        for fut in as_completed(futures):
-            try:
-                row = fut.result()
-            except BrokenProcessPool as exc:
-                raise WorkerError(f"a worker process died ({exc}); the finished points are in the table: "
-                                  "run the study again to resume") from None
-            record(row)
-    except BaseException:
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
+        pool = [_Worker(ctx) for _ in range(min(workers, len(todo)))]
+        while pending or any(w.task is not None for w in pool):
+            for w in pool:
+                if w.task is None and pending:
+                    w.send(pending.popleft(), limit)
+            busy = [w for w in pool if w.task is not None]
+            wait = max(0.0, min(w.deadline for w in busy) - time.monotonic())
+            ready = set(multiprocessing.connection.wait([w.conn for w in busy] + [w.process.sentinel for w in busy],
+                                                        timeout=wait))
+            for i, w in enumerate(pool):
+                if w.task is None:
+                    continue
+                if w.conn in ready or w.conn.poll():
+                    try:
+                        row = w.conn.recv()
+                    except (EOFError, OSError):
+                        row = None
+                    if row is not None:
+                        w.task = None
+                        record(row)
+                        continue
+                if w.process.sentinel in ready or not w.process.is_alive():
+                    raise WorkerError(f"a worker process died (exit code {w.process.exitcode}) running point "
+                                      f"{w.task['point']}; the finished points are in the table: run the study "
+                                      "again to resume")
+                if time.monotonic() >= w.deadline:  # stuck past its limit: killed, replaced
+                    task = w.task
+                    w.kill()
+                    pool[i] = _Worker(ctx)
+                    record(time_limit_row(task, limit))
+    finally:
+        for w in pool:
+            if w.task is None and w.process.is_alive():
+                try:
+                    w.conn.send(None)
+                except OSError:
+                    pass
+        for w in pool:
+            if w.task is not None:  # interrupted: not waited for
+                w.process.kill()
+            w.process.join(5.0)
+            if w.process.is_alive():
+                w.process.kill()
+                w.process.join()
+            w.conn.close()
 
 
 def _run_dask(todo: list[dict], scheduler, record) -> None:

@@ -1,10 +1,23 @@
 """One study point: its frequency sweep, its peak refined between the sweep's points, and its row
-of quantities (:mod:`.quantities`). Self-contained and picklable, for any worker."""
+of quantities (:mod:`.quantities`). Self-contained and picklable, for any worker.
+
+A point has a time limit (the study's ``time_limit``): at the limit :class:`PointTimeLimit` is
+raised in the thread that runs the point (``PyThreadState_SetAsyncExc``: it works in any thread,
+the main one of a pool worker or of ``workers=1`` and a Dask worker's threads alike, where a signal
+could not be used) and again every second until the point ends (a library's ``except
+BaseException`` may swallow one). It is delivered between two Python bytecodes: a point inside one
+long compiled call (a numba kernel, a LAPACK call) ends when that call returns; on the local pool
+the runner also ends such a worker process a grace period after the limit
+(:mod:`.execution`). The row of such a point is ``'failed'`` with an error that starts with
+:data:`TIME_LIMIT_ERROR`.
+"""
 from __future__ import annotations
 
+import ctypes
 import functools
 import math
 import os
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -12,10 +25,83 @@ import scipy.optimize
 
 from .quantities import QUANTITIES, quantities
 
-__all__ = ["evaluate_point"]
+__all__ = ["evaluate_point", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
 #: relative tolerance of a refined peak's frequency
 PEAK_XTOL = 1e-7
+#: how the error of a point that reached its time limit starts (a resumed study computes it again)
+TIME_LIMIT_ERROR = "TimeLimit:"
+
+
+class PointTimeLimit(BaseException):
+    """Raised in a point's thread at its time limit (a ``BaseException``, as ``KeyboardInterrupt``:
+    the solvers' ``except Exception`` do not take it for a failure of their own)."""
+
+
+def _raise_in(thread_id: int, exc) -> None:
+    """Raise ``exc`` in the thread ``thread_id`` at its next bytecode (``None``: clear a pending one)."""
+    ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread_id),
+                                               None if exc is None else ctypes.py_object(exc))
+
+
+class _Deadline:
+    """Raise :class:`PointTimeLimit` in this thread after ``seconds`` (module docstring), and every
+    second after that, until the ``with`` block ends; nothing is raised after it has ended."""
+
+    def __init__(self, seconds: float | None):
+        self.seconds = seconds
+        self._lock = threading.Lock()
+        self._done = False
+        self._fired = False
+        self._timer = None
+
+    def __enter__(self):
+        self._thread = threading.get_ident()
+        if self.seconds is not None:
+            self._arm(self.seconds)
+        return self
+
+    def _arm(self, delay: float) -> None:
+        self._timer = threading.Timer(delay, self._fire)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _fire(self) -> None:
+        with self._lock:
+            if self._done:
+                return
+            self._fired = True
+            _raise_in(self._thread, PointTimeLimit)
+            self._arm(1.0)
+
+    def _finish(self) -> None:
+        with self._lock:
+            self._done = True
+            if self._timer is not None:
+                self._timer.cancel()
+            if self._fired:
+                _raise_in(self._thread, None)  # one not yet delivered is dropped
+
+    def __exit__(self, *exc_info) -> bool:
+        while True:
+            try:
+                self._finish()
+                return False
+            except PointTimeLimit:  # delivered in here: finish again (after that, none is raised)
+                continue
+
+
+def _failed(row: dict, error: str) -> dict:
+    row.update({q: math.nan for q in QUANTITIES})
+    row.update(slipping_at_peak=None, peak_at_edge=None, converged_points=0, points=0, status="failed", error=error)
+    return row
+
+
+def time_limit_row(task: dict, seconds: float) -> dict:
+    """The failed row of a point that did not finish within ``seconds``."""
+    return _failed({"point": task["point"], **task["varied"]},
+                   f"{TIME_LIMIT_ERROR} the point did not finish within {seconds:g} s (the study's time_limit; a "
+                   "study run again computes it again)")
 
 
 def _refined_peak(asm, fr, method: str, harmonics: int):
@@ -85,14 +171,16 @@ def _base_model(model):
 
 def evaluate_point(task: dict) -> dict:
     """One point's row: its sweep (:func:`frictionjoint.sweep`; a blade's peak refined between the
-    sweep's points) and quantities of interest; an exception is the row's error (status
-    ``'failed'``), not the study's.
+    sweep's points) and quantities of interest; an exception, or the point's time limit, is the
+    row's error (status ``'failed'``), not the study's.
 
     Parameters
     ----------
     task : dict
-        ``point``, ``model``, ``omega`` (start, stop, number), ``fixed``, ``varied``, ``direction``,
-        ``method``, ``harmonics``, ``refine`` (:func:`frictionjoint.study.execution.tasks`).
+        ``point``, ``model``, ``omega`` (the frequencies [rad/s], any form of
+        :mod:`frictionjoint.frequencies`), ``fixed``, ``varied``, ``direction``, ``method``,
+        ``harmonics``, ``refine``, and optionally ``kinds`` (``{parameter: 'real' | 'int' |
+        'bool'}``) and ``time_limit`` [s] (:func:`frictionjoint.study.execution.tasks`).
 
     Returns
     -------
@@ -101,32 +189,37 @@ def evaluate_point(task: dict) -> dict:
         (``'ok'``; ``'partial'``: some frequencies without a periodic orbit, the peak may be among
         them; ``'no orbit'``; ``'failed'``) and ``error``.
     """
+    from ..frequencies import check_omegas
     from ..sweep import blade_assembly, sweep
 
     row = {"point": task["point"], **task["varied"]}
+    limit = task.get("time_limit")
     try:
-        w0, w1, n = task["omega"]
-        ws = np.linspace(min(w0, w1), max(w0, w1), int(n))  # 'up': increasing, whatever the order given
-        params = {**task["fixed"], **task["varied"]}
-        model = task["model"]
-        base = _base_model(model)
-        refined = None
-        if base is not None:  # a blade: swept in the library, its peak refined
-            asm = blade_assembly(base, params)
-            fr = asm.frequency_response(ws if task["direction"] == "up" else ws[::-1], method=task["method"],
-                                        n_harmonics=task["harmonics"])
-            if task.get("refine", True):
-                refined = _refined_peak(asm, fr, task["method"], task["harmonics"])
-        else:
-            fr = sweep(model, ws, params, direction=task["direction"], method=task["method"],
-                       n_harmonics=task["harmonics"])
-        row.update(quantities(fr.omega, fr.amplitude, fr.converged, fr.dissipated_per_cycle, fr.stuck, refined))
+        with _Deadline(limit):
+            ws = np.sort(check_omegas("omega", task["omega"]))  # 'up': increasing, whatever the order given
+            params = {**task["fixed"], **task["varied"]}
+            for name, kind in dict(task.get("kinds") or {}).items():  # a switch or a count as such (1.0 -> True)
+                if name in params and kind in ("bool", "int"):
+                    params[name] = bool(params[name]) if kind == "bool" else int(params[name])
+            model = task["model"]
+            base = _base_model(model)
+            refined = None
+            if base is not None:  # a blade: swept in the library, its peak refined
+                asm = blade_assembly(base, params)
+                fr = asm.frequency_response(ws if task["direction"] == "up" else ws[::-1], method=task["method"],
+                                            n_harmonics=task["harmonics"])
+                if task.get("refine", True):
+                    refined = _refined_peak(asm, fr, task["method"], task["harmonics"])
+            else:
+                fr = sweep(model, ws, params, direction=task["direction"], method=task["method"],
+                           n_harmonics=task["harmonics"])
+            row.update(quantities(fr.omega, fr.amplitude, fr.converged, fr.dissipated_per_cycle, fr.stuck, refined))
         n_ok, n_all = row["converged_points"], row["points"]
         # 'partial': frequencies without a periodic orbit, the peak may lie among them
         row.update(status="ok" if n_ok == n_all else ("partial" if n_ok else "no orbit"),
                    error="" if n_ok == n_all else f"{n_all - n_ok} of {n_all} frequencies without a periodic orbit")
+    except PointTimeLimit:
+        return time_limit_row(task, limit)
     except Exception as exc:  # noqa: BLE001 - a failed point is a row of the table, the study goes on
-        row.update({q: math.nan for q in QUANTITIES})
-        row.update(slipping_at_peak=None, peak_at_edge=None, converged_points=0, points=0, status="failed",
-                   error=f"{type(exc).__name__}: {exc}")
+        return _failed(row, f"{type(exc).__name__}: {exc}")
     return row
