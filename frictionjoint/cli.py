@@ -149,7 +149,9 @@ def _add_study(sub) -> None:
                     "parameters, with the peak amplitude and frequency, the equivalent damping ratio, the "
                     "energy dissipated per cycle and the slip state at the peak. Without --scheduler the "
                     "points run on a local process pool; with it, on a running Dask cluster. Rows stream "
-                    "into the table as points finish; run again to resume an interrupted study.")
+                    "into the table as points finish; run again to resume an interrupted study. A point "
+                    "that runs longer than the study's time_limit ([sweep], default 600 s) is a failed row; "
+                    "the exit status is 1 when any point failed, the last line says how many.")
     st.add_argument("file", metavar="FILE", help="the study definition (.toml)")
     st.add_argument("--workers", type=_count(1), default=None, metavar="N",
                     help="local worker processes (default: the machine's cores; 1: in this process)")
@@ -166,8 +168,11 @@ def _add_study(sub) -> None:
 
 
 def _study(args, parser) -> int:
+    """Run the study; exit status 0 when every point has a row that did not fail, 1 when some
+    failed (the last line says how many) or a worker died, 2 for a bad definition or table."""
     from .errors import WorkerError
     from .study import load_study, run_study
+    from .study.execution import TableConflict
 
     if args.workers is not None and args.scheduler is not None:
         parser.error("--workers is for the local pool; a Dask cluster has its own workers")
@@ -176,16 +181,18 @@ def _study(args, parser) -> int:
     _check_writable(parser, "--table", table)
     where = (f"the Dask cluster at {args.scheduler}" if args.scheduler else
              "this process" if args.workers == 1 else f"{args.workers or os.cpu_count()} local processes")
-    print(f"study {args.file}: {len(study.points())} points of {study.model} ({', '.join(study.varied)}), "
-          f"{study.omega[2]} frequencies {study.omega[0]:g}-{study.omega[1]:g} rad/s ({study.method}), on {where}; "
-          f"table {table}", flush=True)
+    print(f"study {args.file}: {study.n_points} points of {study.model} ({', '.join(study.varied)}), "
+          f"{study.omega.size} frequencies {study.omega.min():g}-{study.omega.max():g} rad/s ({study.method}), "
+          f"at most {study.time_limit:g} s per point, on {where}; table {table}", flush=True)
     try:
         out = run_study(study, table, workers=args.workers, scheduler=args.scheduler, progress=not args.no_progress,
                         restart=args.restart)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted; the finished points are in {table} (run again to resume)", file=sys.stderr)
         return 130
-    except WorkerError as exc:
+    except TableConflict as exc:
+        parser.error(exc.advice("--restart"))
+    except (WorkerError, OSError) as exc:
         print(f"{PROG}: {exc}", file=sys.stderr)
         return 1
     print(out.message)
@@ -196,12 +203,15 @@ def _study(args, parser) -> int:
         k = int(np.nanargmin(np.where(out.ok, out["peak_amplitude"], np.nan)))
         print("lowest peak amplitude {:.6g} m at ".format(out["peak_amplitude"][k])
               + ", ".join(f"{n} = {out[n][k]:.6g}" for n in out.varied))
-    for row in out.rows():
-        if row["status"] == "failed":
-            print(f"point {row['point']} failed: {row['error']}")
+    failed = [row for row in out.rows() if row["status"] == "failed"]
+    for row in failed:
+        print(f"point {row['point']} failed: {row['error']}")
     if args.out:
         out.plot(path=args.out)
         print(f"wrote {args.out}")
+    if failed:
+        print(f"{len(failed)} of {len(out)} points failed (their rows in {table}, the errors above)")
+        return 1
     return 0
 
 
