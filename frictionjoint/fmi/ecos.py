@@ -181,6 +181,11 @@ def ecos_environment(timeout: float = 60.0) -> dict:
     Everything is computed and ``ecos --version`` run before anything is returned, so that a
     caller prints all of it or nothing (``eval "$(frictionjoint host-env)"``).
 
+    Parameters
+    ----------
+    timeout : float
+        Seconds ``ecos --version`` may take [s].
+
     Returns
     -------
     dict

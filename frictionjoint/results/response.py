@@ -242,9 +242,17 @@ class OutputNotRecordedError(KeyError):
 
 class RecordedOutputs(dict):
     """``"component.variable"`` -> values; a name it does not hold raises
-    :class:`OutputNotRecordedError` saying why, not a bare ``KeyError``."""
+    :class:`OutputNotRecordedError` saying why, not a bare ``KeyError``.
 
-    def __init__(self, values=(), failure: Optional[str] = None):
+    Parameters
+    ----------
+    values : mapping or iterable of pairs
+        ``"component.variable"`` -> (n_t,) ndarray.
+    failure : str, optional
+        Why the run recorded nothing (None when it succeeded).
+    """
+
+    def __init__(self, values: Any = (), failure: Optional[str] = None):
         super().__init__(values)
         self.failure = failure
 
