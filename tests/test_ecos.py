@@ -41,6 +41,7 @@ def system_has_libtbb():
     return "libtbb.so.12" in out
 
 
+@pytest.mark.slow  # a fresh Python importing the package: about 2 s
 def test_ecospy_loads_in_a_fresh_process_with_the_tbb_wheel():
     """A fresh Python, no LD_LIBRARY_PATH: load_ecospy gives a working Ecos library, and the
     libtbb.so.12 mapped in the process is the tbb wheel's where the system has none (a bare
@@ -60,6 +61,7 @@ def test_ecospy_loads_in_a_fresh_process_with_the_tbb_wheel():
         assert mapped == repr([str(wheel.resolve())])
 
 
+@pytest.mark.slow  # a fresh Python importing the package: about 2 s
 def test_host_env_runs_the_ecos_executable_from_a_new_shell():
     """``eval "$(frictionjoint host-env)"`` in a shell with none of its variables, then ``$ECOS``
     starts (without LD_LIBRARY_PATH to the tbb wheel it stops at the loader where the system has
@@ -70,6 +72,7 @@ def test_host_env_runs_the_ecos_executable_from_a_new_shell():
     assert p.stdout.strip().startswith("v0.")
 
 
+@pytest.mark.slow  # a fresh Python importing the package: about 2 s
 def test_a_failed_run_says_so_when_its_values_are_read(tmp_path):
     """A file that is not an SSP: the result is a failure, and reading an output raises an error
     saying the run failed and why (a KeyError subclass), not a bare KeyError('osc.x')."""
