@@ -49,14 +49,14 @@ def main(out_dir: str) -> None:
                                          omega=OMEGA, excitation=[fj.HarmonicForce("x2", 1.0)])
         hosts = [("master, sequential", lambda s, h: s.simulate(PERIODS * T, h, OUT)),
                  ("master, Jacobi", lambda s, h: s.simulate(PERIODS * T, h, OUT, transfer="jacobi"))]
+        from frictionjoint.errors import FMUError
+        from frictionjoint.fmi.ecos import load_ecospy, run_ecos
+
         try:
-            import ecospy  # noqa: F401
-
-            from frictionjoint.fmi.ecos import run_ecos
-
+            load_ecospy()
             hosts.append(("Ecos (Jacobi)", lambda s, h: run_ecos(s, PERIODS * T, h, OUT)))
-        except ImportError:
-            print("ecospy not installed: no Ecos rows")
+        except FMUError as exc:
+            print(f"no Ecos rows: {exc}")
         lines = [f"# {platform.node()} {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
                  f"Python {platform.python_version()}",
                  f"{'host':20s} {'coupling':14s} {'step':>6s} {'error':>9s} {'order':>6s} {'time [s]':>8s} "
