@@ -32,9 +32,11 @@ from collections import Counter
 import numpy as np
 
 from . import __version__
-from .errors import ParameterError
+from .errors import ParameterError, check_bool
 from .fmi.build import FMUS
+from .frequencies import omega_range, parse_range
 from .stepping import OSCILLATOR_OUTPUTS
+from .sweep import BLADE_SETTINGS
 
 __all__ = ["main", "build_parser"]
 
@@ -103,13 +105,31 @@ def _range(lower: float, strict: bool, with_count: bool):
     return parse
 
 
+def _omega(text: str):
+    """argparse type of ``--omega START:STOP:N``: the package's one frequency-range convention
+    (:func:`frictionjoint.frequencies.parse_range`, with its messages); ``(start, stop, n)``."""
+    try:
+        return parse_range("omega", text)
+    except ParameterError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def _setting(text: str):
-    """argparse type of ``--set NAME=VALUE``: a name and a finite float."""
+    """argparse type of ``--set NAME=VALUE``: a name and a finite float, or a switch written
+    ``true``/``false`` (also ``yes``/``no``, ``on``/``off``, any case; :func:`~frictionjoint.errors.check_bool`),
+    which becomes ``True``/``False`` (``1``/``0`` stay numbers: a Boolean parameter takes them too)."""
     name, sep, value = text.partition("=")
     name = name.strip()
     if not sep or not name:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
-    return name, _real(value.strip())
+    try:
+        return name, _real(value.strip())
+    except argparse.ArgumentTypeError:
+        try:
+            return name, check_bool(name, value.strip())
+        except ParameterError:
+            raise argparse.ArgumentTypeError(f"{name}: expected a finite number or true/false, got "
+                                             f"{value.strip()!r}") from None
 
 
 def _add_csv_and_progress(parser, what: str) -> None:
@@ -288,10 +308,13 @@ def _add_sweep(sub) -> None:
                          "blade model (e.g. ti64_compressor_blade)")
     sw.add_argument("--set", dest="settings", action="append", default=[], type=_setting,
                     metavar="NAME=VALUE",
-                    help="parameter value, repeatable: mass, stiffness, damping, slip_force, "
-                         "force_amplitude, base_amplitude (SI units; the FMU's defaults otherwise)")
-    sw.add_argument("--omega", type=_range(0.0, True, True), required=True, metavar="START:STOP:N",
-                    help="excitation angular frequencies [rad/s]: N points from START to STOP")
+                    help="parameter value (a number, or true/false for a switch), repeatable: mass, stiffness, "
+                         "damping, slip_force, force_amplitude, base_amplitude for the oscillator (SI units; the "
+                         "FMU's defaults otherwise); for a blade model " + ", ".join(BLADE_SETTINGS)
+                         + "; for a blade FMU its parameters")
+    sw.add_argument("--omega", type=_omega, required=True, metavar="START:STOP:N",
+                    help="excitation angular frequencies [rad/s]: N equally spaced from START to STOP (both > 0; "
+                         "STOP < START runs downward)")
     sw.add_argument("--direction", choices=("up", "down", "both"), default="up",
                     help="sweep direction (default up)")
     sw.add_argument("--output", dest="outputs", action="append", default=None, metavar="NAME",
@@ -409,7 +432,9 @@ def _map(args, parser) -> int:
 
 
 def _sweep(args, parser) -> int:
-    from .sweep import _blade_definition, _is_blade_fmu, sweep
+    from pathlib import Path
+
+    from .sweep import _blade_definition, _is_blade_fmu, model_not_found, sweep
 
     params = {}
     for name, value in args.settings:
@@ -417,11 +442,18 @@ def _sweep(args, parser) -> int:
             parser.error(f"--set: {name} given twice")
         params[name] = value
     w0, w1, n = args.omega
-    omegas = np.linspace(w0, w1, n)
+    omegas = omega_range(w0, w1, n)
     definition = _blade_definition(args.model)
+    if definition is None and args.model != "CoulombOscillator" and not (
+            Path(args.model).suffix == ".fmu" and Path(args.model).is_file()):
+        parser.error(str(model_not_found(args.model)))  # before anything is printed
     if definition is not None:  # a blade model definition: the blade on its root
         if args.compare:
             parser.error("--compare analytic is for the single-DOF oscillator, not a blade model")
+        unknown = sorted(set(params) - set(BLADE_SETTINGS))
+        if unknown:
+            parser.error(f"--set: {unknown} not parameters of the blade model {definition.name}; --set takes "
+                         f"{', '.join(BLADE_SETTINGS)}")
         outputs = tuple(args.outputs or ["x"])
         how = (f"harmonic balance (H = {args.harmonics}), the branch from {w0:g} to {w1:g} rad/s by continuation"
                if args.method == "hbm" else f"{n} frequencies, omega = {w0:g} ... {w1:g} rad/s")
@@ -542,6 +574,36 @@ def _bench(args, parser) -> int:
     return 0
 
 
+#: options whose value is a range START:STOP[:N] (see _attach_range_values)
+_RANGE_OPTIONS = ("--omega", "--ratio", "--friction")
+
+
+def _attach_range_values(argv: list) -> list:
+    """``--omega -1:2.5:10`` as ``--omega=-1:2.5:10``.
+
+    argparse takes a word that starts with ``-`` for an option unless it is a plain negative
+    number, so a range with a negative START never reached the range's own check (the message was
+    "expected one argument"). A value that starts with ``-`` and a digit or a point is never one of
+    this command's options: it is attached to the range option before it, and the range's check
+    says what is wrong with it. Nothing after ``--`` is touched.
+    """
+    out = []
+    i = 0
+    while i < len(argv):
+        word = str(argv[i])
+        if word == "--":
+            out.extend(argv[i:])
+            break
+        value = str(argv[i + 1]) if i + 1 < len(argv) else ""
+        if word in _RANGE_OPTIONS and len(value) > 1 and value[0] == "-" and (value[1].isdigit() or value[1] == "."):
+            out.append(f"{word}={value}")
+            i += 2
+            continue
+        out.append(argv[i])
+        i += 1
+    return out
+
+
 def main(argv=None) -> int:
     """Run the ``frictionjoint`` command.
 
@@ -556,7 +618,7 @@ def main(argv=None) -> int:
         Exit status: 0 on success, 2 on invalid arguments.
     """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_attach_range_values(sys.argv[1:] if argv is None else list(argv)))
     sub = args.subparser
     if args.command not in ("build-fmus", "host-env"):
         _check_writable(sub, "--plot" if args.command in ("sweep", "study") else "--out", args.out)

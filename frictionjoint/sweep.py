@@ -378,10 +378,10 @@ def model_not_found(model) -> ParameterError:
     from .structures.models import MODELS_DIR, blade_model_names
 
     path = Path(model)
-    what = {".fmu": "FMU file", ".toml": "blade model file"}.get(path.suffix, "model")
+    what = {".fmu": "FMU file ", ".toml": "blade model file "}.get(path.suffix, "")
     names = blade_model_names()
     return ParameterError(
-        f"model: {what} {str(model)!r} not found; a sweep takes 'CoulombOscillator', an existing .fmu file "
+        f"model: {what}{str(model)!r} not found; a sweep takes 'CoulombOscillator', an existing .fmu file "
         f"(built by 'frictionjoint build-fmus', e.g. build/CoulombOscillator.fmu), a blade model of "
         f"{MODELS_DIR} ({', '.join(names) if names else 'none there'}) or a blade model .toml file (in Python "
         "also a Driver or a build(omega) callable)")

@@ -83,6 +83,19 @@ def test_bad_arguments_exit_nonzero_in_a_subprocess(tmp_path):
     (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--samples", "8"], "--samples"),
     (["sweep", "CoulombOscillator", "--omega", "1:2:3", "--plot", "/nonexistent-dir/x.png"], "--plot"),
     (["sweep", "nothing.fmu", "--omega", "1:2:3"], "existing .fmu file"),
+    # issue 25, section 7: a range with a negative START reaches the range's own check (argparse took
+    # '-1:2.5:10' for an option: "expected one argument"), with the Python API's message
+    (["sweep", "CoulombOscillator", "--omega", "-1:2.5:10"], "START must be a finite angular frequency > 0"),
+    (["sweep", "CoulombOscillator", "--omega=-1:2.5:10"], "START must be a finite angular frequency > 0"),
+    (["sweep", "CoulombOscillator", "--omega", "-.5:2.5:10"], "START must be a finite angular frequency > 0"),
+    (["sweep", "CoulombOscillator", "--omega", "1:2.5:10.5"], "whole number N"),
+    (["map", "--ratio", "-0.5:1.5:3"], "START and STOP must be finite"),
+    (["demo", "--ratio", "-1:2"], "START and STOP must be finite"),
+    # a missing .fmu or a misspelt model: "not found", and the blade models of models/ listed
+    (["sweep", "nothing.fmu", "--omega", "1:2:3"], "'nothing.fmu' not found"),
+    (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "'CoulombOscilator' not found"),
+    (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "(ti64_compressor_blade)"),
+    (["sweep", "ti64_compressor_blade", "--omega", "1:2:3", "--set", "normal_load_variation=maybe"], "true/false"),
     (["demo", "--bogus"], "unrecognized arguments"),
     (["demo", "--poin", "5"], "unrecognized arguments"),  # no silent abbreviations
     (["demo", "--points", "0"], "--points"),
@@ -107,6 +120,89 @@ def test_bad_arguments_give_a_clear_error(argv, words, capsys):
     err = capsys.readouterr().err
     assert words in err
     assert "usage:" in err
+
+
+def test_set_for_a_blade_lists_only_what_set_takes(capsys):
+    """The --set error for a blade model lists the names --set can set (numbers and the switch of
+    the root, the tip force), not the root's DOF names or contact law, which a number cannot be."""
+    from frictionjoint.sweep import BLADE_SETTINGS
+
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", "ti64_compressor_blade", "--omega", "1900:2100:3", "--set", "flank=1"])
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and "['flank']" in err
+    assert all(name in err for name in BLADE_SETTINGS)
+    assert not any(name in err for name in ("radial_dof", "tangential_dof", "rocking_dof", "flank_contact",
+                                            "n_sliders"))
+
+
+def test_range_values_are_attached_to_their_option_only():
+    """Only a range option's value that starts with '-' and a digit or a point is attached; other
+    words and everything after '--' stay as they are."""
+    from frictionjoint.cli import _attach_range_values
+
+    assert _attach_range_values(["sweep", "M", "--omega", "-1:2:3"]) == ["sweep", "M", "--omega=-1:2:3"]
+    assert _attach_range_values(["map", "--ratio", "-.5:1:3", "--friction", "-1:1:2"]) == [
+        "map", "--ratio=-.5:1:3", "--friction=-1:1:2"]
+    assert _attach_range_values(["sweep", "M", "--omega", "--csv"]) == ["sweep", "M", "--omega", "--csv"]
+    assert _attach_range_values(["demo", "--mass", "-1"]) == ["demo", "--mass", "-1"]
+    assert _attach_range_values(["x", "--", "--omega", "-1:2:3"]) == ["x", "--", "--omega", "-1:2:3"]
+
+
+@pytest.mark.slow  # about 3 s: two steady states of the blade on its root
+def test_sweep_blade_model_switch_from_the_command_line(tmp_path, capsys):
+    """``--set normal_load_variation=true`` (and True, 1) switches the library blade's normal-load
+    variation on: the same orbit as the Python call with True (the same computation in this process:
+    equal bit for bit), not the frozen-load orbit (about 10 % lower at 259 N: README, normal-load
+    variation, to the CSV's digits). '=true' was "expected a number"."""
+    import numpy as np
+
+    import frictionjoint as fj
+    from frictionjoint.results import OutputSweep
+
+    on = fj.sweep("ti64_compressor_blade", np.array([2025.0]), {"centrifugal_force": 259.0,
+                                                              "normal_load_variation": True})
+    off = fj.sweep("ti64_compressor_blade", np.array([2025.0]), {"centrifugal_force": 259.0})
+    assert abs(on.response[0]) > 1.05 * abs(off.response[0])
+    for word in ("true", "True", "1"):
+        table = tmp_path / f"{word}.csv"
+        assert main(["sweep", "ti64_compressor_blade", "--set", "centrifugal_force=259", "--set",
+                     f"normal_load_variation={word}", "--omega", "2025:2025:1", "--csv", str(table),
+                     "--no-progress"]) == 0
+        # the same computation; the CSV's decimal digits leave a last-bit difference at most
+        assert abs(OutputSweep.from_csv(table).response[0] - on.response[0]) <= 1e-14 * abs(on.response[0]), word
+    capsys.readouterr()
+
+
+def test_sweep_blade_fmu_switch_from_the_command_line_and_python(fmus, tmp_path, capsys):
+    """BladeDovetail.fmu's Boolean normal_load_variation from ``--set ...=true`` and from Python
+    ('yes', 1): the library's orbit with the switch on (to 1e-8, as the blade FMU's sweep against
+    the library's); a value that is no switch (0.5) and a fractional Integer are refused (they were
+    bool(0.5) = True and int(5.5) = 5, silently)."""
+    import numpy as np
+
+    import frictionjoint as fj
+    from frictionjoint.errors import ParameterError
+    from frictionjoint.results import OutputSweep
+
+    fmu = str(fmus["BladeDovetail"])
+    lib = fj.sweep("ti64_compressor_blade", np.array([2025.0]), {"centrifugal_force": 259.0,
+                                                               "normal_load_variation": True})
+    table = tmp_path / "fmu.csv"
+    assert main(["sweep", fmu, "--set", "centrifugal_force=259", "--set", "normal_load_variation=true",
+                 "--omega", "2025:2025:1", "--csv", str(table), "--no-progress"]) == 0
+    fr = OutputSweep.from_csv(table)
+    assert abs(fr.response[0] - lib.response[0]) <= 1e-8 * abs(lib.response[0])
+    py = fj.sweep(fmu, "2025:2025:1", {"centrifugal_force": 259.0, "normal_load_variation": "yes"})
+    assert abs(py.response[0] - fr.response[0]) <= 1e-14 * abs(fr.response[0])  # the same; fr through its CSV
+    for value in (0.5, "maybe"):
+        with pytest.raises(ParameterError, match="normal_load_variation must be True or False"):
+            fj.sweep(fmu, "2025:2025:1", {"normal_load_variation": value})
+    with pytest.raises(ParameterError, match="n_modes must be a whole number"):
+        fj.sweep(fmu, "2025:2025:1", {"n_modes": 5.5})
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", fmu, "--set", "normal_load_variation=0.5", "--omega", "2025:2025:1", "--no-progress"])
+    assert exc.value.code == 2 and "normal_load_variation must be True or False" in capsys.readouterr().err
 
 
 def test_help_and_version(capsys):
