@@ -58,7 +58,7 @@ from typing import Callable, NamedTuple, Optional
 
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive, check_real
 
-__all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS"]
+__all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS", "EventBudgetError"]
 
 #: Kinds of events counted by :meth:`SdofCoulomb.march` (as in :class:`~.events.EventLog`).
 EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
@@ -68,6 +68,16 @@ _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 20_000
 #: Near-resonance form of the slip pieces where |k - m w^2 - i c w| < _NEAR k.
 _NEAR = 0.25
+#: Pieces a march may take per excitation period it spans (plus two periods' worth): the exact
+#: motion of a forcing period far beyond the natural one sticks and slips about once per natural
+#: period (Coulomb friction restarts the free oscillation at every break-away), so its event count
+#: grows with omega_n/omega; beyond this a march is refused (:class:`EventBudgetError`) instead of
+#: running for hours. 1e4 events per period (omega/omega_n = 1e-4, undamped) take about 0.6 s.
+_PIECES_PER_PERIOD = 20_000
+
+
+class EventBudgetError(ConvergenceError):
+    """A march would take more pieces than :data:`_PIECES_PER_PERIOD` per excitation period."""
 
 
 def _matmul(a, b):
@@ -614,7 +624,11 @@ class SdofCoulomb:
                 counts[1] += 1
             s = new
         zero_steps = 0
+        budget, n_pieces = self._budget(t, t_end), 0
         while t < t_end:
+            n_pieces += 1
+            if n_pieces > budget:
+                raise EventBudgetError(self._budget_message(budget, t0, t_end, "stick/slip events"))
             if s == 0:
                 t_exit = self._stick_end(t, x)
                 t_stop = min(t_exit, t_end)
@@ -646,6 +660,18 @@ class SdofCoulomb:
             counts[0 if new == 0 else (3 if new == s else 2)] += 1
             s = new
         return SdofResult(t, x, v, s, sum(counts), dict(zip(EVENT_KINDS, counts)), v_scale)
+
+    def _budget(self, t0: float, t_end: float) -> float:
+        """Pieces allowed to a march from ``t0`` to ``t_end`` (:data:`_PIECES_PER_PERIOD`)."""
+        return _PIECES_PER_PERIOD * (2.0 + (t_end - t0) / self._period)
+
+    def _budget_message(self, budget: float, t0: float, t_end: float, what: str) -> str:
+        """Why a march was refused, in words."""
+        r = self.omega / self._wn
+        return (f"more than {budget:.6g} {what} from t = {t0!r} to {t_end!r} s "
+                f"({(t_end - t0) / self._period:.3g} excitation periods): too many to march event by "
+                f"event (omega/omega_n = {r:.3g}; where the forcing period is far beyond the natural "
+                "one, the exact motion sticks and slips about once per natural period)")
 
     def _slip_piece(self, t, x, v, s, t_end, v_scale, zero_steps, on_piece, what):
         """One slip piece of direction ``s`` from ``(t, x, v)`` to its first event (``v = 0``) or
@@ -683,7 +709,11 @@ class SdofCoulomb:
             xe, ve = self.evaluate(1, t, x, v, t_end) if t_end > t else (x, v)
             return SdofResult(t_end, xe, ve, (ve > 0) - (ve < 0), 0, counts)
         v_scale, zero_steps = abs(v), 0
+        budget, n_pieces = self._budget(t, t_end), 0
         while True:
+            n_pieces += 1
+            if n_pieces > budget:
+                raise EventBudgetError(self._budget_message(budget, t, t_end, "turning points"))
             if v != 0.0:
                 s = 1 if v > 0 else -1
             else:  # direction of the acceleration, else of the jerk

@@ -12,7 +12,14 @@ dissipation.
 :func:`sdof_periodic_response` answers None where this path does not apply -- no slipping start
 for the section, an event without a derivative (a graze), a rule of the kernel that fails, or no
 convergence (unbounded growth, slow transients) -- and the caller then takes the general marcher's
-path, which reports those cases in words.
+path, which reports those cases in words. Two cases it answers itself, in bounded time:
+
+- a guess that stays stuck through the first period is a periodic orbit (a rest position; a
+  family when ``|k x| < F - |P0|``), answered from that period;
+- a scene whose exact march is refused (:class:`~frictionjoint.solvers.sdof.EventBudgetError`: a
+  forcing period far beyond the natural one, where the exact motion sticks and slips about once
+  per natural period) is answered by its quasi-static limit with a rigorous bound on the
+  difference (:func:`quasi_static_response`).
 """
 from __future__ import annotations
 
@@ -25,11 +32,16 @@ from ..errors import ConvergenceError
 from ..results import PeriodicResponse
 from .events import EventLog
 from .response import gauss_nodes
-from .sdof import SdofCoulomb, _phi1, event_kind
+from .sdof import EventBudgetError, SdofCoulomb, _phi1, event_kind
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 from .steady import SECTION_MARGIN
 
-__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral"]
+__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral", "quasi_static_response",
+           "quasi_static_bound", "QUASI_STATIC_TOL"]
+
+#: The quasi-static limit is the answer (``converged``) where its rigorous distance to the exact
+#: motion is at most this fraction of the amplitude.
+QUASI_STATIC_TOL = 1e-9
 
 
 class _NoDerivative(Exception):
@@ -126,7 +138,15 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     PeriodicResponse or None
         Scalar ``amplitude``, ``phase``, ``harmonic_amplitude``; exact Floquet multipliers.
     """
-    orbit = sdof_orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
+    if _quasi_static(kernel):
+        return quasi_static_response(kernel, n_samples)
+    try:
+        stuck = _stuck_orbit(kernel, x0, v0, n_samples)
+        if stuck is not None:
+            return stuck
+        orbit = _orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
+    except EventBudgetError as err:
+        return quasi_static_response(kernel, n_samples, reason=str(err))
     if orbit is None:
         return None
     pmap, outcome, jac, periods = orbit
@@ -144,6 +164,14 @@ def sdof_orbit(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_new
     ``periods`` marched), or None where the general path must answer (see
     :func:`sdof_periodic_response`)."""
     try:
+        return _orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
+    except EventBudgetError:
+        return None
+
+
+def _orbit(kernel, x0, v0, *, tol, max_newton, max_periods):
+    """:func:`sdof_orbit`, but a march refused for its event count raises :class:`EventBudgetError`."""
+    try:
         section = _section(kernel, x0, v0)
         if section is None:
             return None
@@ -153,6 +181,8 @@ def sdof_orbit(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_new
         if not outcome.converged:
             return None
         jac = pmap.jacobian(outcome.z, None, None)
+    except EventBudgetError:
+        raise
     except (_NoDerivative, ConvergenceError):
         return None
     return pmap, outcome, jac, periods + pmap.calls
@@ -229,4 +259,143 @@ def _evaluate(kernel, pmap, outcome, z, jac, pieces, periods, max_periods, n_sam
         periods=periods, state=np.array(z), section_time=t_s, initial_state=z if t_s == 0 else z0,
         events=log, dissipated_per_cycle=diss, t=t_arr, x=x_arr)
     res.set_multipliers(np.linalg.eigvals(jac))
+    return res
+
+
+def _stuck_orbit(kernel: SdofCoulomb, x0: float, v0: float, n_samples: int) -> PeriodicResponse | None:
+    """The orbit of a guess at rest that stays stuck through the first period, or None.
+
+    Stuck at ``t = 0`` (the rules at ``v = 0`` keep it) and no break-away before ``t = T``: the
+    state at ``T`` is the state at 0 and the forcing is ``T``-periodic, so this is a periodic orbit,
+    exactly. The period map holds ``x`` and forgets ``v`` (multipliers 1 and 0): nearby rest
+    positions are orbits too, a family (as the general path reports it)."""
+    if v0 != 0.0 or kernel.slip_force == 0.0:
+        return None
+    period = 2 * math.pi / kernel.omega
+    # the start of SdofCoulomb.march from rest: the rules at v = 0, then the stuck piece's end
+    if kernel.settle(0.0, x0, 0) != 0 or kernel._stick_end(0.0, x0) < period:
+        return None
+    t_arr = x_arr = None
+    if n_samples:
+        t_arr = period * np.arange(n_samples) / n_samples
+        x_arr = np.full(n_samples, x0)
+    res = PeriodicResponse(
+        omega=kernel.omega, amplitude=abs(x0), phase=0.0, harmonic_amplitude=0.0, stops_per_cycle=0, stuck=True,
+        converged=True, unique=False,
+        message=("periodic steady state found: stuck at rest through the period; NOT UNIQUE: the period map "
+                 "has an eigenvalue 1 (a family of rest positions); this is one member"),
+        periods=1.0, state=np.array([x0, 0.0]), section_time=0.0, initial_state=np.array([x0, 0.0]),
+        events=EventLog(), dissipated_per_cycle=0.0, t=t_arr, x=x_arr)
+    res.set_multipliers([1.0, 0.0])
+    return res
+
+
+def _quasi_static(kernel: SdofCoulomb) -> bool:
+    """True where the quasi-static limit is within :data:`QUASI_STATIC_TOL` of the exact steady
+    motion's amplitude (then at least ``1/QUASI_STATIC_TOL`` natural periods per forcing period: a
+    march event by event would be refused)."""
+    slip = abs(kernel.force_amplitude) - kernel.slip_force
+    return slip > 0.0 and quasi_static_bound(kernel) <= QUASI_STATIC_TOL * slip / kernel.stiffness
+
+
+def quasi_static_bound(kernel: SdofCoulomb) -> float:
+    """Rigorous bound ``delta`` [m] on ``|x(t) - x_qs(t)|`` while the mass slips after a stick.
+
+    ``x_qs = (P0 cos wt - s F)/k`` is the quasi-static position of a slip in direction ``s``. A slip
+    that starts from a stick starts where the holding force reaches ``s F``, i.e. at ``x = x_qs``,
+    with ``v = 0``. The exact slip is ``x_p + x_h``: the particular part ``x_p = Re(P0 e^{iwt}/D)
+    - s F/k`` (``D = k - m w^2 - i c w``) is within ``e_p = |P0| |k - D|/(k |D|)`` of ``x_qs``, and
+    the homogeneous part starts at ``(x_qs - x_p, -v_p)`` with ``|v_p| <= w |P0|/|D|``; its energy
+    ``(m v_h^2 + k x_h^2)/2`` never grows (``c >= 0``), so ``|x_h| <= sqrt(e_p^2 + (m/k) v_p^2)``.
+    Hence ``delta = e_p + sqrt(e_p^2 + (m/k) (w P0/|D|)^2)``, about ``(w/wn) |P0|/k`` for
+    ``w << wn``: the quasi-static limit's error is first order in ``omega/omega_n``.
+    """
+    m, k, c, w = kernel.mass, kernel.stiffness, kernel.damping, kernel.omega
+    pa = abs(kernel.force_amplitude)
+    dk = abs(complex(m * w * w, c * w))      # |k - D|
+    dd = abs(complex(k - m * w * w, -c * w))  # |D|
+    if dd == 0.0:
+        return math.inf
+    e_p = pa * dk / (k * dd)
+    return e_p + math.hypot(e_p, math.sqrt(m / k) * w * pa / dd)
+
+
+def quasi_static_response(kernel: SdofCoulomb, n_samples: int = 0, reason: str = "") -> PeriodicResponse:
+    """Periodic response of the quasi-static limit (``omega/omega_n -> 0``), with its error bound.
+
+    The limit is the play operator: with ``f = F/|P0| < 1``, ``X = (|P0| - F)/k`` and ``theta1 =
+    arccos(1 - 2 f)``, for ``P0 > 0`` the mass sticks at ``X`` on ``0 <= wt < theta1``, slips at
+    ``x = (P0 cos wt + F)/k`` to ``wt = pi``, sticks at ``-X`` to ``pi + theta1`` and slips at
+    ``x = (P0 cos wt - F)/k`` to ``2 pi`` (``x`` is odd in ``P0``). Its first harmonic
+    ``a1 cos wt + b1 sin wt`` (integrals of these pieces):
+    ``a1 = (2/pi)(P0/k) [(pi - theta1)/2 + sin(2 theta1)/4]``, ``b1 = (4/pi)(P0/k) f (1 - f)``
+    (the work ``pi P0 b1`` equals the dissipation ``4 F X``); two stops per cycle.
+
+    The exact steady motion is within ``delta`` (:func:`quasi_static_bound`) of it: every slip
+    starts from a stick; a stop needs ``x >= x_qs`` (else the holding force exceeds ``F`` and the
+    slip goes on) and a stuck mass below ``max x_qs = X`` breaks away again before the force turns,
+    so the exact amplitude lies in ``[X, X + delta]``. Where ``delta <= QUASI_STATIC_TOL X`` the
+    limit is the answer (``converged``); else it is given with status ``'not converged'`` and the
+    bound in the message (``'failed'`` if ``delta >= X``, where the limit says nothing).
+
+    Parameters
+    ----------
+    kernel : SdofCoulomb
+    n_samples : int
+        If > 0, also return that many samples of ``x`` over the period.
+    reason : str
+        Why the exact march was not taken (for the message).
+
+    Returns
+    -------
+    PeriodicResponse
+    """
+    m, k, f_slip, p0, w = (kernel.mass, kernel.stiffness, kernel.slip_force, kernel.force_amplitude,
+                           kernel.omega)
+    pa, sgn = abs(p0), (1.0 if p0 >= 0 else -1.0)
+    period = 2 * math.pi / w
+    ratio = w / math.sqrt(k / m)
+    if f_slip >= pa:  # stuck in the limit: a rest position (x = 0 is one)
+        res = _stuck_orbit(kernel, 0.0, 0.0, n_samples)
+        if res is not None:
+            return res
+    delta = quasi_static_bound(kernel)
+    amp = (pa - f_slip) / k
+    why = f" ({reason})" if reason else ""
+    if not delta < amp:
+        nan = float("nan")
+        return PeriodicResponse(
+            omega=w, amplitude=nan, phase=nan, harmonic_amplitude=nan, stops_per_cycle=0, stuck=False,
+            converged=False, unique=False, status="failed", periods=0.0,
+            message=(f"the exact march was refused{why}, and the quasi-static limit says nothing here: its "
+                     f"error bound {delta:.3g} m is not below its amplitude {amp:.3g} m "
+                     f"(omega/omega_n = {ratio:.3g})"))
+    f = f_slip / pa
+    th1 = math.acos(1.0 - 2.0 * f)
+    a1 = sgn * (2.0 / math.pi) * (pa / k) * (0.5 * (math.pi - th1) + 0.25 * math.sin(2.0 * th1))
+    b1 = sgn * (4.0 / math.pi) * (pa / k) * f * (1.0 - f)
+    log = EventLog()
+    for theta, kind in ((th1, "slip"), (math.pi, "stick"), (math.pi + th1, "slip"), (2 * math.pi, "stick")):
+        log.append(theta / w, 0, 0, kind)
+    t_arr = x_arr = None
+    if n_samples:
+        t_arr = period * np.arange(n_samples) / n_samples
+        th = (w * t_arr) % (2 * math.pi)
+        x_arr = sgn * np.select([th < th1, th < math.pi, th < math.pi + th1],
+                                [amp, (pa * np.cos(th) + f_slip) / k, -amp],
+                                (pa * np.cos(th) - f_slip) / k)
+    rel = delta / amp
+    converged = rel <= QUASI_STATIC_TOL
+    limit = (f"the quasi-static limit (omega/omega_n = {ratio:.3g}): the exact motion is within {delta:.3g} m "
+             f"of it ({rel:.2g} of the amplitude)")
+    message = (f"periodic steady state found: {limit}{why}" if converged else
+               f"no exact periodic steady state{why}; given here: {limit}, more than {QUASI_STATIC_TOL:g}")
+    z = np.array([sgn * amp, 0.0])
+    res = PeriodicResponse(
+        omega=w, amplitude=amp, phase=math.atan2(b1, a1), harmonic_amplitude=math.hypot(a1, b1),
+        stops_per_cycle=2, stuck=False, converged=converged, unique=True, message=message, periods=0.0,
+        status="periodic" if converged else "not converged", state=z, section_time=0.0, initial_state=z.copy(),
+        events=log, dissipated_per_cycle=4.0 * f_slip * amp, t=t_arr, x=x_arr)
+    if converged:
+        res.set_multipliers([0.0, 0.0])  # every slip starts from a stick, where the state is forgotten
     return res
