@@ -57,11 +57,11 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="4 loads, 6 frequencies")
     args = parser.parse_args(argv)
     n_loads, n_w = (4, 6) if args.quick else (8, 12)
-    work = Study(model="ti64_compressor_blade", omega=(1950.0, 2100.0, n_w),
+    work = Study(model="ti64_compressor_blade", omega=f"1950:2100:{n_w}",
                  vary={"centrifugal_force": Grid(50.0, 1500.0, n_loads, "log")})
 
     def null(n):  # points that fail at once: the executor's own cost per point
-        return Study(model="ti64_compressor_blade", omega=(1950.0, 2100.0, 2),
+        return Study(model="ti64_compressor_blade", omega="1950:2100:2",
                      vary={"centrifugal_force": Values(tuple(-1.0 - np.arange(n)))})
 
     lines = [f"# benchmarks/study_scaling.py{' --quick' if args.quick else ''}: {platform.machine()}, "
@@ -85,7 +85,7 @@ def main(argv=None) -> int:
         p_small, p_large = _timed(null(100), tmp / "p1.csv", workers=2), _timed(null(300), tmp / "p2.csv", workers=2)
     # the machine's own parallel capacity: one point alone against the same point twice at once,
     # in two warm worker processes (2 shared cores need not give 2x)
-    one = tasks(Study(model="ti64_compressor_blade", omega=(1950.0, 2100.0, n_w),
+    one = tasks(Study(model="ti64_compressor_blade", omega=f"1950:2100:{n_w}",
                       vary={"centrifugal_force": Values((259.0,))}))[0]
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:
         list(ex.map(evaluate_point, [one, one]))

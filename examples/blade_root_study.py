@@ -41,8 +41,8 @@ BAND = (1600.0, 2200.0)  # [rad/s]: both linear limits' first bending mode
 def damper_curve(asm, name, values, folder, fixed=None):
     """Peak tip amplitude for each value of a root parameter: a study (frictionjoint.study) on the
     machine's cores, each peak refined between 31 frequencies; prints the table."""
-    study = Study(model=asm, omega=(*BAND, 31), vary={name: Values(tuple(float(v) for v in values))},
-                  fixed=dict(fixed or {}))
+    study = Study(model=asm, omega=f"{BAND[0]:g}:{BAND[1]:g}:31",  # START:STOP:N [rad/s]
+                  vary={name: Values(tuple(float(v) for v in values))}, fixed=dict(fixed or {}))
     table = run_study(study, Path(folder) / f"{name}.csv", restart=True)
     rows = np.c_[table[name], table["peak_amplitude"], table["peak_omega"]]
     print(f"\n{name:>22} {'peak tip [m]':>13} {'at omega [rad/s]':>17}")

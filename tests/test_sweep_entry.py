@@ -99,3 +99,22 @@ def test_system_sweep_without_peaks_has_the_same_harmonics():
     assert np.array_equal(a.amplitude[a.stuck], b.amplitude[a.stuck]) and np.all(np.isnan(b.amplitude[~a.stuck]))
     for name in ("harmonic_amplitude", "phase", "dissipated_per_cycle", "stuck", "converged"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
+
+
+@pytest.mark.parametrize("on, off", [(True, False), (1, 0), (1.0, 0.0), ("true", "false"), ("Yes", "no")])
+def test_a_blade_switch_from_python_in_every_spelling(on, off):
+    """normal_load_variation of a blade sweep's parameters (sweep(model, omegas, parameters) builds
+    the blade with blade_assembly): every way of writing a switch (errors.check_bool) reaches the
+    root as that switch; bool('false') was True, 1.0 from the CLI was refused."""
+    from frictionjoint.sweep import blade_assembly
+
+    assert blade_assembly("ti64_compressor_blade", {"normal_load_variation": on}).joints[0].normal_load_variation is True
+    assert blade_assembly("ti64_compressor_blade", {"normal_load_variation": off}).joints[0].normal_load_variation is False
+
+
+def test_a_blade_switch_that_is_no_switch_is_refused():
+    from frictionjoint.sweep import blade_assembly
+
+    for value in (0.5, 2, "maybe"):
+        with pytest.raises(ParameterError, match="normal_load_variation"):
+            blade_assembly("ti64_compressor_blade", {"normal_load_variation": value})
