@@ -158,7 +158,18 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     Returns
     -------
     StudyTable
-        Every point, sorted by point.
+        Every point, sorted by point; a point that raised or reached ``study.time_limit`` is a
+        ``'failed'`` row with its error.
+
+    Raises
+    ------
+    TableConflict
+        ``table`` holds another study's rows, other columns, or a row whose parameters are not its
+        point's (``restart=True`` overwrites it).
+    ParameterError
+        A bad argument, a directory as ``table``, or a table with a line that is not a row.
+    WorkerError
+        A pool or Dask worker died (the finished rows are kept: run again to resume).
     """
     from tqdm import tqdm
 
