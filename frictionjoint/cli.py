@@ -314,7 +314,7 @@ def _add_sweep(sub) -> None:
                          + "; for a blade FMU its parameters")
     sw.add_argument("--omega", type=_omega, required=True, metavar="START:STOP:N",
                     help="excitation angular frequencies [rad/s]: N equally spaced from START to STOP (both > 0; "
-                         "STOP < START runs downward)")
+                         "--direction sets the order they are swept in)")
     sw.add_argument("--direction", choices=("up", "down", "both"), default="up",
                     help="sweep direction (default up)")
     sw.add_argument("--output", dest="outputs", action="append", default=None, metavar="NAME",
