@@ -116,6 +116,13 @@ class CoulombOscillator:
         -------
         TimeResponse
             With 1-D arrays ``x``, ``v``, ``friction_force`` and the event log.
+
+        Raises
+        ------
+        frictionjoint.solvers.sdof.EventBudgetError
+            A :class:`ConvergenceError` where the exact motion has far too many events to march
+            (a forcing period far beyond the natural one sticks and slips about once per natural
+            period; deep in that regime the quasi-static motion is the answer, within its bound).
         """
         x0 = check_real("x0", x0)
         v0 = check_real("v0", v0)
@@ -124,10 +131,13 @@ class CoulombOscillator:
             # the closed-form kernel; the general marcher (the reference) keeps the energy
             # accounting, and answers should the kernel's rules ever find no consistent status
             # (no such case is known since they break stick/slip cycles as Marcher.settle does)
+            from .solvers.sdof import EventBudgetError
             from .solvers.sdof_simulate import sdof_simulate
 
             try:
                 return sdof_simulate(self._kernel(), t_end, x0, v0, t_eval, record)
+            except EventBudgetError:
+                raise  # far too many events for any event-driven march (the message says why)
             except ConvergenceError:
                 pass
         tr = _simulate(self.system, t_end, x0, v0, t_eval=t_eval, record=record, marcher=self._marcher)

@@ -58,7 +58,7 @@ from typing import Callable, NamedTuple, Optional
 
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive, check_real
 
-__all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS", "EventBudgetError"]
+__all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS", "EventBudgetError", "QUASI_STATIC_TOL"]
 
 #: Kinds of events counted by :meth:`SdofCoulomb.march` (as in :class:`~.events.EventLog`).
 EVENT_KINDS = ("stick", "slip", "normal stop", "abnormal stop")
@@ -68,6 +68,9 @@ _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 20_000
 #: Near-resonance form of the slip pieces where |k - m w^2 - i c w| < _NEAR k.
 _NEAR = 0.25
+#: The quasi-static regime: where :meth:`SdofCoulomb.quasi_static_bound` is at most this fraction of
+#: the quasi-static slip amplitude ``(|P0| - F)/k``, a slip that starts from a stick follows ``x_qs``.
+QUASI_STATIC_TOL = 1e-9
 #: Pieces a march may take per excitation period it spans (plus two periods' worth): the exact
 #: motion of a forcing period far beyond the natural one sticks and slips about once per natural
 #: period (Coulomb friction restarts the free oscillation at every break-away), so its event count
@@ -194,6 +197,12 @@ class SdofCoulomb:
             self._K = complex(0.0, -p0 / (2.0 * m * b))                   # P0/(m (l+ - l-))
         else:
             self._A, self._B = p0 * d_ / den, p0 * e_ / den
+        # the quasi-static regime (module docstring): slips that start from a stick follow x_qs
+        self._qs_delta = self.quasi_static_bound()
+        slip_amp = (abs(p0) - f) / k
+        self._quasi = f > 0.0 and slip_amp > 0.0 and not self._near and self._qs_delta <= QUASI_STATIC_TOL * slip_amp
+        if self._quasi:
+            self._A, self._B = p0 / k, 0.0  # x_p = x_qs: within _qs_delta of the exact motion
         self._R = math.hypot(self._A, self._B)
         # largest rate of the slipping configuration (|eigenvalue|), as the general marcher's
         if q >= 0.0:
@@ -313,6 +322,64 @@ class SdofCoulomb:
             return x0, 0.0
         x, v = self._at(self._start(t0, x0, v0, status), t - t0)[:2]
         return x, v
+
+    def quasi_static_bound(self) -> float:
+        """Rigorous bound ``delta`` [m] on ``|x(t) - x_qs(t)|`` over a slip that starts from a stick.
+
+        ``x_qs = (P0 cos wt - s F)/k`` is the quasi-static position of a slip in direction ``s``. A
+        slip that starts from a stick starts where the holding force reaches ``s F``, i.e. at
+        ``x = x_qs``, with ``v = 0``. The exact slip is ``x_p + x_h``: the particular part
+        ``x_p = Re(P0 e^{iwt}/D) - s F/k`` (``D = k - m w^2 - i c w``) is within
+        ``e_p = |P0| |k - D|/(k |D|)`` of ``x_qs``, and the homogeneous part starts at
+        ``(x_qs - x_p, -v_p)`` with ``|v_p| <= w |P0|/|D|``; its energy ``(m v_h^2 + k x_h^2)/2``
+        never grows (``c >= 0``), so ``|x_h| <= sqrt(e_p^2 + (m/k) v_p^2)``. Hence
+        ``delta = e_p + sqrt(e_p^2 + (m/k) (w P0/|D|)^2)``, about ``(w/wn) |P0|/k`` for
+        ``w << wn`` (first order in ``omega/omega_n``); the velocity is within
+        ``(wn + w) delta`` of ``v_qs``.
+
+        Returns
+        -------
+        float
+            ``delta`` [m] (inf at an undamped resonance, where ``D = 0``).
+        """
+        m, k, c, w = self.mass, self.stiffness, self.damping, self.omega
+        pa = abs(self.force_amplitude)
+        dd = abs(complex(k - m * w * w, -c * w))  # |D|
+        if dd == 0.0:
+            return math.inf
+        e_p = pa * abs(complex(m * w * w, c * w)) / (k * dd)
+        return e_p + math.hypot(e_p, math.sqrt(m / k) * w * pa / dd)
+
+    def _qs_state(self, t: float, s: int):
+        """Quasi-static slip state ``(x_qs, v_qs)`` at ``t`` in direction ``s``."""
+        p0, k, w = self.force_amplitude, self.stiffness, self.omega
+        return (p0 * math.cos(w * t) - s * self.slip_force) / k, -p0 * w * math.sin(w * t) / k
+
+    def _quasi_static_piece(self, t: float, x: float, v: float, s: int, t_end: float):
+        """The slip piece from ``(t, x, v)`` in direction ``s`` in the quasi-static regime, or None
+        where the state is not within :meth:`quasi_static_bound` of the quasi-static slip of that
+        direction (then the exact march answers, e.g. the transient of an arbitrary start).
+
+        Returns ``(t_stop, x_stop, v_stop, v_start, turned)``: the piece runs to the next turning
+        point of ``x_qs`` (``sin wt = 0``, where the mass sticks: the force passes its extremum) or
+        to ``t_end``; ``v_start`` is the velocity the piece's closed form starts from (``v_qs``)."""
+        w, delta = self.omega, self._qs_delta
+        scale = max(abs(self.force_amplitude), self.slip_force, abs(self.stiffness * x)) / self.stiffness
+        xq, vq = self._qs_state(t, s)
+        if (abs(x - xq) > delta + 1e-12 * scale or s * v < 0.0
+                or abs(v - vq) > 2.0 * (self._wn + w) * delta + 1e-12 * w * scale):
+            return None
+        half = math.pi / w
+        n = math.floor(t / half) + 1
+        t_turn = n * half
+        while t_turn <= t:
+            n += 1
+            t_turn = n * half
+        if s * self._qs_state(0.5 * (t + t_turn), s)[1] <= 0.0:
+            return None  # x_qs moves against s until the turn
+        t_stop = min(t_turn, t_end)
+        xe, ve = self._at(self._start(t, x, vq, s), t_stop - t)[:2]
+        return t_stop, xe, ve, vq, t_turn <= t_end
 
     # ---------------------------------------------------------------- tolerances
     def _fscale(self, t: float, x: float, s: int) -> float:
@@ -448,6 +515,13 @@ class SdofCoulomb:
         # near resonance: bounds over the next dlt from the energy about xc (below)
         dlt = 1.0 / self._rate_slip
         ge = p0a * dlt / math.sqrt(2.0 * m)
+        # over-damped: the decay rates l1a < l2a of the two real modes (module docstring)
+        over = self._q < 0.0
+        if over:
+            l1a, l2a = wn2 / (self._a + self._root), self._a + self._root
+            l1, l2 = -l1a, -l2a
+            inv_dl = 1.0 / (l2a - l1a)
+            slack = 8.0 * _EPS * inv_dl
         rm, rk = math.sqrt(2.0 / m), math.sqrt(2.0 / k)
         fscale = max(abs(p0) + f, self._fscale_fixed, abs(k * x0))
         v_ref = max(v_scale, fscale / (m * self._rate_slip))
@@ -488,8 +562,18 @@ class SdofCoulomb:
                 d0 = math.sqrt(xh * xh + vh * vh / wn2)
                 d1 = math.sqrt(wn2) * d0
                 d2 = (c * d1 + k * d0) / m
-                d3 = (c * d2 + k * d1) / m + mp3
-                d4 = (c * d3 + k * d2) / m + mp4
+                d3 = (c * d2 + k * d1) / m
+                d4 = (c * d3 + k * d2) / m
+                if over:
+                    # over-damped: the modes a e^{l1 tau} + b e^{l2 tau} both decay, so |x_h^(n)| <=
+                    # |a| |l1|^n + |b| |l2|^n (with the rounding of a, b); the energy bound's
+                    # (c/m)^n alone would cut a heavily damped piece into ~c/(m w) steps per period
+                    ra = abs(l2 * xh - vh) * inv_dl + slack * (abs(l2 * xh) + abs(vh))
+                    rb = abs(vh - l1 * xh) * inv_dl + slack * (abs(l1 * xh) + abs(vh))
+                    d3 = min(d3, ra * l1a ** 3 + rb * l2a ** 3)
+                    d4 = min(d4, ra * l1a ** 4 + rb * l2a ** 4)
+                d3 += mp3
+                d4 += mp4
                 cap = math.inf
             m2 = d3 * (1.0 + 1e-12) + 1e-300
             m3 = d4 * (1.0 + 1e-12) + 1e-300
@@ -643,6 +727,18 @@ class SdofCoulomb:
                     counts[1] += 1
                     s = new
                 continue
+            if self._quasi:
+                qs = self._quasi_static_piece(t, x, v, s, t_end)
+                if qs is not None:
+                    t_stop, xe, ve, vq, turned = qs
+                    if on_piece is not None:
+                        on_piece(t, x, vq, s, t_stop, xe, 0.0 if turned else ve)
+                    t, x, v = t_stop, xe, ve
+                    v_scale = max(v_scale, abs(vq), abs(ve))
+                    if turned:  # the force passes its extremum: the mass sticks
+                        counts[0] += 1
+                        s, v = 0, 0.0
+                    continue
             start_v = v
             ev, t, x, v, v_scale, zero_steps = self._slip_piece(t, x, v, s, t_end, v_scale, zero_steps,
                                                                on_piece, "events")
@@ -757,7 +853,8 @@ class SdofCoulomb:
         - reversal ``s -> -s`` at ``v = 0``: the friction force changes sign,
           ``S = [[1, 0], [0, a+/a-]]``, ``a-+ = (P0 cos wt - k x -+ s F)/m``;
         - stick -> slip: the acceleration starts from zero (``f+ = f-``), ``S = I``; a stuck piece
-          holds ``x`` and keeps ``v = 0``: identity.
+          holds ``x`` and keeps ``v = 0``: identity;
+        - a quasi-static slip piece (module docstring) follows ``x_qs`` whatever its start: zero.
 
         The start must be slipping (``v0 != 0``; a section inside a slip piece) and every event
         transversal: an abnormal stop (``v`` touches zero and goes on) or a reversal with a
@@ -789,7 +886,10 @@ class SdofCoulomb:
         for i, (ta, xa, va, s, tb, xb, vb) in enumerate(pieces):
             if s == 0:
                 continue  # stuck: x held, v = 0 (its variation was cleared at the stop)
-            j = _matmul(self.transition(tb - ta), j)
+            if self._quasi and self._quasi_static_piece(ta, xa, va, s, tb) is not None:
+                j = ((0.0, 0.0), (0.0, 0.0))  # a quasi-static slip forgets its start: it follows x_qs
+            else:
+                j = _matmul(self.transition(tb - ta), j)
             if i + 1 == len(pieces):
                 break  # the last piece ends at t_end, not at an event
             after = pieces[i + 1][3]

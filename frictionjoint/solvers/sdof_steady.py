@@ -32,16 +32,11 @@ from ..errors import ConvergenceError
 from ..results import PeriodicResponse
 from .events import EventLog
 from .response import gauss_nodes
-from .sdof import EventBudgetError, SdofCoulomb, _phi1, event_kind
+from .sdof import QUASI_STATIC_TOL, EventBudgetError, SdofCoulomb, _phi1, event_kind
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 from .steady import SECTION_MARGIN
 
-__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral", "quasi_static_response",
-           "quasi_static_bound", "QUASI_STATIC_TOL"]
-
-#: The quasi-static limit is the answer (``converged``) where its rigorous distance to the exact
-#: motion is at most this fraction of the amplitude.
-QUASI_STATIC_TOL = 1e-9
+__all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral", "quasi_static_response"]
 
 
 class _NoDerivative(Exception):
@@ -138,7 +133,7 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     PeriodicResponse or None
         Scalar ``amplitude``, ``phase``, ``harmonic_amplitude``; exact Floquet multipliers.
     """
-    if _quasi_static(kernel):
+    if kernel._quasi:  # the quasi-static limit is within QUASI_STATIC_TOL of the amplitude
         return quasi_static_response(kernel, n_samples)
     try:
         stuck = _stuck_orbit(kernel, x0, v0, n_samples)
@@ -198,14 +193,17 @@ def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: fl
     """``int_ta^tb x(t) e^{i nu t} dt`` over a piece of the kernel.
 
     In closed form: a stuck piece holds ``x = xa``; a slip piece is ``A cos wt + B sin wt + xc +
-    Re(C e^{lam tau})`` (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), each term an
-    exponential (:func:`exp_integral`). Near resonance, critically or over-damped (another form of
-    the piece): Gauss-Legendre on the piece at its fastest rate (exact to rounding)."""
+    Re(C e^{lam tau})`` (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), or, over-damped,
+    ``... + al e^{l1 tau} + be e^{l2 tau}`` (the two decaying modes, ``be = (vh0 - l1 xh0)/(l2 -
+    l1)``, ``al = xh0 - be``), each term an exponential (:func:`exp_integral`). Near resonance and
+    near critical damping (``r < a/100``, where the modes' coefficients would cancel): Gauss-Legendre
+    on the piece at its fastest rate (exact to rounding; its cost grows with that rate times the
+    piece's length, which stays moderate there)."""
     if tb <= ta:
         return 0j
     if s == 0 and kernel.slip_force > 0:
         return xa * exp_integral(1j * nu, ta, tb)
-    if kernel._near or kernel._q <= 0.0:
+    if kernel._near or (kernel._q <= 0.0 and not kernel._root >= 0.01 * kernel._a):
         nodes, weights = gauss_nodes(ta, tb, max(kernel.omega, kernel._rate_slip))
         xs = np.array([kernel.evaluate(s, ta, xa, va, t)[0] for t in nodes])
         return complex(xs @ (weights * np.cos(nu * nodes)), xs @ (weights * np.sin(nu * nodes)))
@@ -214,6 +212,11 @@ def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: fl
     w, a, r = kernel.omega, kernel._a, kernel._root
     jp, jm = exp_integral(1j * (nu + w), ta, tb), exp_integral(1j * (nu - w), ta, tb)
     out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * exp_integral(1j * nu, ta, tb)
+    if kernel._q < 0.0:  # over-damped: two real decaying modes
+        l1, l2 = -kernel._wn2 / (a + r), -(a + r)
+        be = (vh0 - l1 * xh0) / (l2 - l1)
+        return out + cmath.exp(1j * nu * ta) * big_t * ((xh0 - be) * _phi1((l1 + 1j * nu) * big_t)
+                                                        + be * _phi1((l2 + 1j * nu) * big_t))
     c = complex(xh0, -(a * xh0 + vh0) / r)
     lam = complex(-a, r)
     e0 = cmath.exp(1j * nu * ta)
@@ -290,36 +293,6 @@ def _stuck_orbit(kernel: SdofCoulomb, x0: float, v0: float, n_samples: int) -> P
     return res
 
 
-def _quasi_static(kernel: SdofCoulomb) -> bool:
-    """True where the quasi-static limit is within :data:`QUASI_STATIC_TOL` of the exact steady
-    motion's amplitude (then at least ``1/QUASI_STATIC_TOL`` natural periods per forcing period: a
-    march event by event would be refused)."""
-    slip = abs(kernel.force_amplitude) - kernel.slip_force
-    return slip > 0.0 and quasi_static_bound(kernel) <= QUASI_STATIC_TOL * slip / kernel.stiffness
-
-
-def quasi_static_bound(kernel: SdofCoulomb) -> float:
-    """Rigorous bound ``delta`` [m] on ``|x(t) - x_qs(t)|`` while the mass slips after a stick.
-
-    ``x_qs = (P0 cos wt - s F)/k`` is the quasi-static position of a slip in direction ``s``. A slip
-    that starts from a stick starts where the holding force reaches ``s F``, i.e. at ``x = x_qs``,
-    with ``v = 0``. The exact slip is ``x_p + x_h``: the particular part ``x_p = Re(P0 e^{iwt}/D)
-    - s F/k`` (``D = k - m w^2 - i c w``) is within ``e_p = |P0| |k - D|/(k |D|)`` of ``x_qs``, and
-    the homogeneous part starts at ``(x_qs - x_p, -v_p)`` with ``|v_p| <= w |P0|/|D|``; its energy
-    ``(m v_h^2 + k x_h^2)/2`` never grows (``c >= 0``), so ``|x_h| <= sqrt(e_p^2 + (m/k) v_p^2)``.
-    Hence ``delta = e_p + sqrt(e_p^2 + (m/k) (w P0/|D|)^2)``, about ``(w/wn) |P0|/k`` for
-    ``w << wn``: the quasi-static limit's error is first order in ``omega/omega_n``.
-    """
-    m, k, c, w = kernel.mass, kernel.stiffness, kernel.damping, kernel.omega
-    pa = abs(kernel.force_amplitude)
-    dk = abs(complex(m * w * w, c * w))      # |k - D|
-    dd = abs(complex(k - m * w * w, -c * w))  # |D|
-    if dd == 0.0:
-        return math.inf
-    e_p = pa * dk / (k * dd)
-    return e_p + math.hypot(e_p, math.sqrt(m / k) * w * pa / dd)
-
-
 def quasi_static_response(kernel: SdofCoulomb, n_samples: int = 0, reason: str = "") -> PeriodicResponse:
     """Periodic response of the quasi-static limit (``omega/omega_n -> 0``), with its error bound.
 
@@ -331,7 +304,7 @@ def quasi_static_response(kernel: SdofCoulomb, n_samples: int = 0, reason: str =
     ``a1 = (2/pi)(P0/k) [(pi - theta1)/2 + sin(2 theta1)/4]``, ``b1 = (4/pi)(P0/k) f (1 - f)``
     (the work ``pi P0 b1`` equals the dissipation ``4 F X``); two stops per cycle.
 
-    The exact steady motion is within ``delta`` (:func:`quasi_static_bound`) of it: every slip
+    The exact steady motion is within ``delta`` (:meth:`SdofCoulomb.quasi_static_bound`) of it: every slip
     starts from a stick; a stop needs ``x >= x_qs`` (else the holding force exceeds ``F`` and the
     slip goes on) and a stuck mass below ``max x_qs = X`` breaks away again before the force turns,
     so the exact amplitude lies in ``[X, X + delta]``. Where ``delta <= QUASI_STATIC_TOL X`` the
@@ -359,7 +332,7 @@ def quasi_static_response(kernel: SdofCoulomb, n_samples: int = 0, reason: str =
         res = _stuck_orbit(kernel, 0.0, 0.0, n_samples)
         if res is not None:
             return res
-    delta = quasi_static_bound(kernel)
+    delta = kernel.quasi_static_bound()
     amp = (pa - f_slip) / k
     why = f" ({reason})" if reason else ""
     if not delta < amp:
