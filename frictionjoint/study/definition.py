@@ -170,25 +170,20 @@ class Random:
 
 #: the kinds of a parameter's value: a real number, a whole number or a switch
 KINDS = ("real", "int", "bool")
-#: DovetailRoot arguments that are not numbers (DOF names, a contact law): not a study's parameters
-_ROOT_NOT_NUMBERS = ("tangential_dof", "radial_dof", "rocking_dof", "flank_contact")
 
 
 def _root_parameters() -> dict:
-    """The blade root's parameters a study sets (:class:`~frictionjoint.elements.DovetailRoot`'s
-    numeric and switch arguments, from its signature) and ``tip_force_amplitude``."""
+    """The parameters of a blade definition a study sets (:data:`frictionjoint.sweep.BLADE_SETTINGS`:
+    the root's numbers and switch, the tip force), with their kinds (a switch from
+    :class:`~frictionjoint.elements.DovetailRoot`'s signature)."""
     import inspect
 
     from ..elements import DovetailRoot
+    from ..sweep import BLADE_SETTINGS
 
-    out = {}
-    for name, p in inspect.signature(DovetailRoot.__init__).parameters.items():
-        if name == "self" or name in _ROOT_NOT_NUMBERS:
-            continue
-        ann = str(p.annotation)
-        out[name] = "bool" if ann in ("bool", "<class 'bool'>") else "int" if ann in ("int", "<class 'int'>") else "real"
-    out["tip_force_amplitude"] = "real"
-    return out
+    sig = inspect.signature(DovetailRoot.__init__).parameters
+    return {name: "bool" if name in sig and str(sig[name].annotation) in ("bool", "<class 'bool'>") else "real"
+            for name in BLADE_SETTINGS}
 
 
 #: why a study refuses a model that is not a blade (its quantities are a blade's: the tip's first
@@ -215,24 +210,6 @@ def _fmu_parameters(path: Path) -> dict:
             if v.causality == "parameter" and v.name not in ("omega", "start_on_orbit")}
 
 
-def _known_models() -> list[str]:
-    """The model names a study takes without a path: the blade definitions in ``models/``."""
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python < 3.11
-        import tomli as tomllib
-    from ..structures import MODELS_DIR
-
-    names = []
-    for p in sorted(MODELS_DIR.glob("*.toml")) if MODELS_DIR.is_dir() else []:
-        try:
-            if "blade" in tomllib.loads(p.read_text(encoding="utf-8")):
-                names.append(p.stem)
-        except (OSError, ValueError):
-            continue
-    return names
-
-
 def model_parameters(model) -> dict:
     """The parameters a study of ``model`` may fix or vary, ``{name: kind}`` (kind in
     :data:`KINDS`); checks that the model exists.
@@ -249,6 +226,7 @@ def model_parameters(model) -> dict:
         The model names nothing (the message lists the models), or cannot be read.
     """
     from ..structures import BladeAssembly
+    from ..structures.models import blade_model_names
 
     if isinstance(model, BladeAssembly):
         if len(model.joints) != 1 or not hasattr(model.joints[0], "replace"):
@@ -272,7 +250,7 @@ def model_parameters(model) -> dict:
         raise ParameterError(f"model {str(model)!r}: {exc}") from None
     if definition is None:
         where = "file not found" if path.suffix == ".toml" else "not found"
-        raise ParameterError(f"model {str(model)!r}: {where}; the models are {_known_models()} (or a blade "
+        raise ParameterError(f"model {str(model)!r}: {where}; the models are {blade_model_names()} (or a blade "
                              "definition's .toml path, or an .fmu path)")
     return _root_parameters()
 
