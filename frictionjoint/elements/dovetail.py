@@ -62,7 +62,11 @@ from .driven import DrivenSliders
 from .iwan import check_n_sliders
 from .jenkins import Jenkins
 
-__all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail", "FLANK_OUTPUTS"]
+__all__ = ["DovetailRoot", "DovetailStatic", "DrivenDovetail", "FLANK_OUTPUTS", "RESOLUTION"]
+
+#: the largest error, relative to a flank's slip travel, that the rounding of a driven root's
+#: displacement may cause (:class:`DrivenDovetail`)
+RESOLUTION = 1e-6
 
 #: the flanks' forces and slip states as the FMUs report them (DovetailRoot.fmu, BladeDovetail.fmu):
 #: name -> (type, description with unit)
@@ -487,10 +491,18 @@ class DrivenDovetail:
     return map at the segment end; the energy dissipated is ``mu (N(lambda*) + N(1))/2 |dw|``
     from the onset ``lambda*`` (trapezoid, exact). A segment that crosses lift-off is split there.
 
+    Floating point resolves a flank's slip only while the rounding of its displacements stays
+    far below its slip travel: :meth:`update` refuses a root motion that moves a flank by more than
+    :attr:`max_flank_displacement` along or across it, or whose forces overflow.
+
     Attributes
     ----------
     u : (2,) or (3,) ndarray
         Current root coordinates [m, rad].
+    max_flank_displacement : (2,) ndarray
+        Largest ``|t . u|`` and ``|n . u|`` [m]: the rounding of a displacement (relative
+        ``2.2e-16``) stays below :data:`RESOLUTION` of the smallest slider travel
+        ``slip_force / stiffness`` (along) and of the static approach ``N0 / kn`` (across).
     normal_force, friction_force : (2,) ndarray
         Flank forces [N], right and left (sign convention of :mod:`~frictionjoint.elements.dovetail`).
     slipping : (2,) bool ndarray
@@ -522,6 +534,9 @@ class DrivenDovetail:
                 self._flanks.append(d)
         self.slipping = np.zeros(2, dtype=bool)
         self._dissipated = 0.0
+        travel = min(sl.slip_force / sl.stiffness for sl, _ in root.flank_sliders())
+        eps = np.finfo(float).eps
+        self.max_flank_displacement = np.array([travel, self.gap0]) * (RESOLUTION / eps)
         self._update_forces()
 
     @property
@@ -552,9 +567,27 @@ class DrivenDovetail:
     def update(self, u) -> None:
         """Move the root linearly from the current ``u`` to ``u`` [m, rad]."""
         u = np.asarray(u, dtype=float).reshape(-1)
+        names = ", ".join(self.root.root_coordinates)
         if u.shape != self.u.shape or not np.all(np.isfinite(u)):
-            names = ", ".join(self.root.root_coordinates)
             raise ParameterError(f"u must be finite root coordinates ({names}) [m, rad], got {u!r}")
+        moves = np.abs([self.root.tangent_rows @ u, self.root.normal_rows @ u]).max(axis=1)
+        if np.any(moves > self.max_flank_displacement):
+            limit = self.max_flank_displacement
+            raise ParameterError(
+                f"u = {u!r} ({names}) moves a flank by {moves[0]:.3g} m along and {moves[1]:.3g} m across it; "
+                f"allowed: at most {limit[0]:.3g} m along and {limit[1]:.3g} m across, where the rounding of a "
+                f"displacement stays below {RESOLUTION:g} of the slip travel slip_force/stiffness and of the "
+                "static approach N0/kn")
+        saved = self.state()
+        self._move(u)
+        if not all(np.all(np.isfinite(a)) for a in (self.normal_force, self.friction_force, self.root_force,
+                                                    self.dissipated_energy)):
+            self.set_state(saved)
+            raise ParameterError(f"u = {u!r} ({names}) gives flank forces beyond the floating-point range "
+                                 "(stiffness times displacement overflows)")
+
+    def _move(self, u) -> None:
+        """:meth:`update` to the validated ``u``."""
         if self._flanks is not None:
             s = self.root.tangent_rows @ u
             for i, f in enumerate(self._flanks):

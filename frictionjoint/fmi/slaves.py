@@ -43,9 +43,9 @@ from pythonfmu.enums import Fmi2Status
 # the bundle of the first one loaded, and a host may delete that FMU's unpacked folder while the
 # others run (fmpy users, FMUInstance.close): a late import would then fail.
 from ..contact import HalfPlaneContact, MindlinContact, RoundedFlatPunch
-from ..elements.dovetail import FLANK_OUTPUTS, DovetailRoot
+from ..elements.dovetail import FLANK_OUTPUTS, RESOLUTION, DovetailRoot
 from ..elements.driven import DrivenSliders
-from ..elements.iwan import Iwan, check_n_sliders
+from ..elements.iwan import MAX_SLIDERS, Iwan, check_n_sliders
 from ..errors import ConvergenceError, ParameterError, check_positive
 from ..solvers.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
@@ -444,13 +444,23 @@ class _DrivenSlave(_Slave):
     def _displacement(self):
         return float(self.u)
 
+    def _check_u(self) -> float:
+        """The input ``u``, or a :class:`ParameterError` where the play operator cannot resolve it:
+        the sliders' positions are absolute, so a displacement whose rounding reaches the smallest
+        slider travel ``slip_force / stiffness`` would give a wrong force (``JenkinsJoint`` with
+        stiffness 1e308 at u = 1e308: force 0 while slipping at 0.8 N)."""
+        u = self.u
+        if not abs(u) <= self._u_max:
+            raise ParameterError(f"input u must be finite with |u| <= {self._u_max:.3g} m, got {u!r}: beyond, "
+                                 f"its rounding exceeds {RESOLUTION:g} of the smallest slider travel "
+                                 f"slip_force/stiffness ({min(self._sliders.reach):.3g} m)")
+        return u
+
     def _get(self, name):
         if not self._ready:
             return False if name == "slipping" else 0.0
         sl = self._sliders
-        u = self.u
-        if not math.isfinite(u):
-            return False if name == "slipping" else 0.0
+        u = self._check_u()  # an input the joint cannot take: fmi2Fatal with the message, not 0 with OK
         if name == "force":
             return sl.force_at(u)
         if name == "tangent_stiffness":
@@ -463,13 +473,16 @@ class _DrivenSlave(_Slave):
 
     def _initialise(self):
         k, f = self._slider_table()
-        self._sliders = DrivenSliders(k, f, u0=self.u)
+        self._sliders = DrivenSliders(k, f)  # its reach bounds u (_check_u)
+        self._u_max = float(min(self._sliders.reach)) * RESOLUTION / np.finfo(float).eps
+        self._sliders = DrivenSliders(k, f, u0=self._check_u())
 
     def _do_step(self, current_time, step_size):
-        if not math.isfinite(self.u):
-            self.log(f"input u must be finite, got {self.u!r}", status=Fmi2Status.error)
-            return False
-        self._sliders.update(self.u)
+        try:
+            u = self._check_u()
+        except ParameterError as exc:
+            return self._refuse(str(exc))
+        self._sliders.update(u)
         return True
 
     def _snapshot(self):
@@ -514,11 +527,13 @@ class IwanJointSlave(_DrivenSlave):
         self._parameter("slip_force", 0.8, "macroslip force F_S [N], > 0")
         self._parameter("chi", -0.5, "power-law exponent chi, -1 < chi <= 0")
         self._parameter("beta", 0.1, "strength of the macroslip delta relative to the power law, >= 0")
-        self._parameter("n_sliders", 20, "number of sliders of the power-law part, >= 1", kind=int)
+        self._parameter("n_sliders", 20, f"number of sliders of the power-law part, in [1, {MAX_SLIDERS}]",
+                        kind=int)
         self._declare_io()
 
     def _slider_table(self):
-        iw = Iwan.segalman(self.slip_force, self.stiffness, self.chi, self.beta, int(self.n_sliders), dof=0)
+        iw = Iwan.segalman(self.slip_force, self.stiffness, self.chi, self.beta,
+                           check_n_sliders("n_sliders", self.n_sliders), dof=0)
         k, f = zip(*iw.sliders_table)
         return list(k), list(f)
 
@@ -537,14 +552,14 @@ class MicroslipJointSlave(_DrivenSlave):
         self._parameter("radius", 0.01, "sphere radius R [m], > 0")
         self._parameter("youngs_modulus", 210e9, "Young's modulus E of both bodies [Pa], > 0")
         self._parameter("poisson_ratio", 0.3, "Poisson's ratio of both bodies, in (-1, 0.5)")
-        self._parameter("n_sliders", 64, "number of Iwan sliders, >= 1 (error ~0.8/n^2 of the dissipation)",
-                        kind=int)
+        self._parameter("n_sliders", 64, f"number of Iwan sliders, in [1, {MAX_SLIDERS}] (error ~0.8/n^2 of "
+                        "the dissipation)", kind=int)
         self._declare_io()
 
     def _slider_table(self):
         c = MindlinContact(self.normal_load, self.friction_coefficient, self.radius, self.youngs_modulus,
                            self.poisson_ratio)
-        k, f = zip(*c.to_iwan(int(self.n_sliders)).sliders_table)
+        k, f = zip(*c.to_iwan(check_n_sliders("n_sliders", self.n_sliders)).sliders_table)
         return list(k), list(f)
 
 
@@ -591,7 +606,8 @@ class DovetailRootSlave(_Slave):
                         "displacement is the flank slip (2D half-plane) [m], > contact half-width")
         self._parameter("youngs_modulus", 210e9, "flank_profile 1, 2: Young's modulus [Pa], > 0")
         self._parameter("poisson_ratio", 0.3, "flank_profile 1, 2: Poisson's ratio, in (-1, 0.5)")
-        self._parameter("n_sliders", 32, "flank_profile 1, 2: Iwan sliders per flank, >= 1", kind=int)
+        self._parameter("n_sliders", 32, f"flank_profile 1, 2: Iwan sliders per flank, in [1, {MAX_SLIDERS}]",
+                        kind=int)
         self._input("u_tangential", 0.0, "tangential root displacement from the static state [m]")
         self._input("u_radial", 0.0, "radial root displacement from the static state, outward [m]")
         for name, (kind, text) in DOVETAIL_OUTPUTS.items():
@@ -612,8 +628,8 @@ class DovetailRootSlave(_Slave):
                 return HalfPlaneContact(RoundedFlatPunch(self.flat_half_width, self.corner_radius), n,
                                         self.friction_coefficient, self.youngs_modulus, self.poisson_ratio,
                                         self.reference_depth, length=self.flank_length)
-            root = DovetailRoot(self.centrifugal_force, flank_contact=contact, n_sliders=int(self.n_sliders),
-                                **args)
+            root = DovetailRoot(self.centrifugal_force, flank_contact=contact,
+                                n_sliders=check_n_sliders("n_sliders", self.n_sliders), **args)
         else:
             raise ParameterError(f"flank_profile must be 0 (flat), 1 (sphere) or 2 (rounded flat), got {profile}")
         self._root = root.driven(normal_load_variation=bool(self.normal_load_variation) and profile == 0)
@@ -625,8 +641,6 @@ class DovetailRootSlave(_Slave):
         """The flanks moved to the current input (direct feedthrough), computed once per input
         value between steps and shared by all outputs; the committed state is not changed."""
         u = (self.u_tangential, self.u_radial)
-        if not all(math.isfinite(x) for x in u):
-            return None
         if tuple(self._root.u) == u:
             return self._root
         if self._probed is None or self._probed[0] != u:
@@ -636,10 +650,9 @@ class DovetailRootSlave(_Slave):
         return self._probed[1]
 
     def _out(self, name):
-        kind = DOVETAIL_OUTPUTS[name][0]
-        p = self._probe() if self._root is not None else None
-        if p is None:
-            return kind()
+        if self._root is None:
+            return DOVETAIL_OUTPUTS[name][0]()
+        p = self._probe()  # an input the root cannot take: fmi2Fatal with the message, not 0 with OK
         if name.startswith("root_force"):
             return float(p.root_force[0 if name.endswith("tangential") else 1])
         side = 0 if name.endswith("right") else 1
@@ -655,11 +668,10 @@ class DovetailRootSlave(_Slave):
         return float(p.dissipated_energy)
 
     def _do_step(self, current_time, step_size):
-        u = (self.u_tangential, self.u_radial)
-        if not all(math.isfinite(x) for x in u):
-            self.log(f"inputs u_tangential, u_radial must be finite, got {u!r}", status=Fmi2Status.error)
-            return False
-        self._root.update(u)
+        try:
+            self._root.update((self.u_tangential, self.u_radial))
+        except ParameterError as exc:
+            return self._refuse(f"invalid inputs u_tangential, u_radial: {exc}")
         self._probed = None
         return True
 
@@ -716,18 +728,50 @@ class LinearStructureSlave(_Slave):
         for dof in d.force_amplitude:
             f[d.structure.dof_index(dof)] = getattr(self, f"force_amplitude_{dof}")
         self._body = HeldPortStructure(d.structure, d.ports, f, omega=self.omega, t0=self.start_time)
+        self._frequencies = {}
 
     def _port_inputs(self, kind):
         return [getattr(self, f"joint_{kind}_{dof}") for dof in self._definition.ports]
 
+    #: the most cycles (the excitation's and the highest natural frequency's, joint stiffness
+    #: included) one step may span: the rounding of the propagator expm(A h) grows like eps |A| h,
+    #: below 1e-9 here (at 1e300 s it overflows to NaN)
+    max_cycles = 1e6
+
+    def _highest_frequency(self, stiffness) -> float:
+        """Highest natural frequency [rad/s] with the joints' stiffness ``stiffness`` at the ports."""
+        key = tuple(stiffness)
+        if key not in self._frequencies:
+            st = self._definition.structure
+            k = st.stiffness.copy()
+            ports = [st.dof_index(dof) for dof in self._definition.ports]
+            k[ports, ports] += np.asarray(stiffness, dtype=float)
+            lam = np.linalg.eigvals(np.linalg.solve(st.mass, k))
+            if len(self._frequencies) >= 64:
+                self._frequencies.clear()
+            self._frequencies[key] = float(np.sqrt(np.max(np.abs(lam))))
+        return self._frequencies[key]
+
     def _do_step(self, current_time, step_size):
+        stiffness = self._port_inputs("stiffness")
+        if not all(math.isfinite(k) and k >= 0 for k in stiffness):
+            return self._refuse(f"invalid input: joint_stiffness must be finite and >= 0 N/m, got {stiffness!r}")
+        rate = (self.omega + self._highest_frequency(stiffness)) / (2 * math.pi)
+        if step_size * rate > self.max_cycles:
+            return self._refuse(f"a step of {step_size!r} s spans {step_size * rate:.3g} cycles of the excitation "
+                                f"and the highest natural frequency ({rate:.3g} per s); one step spans at most "
+                                f"{self.max_cycles:.3g} (the propagator's rounding grows with it): take shorter steps")
+        saved = self._snapshot()
         try:
             self._body.t = float(current_time)  # the host's time: the excitation phase is absolute
-            self._body.advance(step_size, self._port_inputs("force"),
-                               self._port_inputs("stiffness"), self._port_inputs("displacement"))
+            self._body.advance(step_size, self._port_inputs("force"), stiffness,
+                               self._port_inputs("displacement"))
         except ParameterError as exc:
-            self.log(f"invalid input: {exc}", status=Fmi2Status.error)
-            return False
+            return self._refuse(f"invalid input: {exc}")
+        if not (np.all(np.isfinite(self._body.x)) and np.all(np.isfinite(self._body.v))):
+            self._restore(saved)
+            return self._refuse("the step's state is not finite: the inputs or parameters are beyond what "
+                                "the model resolves in floating point")
         return True
 
     def _snapshot(self):

@@ -7,6 +7,7 @@ resets it. Usage:
 import json
 import math
 import sys
+import time
 
 from frictionjoint.fmi.master import FMUInstance
 
@@ -57,6 +58,86 @@ def extremes(path, cases):
             except Exception as exc:
                 error = f"{type(exc).__name__}: {exc}"
             out.append({"rows": rows, "error": error, "messages": list(inst.messages)})
+    return {"cases": out}
+
+
+def _status(call):
+    """``call()``'s FMI status (0 ok, 2 discard, 3 error, 4 fatal) and its seconds."""
+    from fmpy.fmi1 import FMICallException
+
+    t = time.perf_counter()
+    try:
+        call()
+        status = 0
+    except FMICallException as exc:
+        status = exc.status
+    return status, time.perf_counter() - t
+
+
+def careless_host(path, cases):
+    """For each case of the JSON list ``cases`` ({"params": ..., "steps": [h, ...], "terminate":
+    before which step index or null, "read": [output names]}), from a fresh initialisation: each
+    doStep's raw status and seconds (a refused step does not advance the time), then the outputs
+    read at the end (or the status of the read) and the FMU log."""
+    out = []
+    with FMUInstance(path) as inst:
+        fmu = inst._fmu
+        for case in json.loads(cases):
+            inst.initialize(case.get("params", {}))
+            inst.messages.clear()
+            t, steps = 0.0, []
+            for i, h in enumerate(case["steps"]):
+                if case.get("terminate") == i:
+                    steps.append({"terminate": _status(fmu.terminate)[0]})
+                status, seconds = _status(lambda: fmu.doStep(t, h))
+                steps.append({"status": status, "seconds": seconds})
+                if status == 0:
+                    t += h
+            values = error = None
+            try:
+                values = inst.get(case.get("read", []))
+            except Exception as exc:  # FMUError: the status of the read, in its message
+                error = str(exc)
+            out.append({"steps": steps, "t": t, "values": values, "read_error": error,
+                        "messages": list(inst.messages)})
+    return {"cases": out}
+
+
+def extreme_values(path, cases):
+    """For each case of the JSON list ``cases`` ({"params": ..., "inputs": ..., "h": step}): set the
+    parameters, initialise, set the inputs, read every Real output, step once and read them again.
+    Returns per case: the initialisation's error (or None), the reads (values or the read's error)
+    and the step's raw status, with the FMU log."""
+    from fmpy.fmi1 import FMICallException
+
+    out = []
+    with FMUInstance(path) as inst:
+        names = [v.name for v in inst.model.modelVariables if v.causality == "output" and v.type == "Real"]
+        fmu = inst._fmu
+        for case in json.loads(cases):
+            row = {"init": None, "reads": [], "step": None}
+            inst.messages.clear()
+            try:
+                inst.initialize(case.get("params", {}))
+            except Exception as exc:  # FMUError with the log
+                row["init"] = str(exc)
+                row["messages"] = list(inst.messages)
+                out.append(row)
+                continue
+            try:
+                inst.set(case.get("inputs", {}))
+            except Exception as exc:
+                row["init"] = f"set: {exc}"
+            for when in ("before", "after"):
+                if when == "after":
+                    row["step"], _ = _status(lambda: fmu.doStep(0.0, case.get("h", 1e-3)))
+                try:
+                    vals = fmu.getReal([inst.vr[n] for n in names])
+                    row["reads"].append({"values": dict(zip(names, vals)), "error": None})
+                except FMICallException as exc:
+                    row["reads"].append({"values": None, "error": exc.status})
+            row["messages"] = list(inst.messages)
+            out.append(row)
     return {"cases": out}
 
 
