@@ -360,16 +360,17 @@ def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, param
 def _blade_definition(model):
     """The blade model definition ``model`` names (a ``.toml`` file, or a name in ``models/`` with or
     without ``.toml``), or None if it names none (a ``.fmu`` path never names one, found or not)."""
-    from .structures import MODELS_DIR, load_blade_model
+    from .structures import load_blade_model
+    from .structures.models import blade_model_names
 
     if not isinstance(model, (str, os.PathLike)):
         return None
     path = Path(model)
     if path.suffix not in ("", ".toml"):
         return None
-    if not ((path.suffix == ".toml" and path.is_file()) or (MODELS_DIR / f"{path.stem}.toml").is_file()):
-        return None
-    return load_blade_model(model)
+    if (path.suffix == ".toml" and path.is_file()) or path.stem in blade_model_names():
+        return load_blade_model(model)
+    return None
 
 
 def model_not_found(model) -> ParameterError:
@@ -380,8 +381,11 @@ def model_not_found(model) -> ParameterError:
     path = Path(model)
     what = {".fmu": "FMU file ", ".toml": "blade model file "}.get(path.suffix, "")
     names = blade_model_names()
+    other = MODELS_DIR / f"{path.stem}.toml"
+    found = (f"{other.name} in {MODELS_DIR} is no blade model (no [blade] table)" if path.suffix in ("", ".toml")
+             and other.is_file() else f"{what}{str(model)!r} not found")
     return ParameterError(
-        f"model: {what}{str(model)!r} not found; a sweep takes 'CoulombOscillator', an existing .fmu file "
+        f"model: {found}; a sweep takes 'CoulombOscillator', an existing .fmu file "
         f"(built by 'frictionjoint build-fmus', e.g. build/CoulombOscillator.fmu), a blade model of "
         f"{MODELS_DIR} ({', '.join(names) if names else 'none there'}) or a blade model .toml file (in Python "
         "also a Driver or a build(omega) callable)")

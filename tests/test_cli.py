@@ -95,6 +95,7 @@ def test_bad_arguments_exit_nonzero_in_a_subprocess(tmp_path):
     (["sweep", "nothing.fmu", "--omega", "1:2:3"], "'nothing.fmu' not found"),
     (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "'CoulombOscilator' not found"),
     (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "(ti64_compressor_blade)"),
+    (["sweep", "two_dof_chain", "--omega", "1:2:3"], "two_dof_chain.toml in"),  # a structure, not a blade
     (["sweep", "ti64_compressor_blade", "--omega", "1:2:3", "--set", "normal_load_variation=maybe"], "true/false"),
     (["demo", "--bogus"], "unrecognized arguments"),
     (["demo", "--poin", "5"], "unrecognized arguments"),  # no silent abbreviations
