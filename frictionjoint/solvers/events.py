@@ -58,6 +58,17 @@ def _absmax(a: np.ndarray) -> float:
     return float(np.max(np.abs(a), initial=0.0))
 
 
+def _gave_up_message(itv, tau: float, horizon: float, rate: float, omega: float) -> str:
+    """Why the event search of a piece stopped after :data:`.search.MAX_SAMPLES` samples."""
+    ratio = f"{rate / omega:.3g} times the excitation frequency" if omega > 0 else f"{rate:.3g} rad/s"
+    n = search.MAX_SAMPLES if itv.modal_search() else search.MAX_EXPM_SAMPLES
+    return (f"the event search of the piece from t = {itv.t0!r} s gave up after {n} "
+            f"samples at {tau:.6g} of {horizon:.6g} s: the configuration's fastest mode "
+            f"({rate:.3g} rad/s) is {ratio}, and the search resolves every one of its periods "
+            "where the motion is near an event (a joint or contact stiffness many decades above the "
+            "structure's, or a forcing period many decades beyond its natural periods)")
+
+
 class Marcher:
     """Marches a :class:`~frictionjoint.system.FrictionSystem` exactly from event to event.
 
@@ -584,6 +595,8 @@ class Marcher:
         self.v_scale *= 0.5
         if pat.any_v:
             self.v_scale = max(self.v_scale, vmax)
+        if row == search.GAVE_UP:
+            raise ConvergenceError(_gave_up_message(itv, tau, horizon, rate, self.system.omega))
         return (tau, row) if found else None
 
     # ----------------------------------------------------------------- march
@@ -675,15 +688,22 @@ class Marcher:
                 itv.end_row = j  # the event that ends the piece (saltation of the march's Jacobian)
             if on_interval is not None:
                 on_interval(itv, tau)
+            t_before = state.t
             if self.jit:  # settle projects the state on its status (consistency.check)
                 self._move(itv, tau, state)
             else:
                 self.advance(itv, tau, state)
             if trigger is None:
                 state.t = t_stop
-            zero_steps = zero_steps + 1 if tau <= 0 else 0
+            # an event below the resolution of the time (tau > 0 with t + tau == t, e.g. a stiff
+            # joint's force within rounding of its slip limit) does not advance time either
+            zero_steps = zero_steps + 1 if not state.t > t_before else 0
             if zero_steps > 4 * self.system.n_sliders + 8:
-                raise ConvergenceError(f"events do not advance time at t = {state.t!r} (chattering)")
+                raise ConvergenceError(
+                    f"events do not advance time at t = {state.t!r} (chattering: each next event is found "
+                    f"within the resolution of the time there, {math.ulp(state.t):.3g} s, or an event "
+                    "function stays within rounding of its zero, e.g. the force of a joint many decades "
+                    "stiffer than the structure, or a forcing period many decades beyond its natural periods)")
             if not (np.isfinite(state.x).all() and np.isfinite(state.v).all()):
                 raise ConvergenceError(f"non-finite state at t = {state.t!r}")
             itv = self.settle(state, log, trigger)

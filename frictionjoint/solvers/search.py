@@ -40,7 +40,8 @@ if __name__.startswith("frictionjoint."):  # not in an FMU's bundled copy: not e
     except ImportError:  # pragma: no cover - numba is a dependency of the installed library
         numba = None
 
-__all__ = ["first_event", "numpy_first_event", "RTOL", "ENABLED", "CHUNK"]
+__all__ = ["first_event", "numpy_first_event", "RTOL", "ENABLED", "CHUNK", "MAX_SAMPLES", "MAX_EXPM_SAMPLES",
+           "GAVE_UP"]
 
 #: whether the compiled search is used: numba is importable and this is the installed library
 #: (not the copy an FMU carries in its resources)
@@ -59,6 +60,18 @@ RTOL = 4 * np.finfo(float).eps
 _MAXITER = 100
 #: samples per chunk of the NumPy search
 CHUNK = 48
+#: samples of one piece's search at most (both paths): a piece whose search would need more (a
+#: mode 1e6 times faster than the excitation that the Taylor bound cannot step over, e.g. a
+#: joint or contact stiffness 1e12 times the structure's) ends the search with :data:`GAVE_UP`
+#: instead of running for hours (a second or a few of the compiled search, seconds of NumPy's)
+MAX_SAMPLES = 1_000_000
+#: ... and of a piece without a modal closed form (defective configurations: every sample is a
+#: matrix exponential, about 2 ms for a blade; a blade root of normal stiffness 1e18 N/m needs
+#: 5e8 samples per excitation period)
+MAX_EXPM_SAMPLES = 2048
+#: the row returned by a search that used up :data:`MAX_SAMPLES` (``found`` False, ``tau`` where
+#: it stopped)
+GAVE_UP = -2
 
 
 @_jit
@@ -473,6 +486,28 @@ def _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, near_
 
 
 @_jit
+def _curvature_now(apa, lam, grow, grow_t, t, kp, km, cc, cs, w, harmonic, near_curv):
+    """The curvature part of :func:`_curvature_bound` over ``[t, horizon]`` (``grow_t`` is
+    overwritten: ``e^{Re lam_i t}`` for the decaying modes, ``grow_i`` for the others)."""
+    nr, nm = apa.shape
+    for i in range(nm):
+        lr = lam[i].real
+        grow_t[i] = math.exp(lr * t) if lr < 0 else grow[i]
+        al = abs(lam[i])
+        grow_t[i] *= al * al
+    curv = np.empty(nr)
+    for r in range(nr):
+        m2 = 0.0
+        for i in range(nm):
+            m2 += apa[r, i] * grow_t[i]
+        forced = abs(kp[r]) + abs(km[r])
+        if harmonic:
+            forced += math.hypot(cc[r], cs[r])
+        curv[r] = m2 + w * w * forced + near_curv[r]
+    return curv
+
+
+@_jit
 def _safe_step(g, dg, col, curv, level):
     """Longest step from the sample in column ``col`` over which every row provably stays above
     its level: ``g + g' s - M s^2 / 2 > level`` (0 if a row is at or below it)."""
@@ -498,7 +533,7 @@ def _safe_step(g, dg, col, curv, level):
 
 @_jit
 def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vrows, horizon, h,
-                nidx, nmu, nc):
+                nidx, nmu, nc, max_samples=MAX_SAMPLES):
     """First event of a modal piece in ``(0, horizon]``.
 
     Parameters
@@ -526,14 +561,16 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
         (``Interval._near``; empty for a plain piece).
     nmu, nc : (q,) complex ndarray
         Their forcing exponents ``mu`` (0 or ``+-i w``) and coefficients.
+    max_samples : int
+        Samples at most; beyond, the search gives up (``row`` :data:`GAVE_UP`).
 
     Returns
     -------
     found : bool
     tau : float
-        Local time of the event.
+        Local time of the event (where the search stopped, if it gave up).
     row : int
-        Row of the event function.
+        Row of the event function (:data:`GAVE_UP` if the search gave up).
     vmax : float
         Largest ``|g|`` of the velocity rows seen (bound, start or samples).
     """
@@ -563,11 +600,24 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
         if vrows[r]:
             vmax = max(vmax, abs(g[r, 0]))
     curv, level = _curvature_bound(apa, lam, grow, k0, kp, km, cc, cs, w, harmonic, tol, near_size, near_curv)
+    # the free modes' share of the curvature bound decays with the piece: from a sample at t on,
+    # |pa_i e^{lam_i s}| |lam_i|^2 <= |pa_i| |lam_i|^2 e^{Re lam_i t} for a decaying mode (the
+    # bound from the start would keep the steps at the transient's scale for the whole piece:
+    # quasi-static forcing, period 1e12 of the structure's, took 1e12 steps)
+    decaying = False
+    for i in range(lam.size):
+        if lam[i].real < 0:
+            decaying = True
+    grow_t = grow.copy()
     t_prev = 0.0
     prev, cur = 0, 1
     k = 0
     while t_prev < horizon:
         k += 1
+        if k > max_samples:
+            return False, t_prev, GAVE_UP, vmax
+        if decaying and t_prev > 0:
+            curv = _curvature_now(apa, lam, grow, grow_t, t_prev, kp, km, cc, cs, w, harmonic, near_curv)
         # a step longer than h where no function can reach its band (Taylor bound, see _safe_step)
         t = min(t_prev + max(h, _safe_step(g, dg, prev, curv, level)), horizon)
         _sample(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, t, g, dg, cur)
@@ -594,11 +644,15 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
 
 
 # ------------------------------------------------------------------------------ the NumPy path
-def numpy_first_event(itv, red, tol, atzero, vrows, horizon: float, h: float):
+def numpy_first_event(itv, red, tol, atzero, vrows, horizon: float, h: float, max_samples: int | None = None):
     """:func:`first_event` for any piece (defective or near-resonant configurations included),
     with NumPy: the closed-form bound, samples in chunks of :data:`CHUNK` with derivatives, and
     each candidate located on the piece's scalar closed form (scipy's brentq). Same arguments and
-    returns as :func:`first_event`, for the piece ``itv`` and its reduced event functions ``red``."""
+    returns as :func:`first_event`, for the piece ``itv`` and its reduced event functions ``red``
+    (``max_samples``: by default :data:`MAX_SAMPLES`, :data:`MAX_EXPM_SAMPLES` for a piece
+    without a modal closed form)."""
+    if max_samples is None:
+        max_samples = MAX_SAMPLES if itv.modal_search() else MAX_EXPM_SAMPLES
     vmax = 0.0
     any_v = bool(np.any(vrows))
     if horizon > 4 * h:
@@ -624,7 +678,11 @@ def numpy_first_event(itv, red, tol, atzero, vrows, horizon: float, h: float):
     tau_a = 0.0
     if any_v:
         vmax = float(np.max(np.abs(g_a[vrows])))
+    n_sampled = 0
     while tau_a < horizon:
+        n_sampled += CHUNK
+        if n_sampled > max_samples:
+            return False, tau_a, GAVE_UP, vmax
         if g is None:
             n = min(CHUNK, max(1, math.ceil((horizon - tau_a) / h)))
             taus = tau_a + steps[:n]

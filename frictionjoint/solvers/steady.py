@@ -26,7 +26,8 @@ from .monodromy import march_jacobian
 from .response import displacement_observables, piece_fourier, piece_peaks, piece_slip
 from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
-__all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT"]
+__all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT",
+           "NONMODAL_COND"]
 
 #: finite-difference step of the period map's Jacobian, relative to the component scale
 FD_STEP = 1e-7
@@ -36,6 +37,9 @@ FD_FLOOR = 1e-9
 #: the section is put at t = 0 only if the pieces on both sides of it are longer than this
 #: fraction of the period and no event function is that close to a zero (else mid-piece)
 SECTION_MARGIN = 0.02
+#: a configuration without a modal form has its stuck orbit solved in state space where the
+#: solve's condition number is below this (its error ~ cond eps stays below 1e-9)
+NONMODAL_COND = 1e6
 #: a Jacobian taken where the residual was above this is retaken at the orbit for the
 #: uniqueness test and the Floquet multipliers
 JACOBIAN_AT_ORBIT = 1e-6
@@ -177,14 +181,28 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
     itv0 = marcher.interval(st)
     cfg = itv0.config
     m = cfg.m
-    if not (cfg.modal and m) or float(np.max(cfg.lam.real)) >= 0 or system.external:
+    if not m or not np.all(np.isfinite(cfg.lam)) or float(np.max(cfg.lam.real)) >= 0 or system.external:
         return None
     w = system.omega
     period = 2 * math.pi / w
-    wi, v = cfg.W, cfg.V
     b0, bc, bs = itv0._bvec
-    y_static = -(v @ ((wi @ b0) / cfg.lam)).real
-    y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - cfg.lam))
+    if cfg.modal:
+        wi, v = cfg.W, cfg.V
+        y_static = -(v @ ((wi @ b0) / cfg.lam)).real
+        y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - cfg.lam))
+    else:
+        # no modal form (a defective configuration): the orbit is the same linear solve in state
+        # space, where it is well conditioned (a stiffness 1e10 times the structure's is rounded
+        # into K_c by eps k, and the solve's answer by cond eps: 30 % at 1e20 N/m on the blade's
+        # root, not an answer; the march then says why it cannot answer either)
+        z_harm = 1j * w * np.eye(2 * m) - cfg.A
+        if max(np.linalg.cond(cfg.A), np.linalg.cond(z_harm)) > NONMODAL_COND:
+            return None
+        try:
+            y_static = -np.linalg.solve(cfg.A, b0)
+            y_harm = np.linalg.solve(z_harm, bc - 1j * bs)
+        except np.linalg.LinAlgError:
+            return None
     y_start = y_static + y_harm.real
     nb = cfg.N
     x_static = st.x + nb @ y_static[:m]
