@@ -24,6 +24,7 @@ __all__ = [
     "check_vector",
     "check_system",
     "check_bool",
+    "check_whole",
 ]
 
 
@@ -109,6 +110,19 @@ def check_vector(name: str, value, n: int, what: str = "") -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} must be finite, got {value!r}")
     return arr
+
+
+def check_whole(name: str, value) -> int:
+    """Return a whole number ``value`` (an int, or a float such as ``5.0`` read from text) as an
+    int, or raise :class:`ParameterError` (``5.5`` is never truncated)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be a whole number, got {value!r}")
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    number = check_real(name, value)
+    if not number.is_integer():
+        raise ParameterError(f"{name} must be a whole number, got {value!r}")
+    return int(number)
 
 
 _TRUE = {"true", "yes", "on", "1", "1.0"}

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .analytic import den_hartog_curve
-from .errors import (ParameterError, check_bool, check_count, check_nonnegative, check_oscillator, check_positive,
+from .errors import (ParameterError, check_count, check_nonnegative, check_oscillator, check_positive,
                      check_real, check_system)
 from .frequencies import check_omegas
 from .regime import classify
@@ -511,19 +511,7 @@ def _fmu_parameters(inst, path, parameters, sweeps) -> dict:
     if unknown:
         raise ParameterError(f"parameters: {unknown} are not parameters of {Path(path).name} that a sweep sets; "
                              f"allowed: {settable} ({' and '.join(sweeps)} are the sweep's)")
-    out = {}
-    for name, value in params.items():
-        kind = inst.types[name]
-        if kind == "Boolean":
-            out[name] = check_bool(name, value)
-        elif kind == "Integer":
-            number = check_real(name, value)
-            if not number.is_integer():
-                raise ParameterError(f"{name} must be a whole number (an FMU Integer), got {value!r}")
-            out[name] = int(number)
-        else:
-            out[name] = check_real(name, value)
-    return out
+    return {name: inst.convert(name, value) for name, value in params.items()}
 
 
 def _check_build(build) -> None:

@@ -133,3 +133,28 @@ def test_bad_systems_are_rejected(chain_fmus):
         s.simulate(1.0, 0.1, ["chain.x_x1"], transfer="gauss")
     with pytest.raises(ParameterError, match="no variable"):
         s.simulate(1.0, 0.1, ["chain.y"])
+
+
+def test_parameters_are_converted_to_their_variable_type_never_silently(fmus):
+    """A Boolean takes any way of writing a switch, an Integer only a whole number, a Real only a
+    finite number: ``int(5.5)``, ``bool(0.5)`` and NaN were passed on silently before."""
+    from frictionjoint.fmi.master import FMUInstance
+
+    inst = FMUInstance(fmus["IwanJoint"], "iwan")
+    try:
+        assert inst.convert("n_sliders", 8.0) == 8 and isinstance(inst.convert("n_sliders", 8.0), int)
+        with pytest.raises(ParameterError, match="n_sliders must be a whole number"):
+            inst.convert("n_sliders", 5.5)
+        with pytest.raises(ParameterError, match="must be finite"):
+            inst.convert("slip_force", float("nan"))
+        with pytest.raises(ParameterError, match="n_sliders must be a whole number"):
+            inst.initialize({"n_sliders": 5.5})
+    finally:
+        inst.close()
+    blade = FMUInstance(fmus["BladeDovetail"], "blade")
+    try:
+        assert blade.convert("normal_load_variation", "true") is True and blade.convert("normal_load_variation", 0) is False
+        with pytest.raises(ParameterError, match="normal_load_variation must be True or False"):
+            blade.convert("normal_load_variation", 0.5)
+    finally:
+        blade.close()

@@ -11,7 +11,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..errors import FMUError
+from ..errors import FMUError, check_bool, check_real, check_whole
 
 __all__ = ["FMUInstance"]
 
@@ -90,7 +90,8 @@ class FMUInstance:
         self._n = 0
         self._h = None
 
-    _SETTERS = {"Real": ("setReal", float), "Integer": ("setInteger", int), "Boolean": ("setBoolean", bool)}
+    _SETTERS = {"Real": ("setReal", check_real), "Integer": ("setInteger", check_whole),
+                "Boolean": ("setBoolean", check_bool)}
     _GETTERS = {"Real": ("getReal", float), "Integer": ("getInteger", int), "Boolean": ("getBoolean", bool)}
 
     def _by_type(self, names) -> dict:
@@ -110,7 +111,20 @@ class FMUInstance:
         names = list(values)
         for t, items in self._by_type(names).items():
             fun, conv = self._SETTERS[t]
-            self._call(fun, [self.vr[n] for _, n in items], [conv(values[n]) for _, n in items])
+            self._call(fun, [self.vr[n] for _, n in items], [conv(n, values[n]) for _, n in items])
+
+    def convert(self, name: str, value):
+        """``value`` as variable ``name``'s type: a Boolean from any way of writing a switch
+        (:func:`~frictionjoint.errors.check_bool`), an Integer from a whole number, a Real from a
+        finite real number -- never a silent ``bool(0.5)`` or ``int(5.5)``.
+
+        Raises
+        ------
+        ParameterError
+            Naming ``name`` when ``value`` is not of its type.
+        """
+        (t, items), = self._by_type([name]).items()
+        return self._SETTERS[t][1](name, value)
 
     def get(self, names) -> list:
         """Values of variables by name."""

@@ -60,6 +60,9 @@ def _dovetail(**kw):
 
 
 # (label, call, name the message must contain)
+BLADE = "ti64_compressor_blade"
+MU = {"friction_coefficient": Values((0.3,))}
+
 CASES = [
     # LinearStructure: M, K, C, names
     ("M non-symmetric", lambda: fj.LinearStructure([[1, 0.5], [0, 1]], np.eye(2)), "mass"),
@@ -301,23 +304,26 @@ CASES = [
      "initial_slip"),
     ("shakedown_check size mismatch", lambda: shakedown_check(_qs(2), _load()), "load"),
     ("melan_check size mismatch", lambda: melan_check(_qs(2), _load()), "load"),
-    # design studies
-    ("Study omega nan", lambda: fj.Study(model="m", omega=(NAN, 2.0, 3), vary={"x": Values((1.0,))}), "omega"),
-    ("Study omega count 1", lambda: fj.Study(model="m", omega=(1.0, 2.0, 1), vary={"x": Values((1.0,))}), "omega"),
-    ("Study n_samples 0", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}, n_samples=0),
-     "n_samples"),
-    ("Study seed < 0", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}, seed=-1), "seed"),
-    ("Study fixed nan text", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))},
-                                              fixed={"y": "a"}), "fixed.y"),
-    ("Study values inf", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((INF,))}).points(),
-     "vary.x.values"),
-    ("Study grid start nan", lambda: fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Grid(NAN, 1.0, 3)}).points(),
-     "vary.x"),
+    # design studies (a real model and parameter, so that only the named value is wrong)
+    ("Study omega nan", lambda: fj.Study(model=BLADE, omega=(NAN, 2.0, 3.5), vary=MU), "omega"),
+    ("Study omega count 1", lambda: fj.Study(model=BLADE, omega="1:2:1", vary=MU), "omega"),
+    ("Study omega ambiguous", lambda: fj.Study(model=BLADE, omega=(1.0, 2.0, 3), vary=MU), "omega"),
+    ("Study n_samples 0", lambda: fj.Study(model=BLADE, omega="1:2:3", vary=MU, n_samples=0), "n_samples"),
+    ("Study seed < 0", lambda: fj.Study(model=BLADE, omega="1:2:3", vary=MU, seed=-1), "seed"),
+    ("Study fixed text", lambda: fj.Study(model=BLADE, omega="1:2:3", vary=MU,
+                                          fixed={"centrifugal_force": "a"}), "fixed.centrifugal_force"),
+    ("Study fixed nan", lambda: fj.Study(model=BLADE, omega="1:2:3", vary=MU,
+                                         fixed={"centrifugal_force": NAN}), "fixed.centrifugal_force"),
+    ("Study values inf", lambda: fj.Study(model=BLADE, omega="1:2:3",
+                                          vary={"friction_coefficient": Values((INF,))}).points(),
+     "vary.friction_coefficient"),
+    ("Study grid start nan", lambda: fj.Study(model=BLADE, omega="1:2:3",
+                                              vary={"friction_coefficient": Grid(NAN, 1.0, 3)}).points(),
+     "vary.friction_coefficient"),
     ("load_study missing", lambda: fj.load_study("/nonexistent/study.toml"), "study file"),
-    ("run_study workers 0", lambda: fj.run_study(fj.Study(model="m", omega=(1.0, 2.0, 3), vary={"x": Values((1.0,))}),
-                                                 "t.csv", workers=0), "workers"),
-    ("run_study table suffix", lambda: fj.run_study(fj.Study(model="m", omega=(1.0, 2.0, 3),
-                                                             vary={"x": Values((1.0,))}), "t.txt"), "table"),
+    ("run_study workers 0", lambda: fj.run_study(fj.Study(model=BLADE, omega="1:2:3", vary=MU), "t.csv", workers=0),
+     "workers"),
+    ("run_study table suffix", lambda: fj.run_study(fj.Study(model=BLADE, omega="1:2:3", vary=MU), "t.txt"), "table"),
 ]
 
 
