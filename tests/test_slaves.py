@@ -83,3 +83,42 @@ def test_a_slave_is_freed_by_reference_counting():
     finally:
         if enabled:
             gc.enable()
+
+
+def test_a_long_step_skips_whole_periods_of_the_orbit_exactly():
+    # The README's case (m = k = P0 = 1, F = 0.5, omega = 1.5: Den Hartog's stop-free motion) on
+    # its orbit, one step of 1e7 s (1.6e6 periods; marched event by event it took ~80 s): the
+    # state, the peak and the Fourier integrals against Den Hartog's closed form (1931), the
+    # integrals by the trapezoid rule on 2^14 phases (spectrally accurate for a periodic, C^1
+    # waveform: 1e-9 here)
+    import math
+    import time
+
+    import numpy as np
+
+    from frictionjoint.analytic import den_hartog
+
+    s = CoulombOscillatorSlave(**KW)
+    s.start_on_orbit = s.harmonics = True
+    s.setup_experiment(0.0)
+    s.exit_initialization_mode()
+    w, t_end = 1.5, 1e7
+    start = time.perf_counter()
+    assert s.do_step(0.0, t_end)
+    assert time.perf_counter() - start < 10.0
+    dh = den_hartog(w, 0.5)
+    phase = w * t_end  # exact in binary floating point; resolved to ulp(1.5e7) = 1.9e-9 rad
+    assert abs(s._out("x") - dh.waveform(phase)) <= 1e-8
+    assert abs(s._out("v") - dh.waveform(phase, 1)) <= 1e-8
+    assert s._out("peak_x") == pytest.approx(dh.amplitude, rel=1e-9)
+
+    def integral(lo, hi, n=2 ** 14):  # int x(t) e^{i w t} dt over the phases [lo, hi]
+        phi = np.linspace(lo, hi, n + 1)
+        g = dh.waveform(phi) * np.exp(1j * phi)
+        return (hi - lo) / n * (g.sum() - 0.5 * (g[0] + g[-1])) / w
+
+    periods = math.floor(phase / (2 * math.pi))
+    ref = periods * integral(0.0, 2 * math.pi) + integral(2 * math.pi * periods, phase)
+    assert s._out("x_cos_integral") == pytest.approx(ref.real, rel=1e-7, abs=1e-7 * abs(ref))
+    assert s._out("x_sin_integral") == pytest.approx(ref.imag, rel=1e-7, abs=1e-7 * abs(ref))
+    assert s._out("event_count") == pytest.approx(2 * periods, abs=4)  # two zero-duration stops per period

@@ -367,17 +367,29 @@ class CoulombOscillatorSlave(_RunSlave):
                                 "be skipped)")
         start = run.snapshot()
         t0 = run.t
-        for k in range(1, budget + 1):
-            before = run.snapshot()
+        k, chunk = 0, 1  # periods marched; periods marched unchecked before the next check (doubling)
+        while True:
+            # periodic over two periods in a row with the same increments: a period whose events
+            # are attributed otherwise (one at the section, or missed) is not taken for the orbit's
+            first = run.snapshot()
+            k += 1
             run.advance(t0 + k * period)  # t0 + k T, not accumulated
-            after = run.snapshot()
-            if self._periodic(before, after):
-                break
-        else:
-            message = (self._too_long(t_end) + f"; the motion did not become periodic within {budget} periods "
-                       "(whole periods are skipped once it is; start_on_orbit starts on the orbit)")
-            run.restore(start)
-            return self._refuse(message)
+            before = run.snapshot()
+            if self._periodic(first, before) and k < budget:
+                k += 1
+                run.advance(t0 + k * period)
+                after = run.snapshot()
+                if self._periodic(before, after) and self._same_increments(first, before, after):
+                    break
+            if k >= budget:
+                message = (self._too_long(t_end) + f"; the motion did not become periodic within {budget} "
+                           "periods (whole periods are skipped once it is; start_on_orbit starts on the orbit)")
+                run.restore(start)
+                return self._refuse(message)
+            chunk = min(chunk, budget - k)
+            k += chunk
+            run.advance(t0 + k * period)
+            chunk *= 2
         m = math.floor((t_end - t0) / period)
         while m > k and t0 + m * period > t_end:
             m -= 1
@@ -398,6 +410,18 @@ class CoulombOscillatorSlave(_RunSlave):
             run.restore(state)  # x, v, status, the velocity scale and peak_x: those of the period's end
         run.advance(t_end)
         return True
+
+    def _same_increments(self, a, b, c) -> bool:
+        """Whether the cumulative outputs grow alike over the periods ``a`` -> ``b`` and ``b`` -> ``c``
+        (snapshots): the same event and stop counts, energy and integrals within
+        :attr:`periodic_tolerance` of the period's increment."""
+        if [y - x for x, y in zip(a["events"], b["events"])] != [y - x for x, y in zip(b["events"], c["events"])]:
+            return False
+        tol = self.periodic_tolerance
+        d1, d2 = b["diss"] - a["diss"], c["diss"] - b["diss"]
+        i1, i2 = b["integrals"] - a["integrals"], c["integrals"] - b["integrals"]
+        return (abs(d2 - d1) <= tol * abs(d1) + 1e-300
+                and bool(np.all(np.abs(i2 - i1) <= tol * np.max(np.abs(i1)) + 1e-300)))
 
     def _periodic(self, before, after) -> bool:
         """Whether the state ``after`` one period from ``before`` (run snapshots) is on an attracting
