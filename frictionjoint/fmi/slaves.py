@@ -21,8 +21,10 @@ The wrapper forwards log messages to the host only with debug logging on (``logg
 A step answers in bounded time: the runs (:class:`CoulombOscillatorSlave`,
 :class:`BladeDovetailSlave`) march at most :attr:`_RunSlave.max_cycles` cycles of the excitation
 and of the structure per step, event by event; beyond, the oscillator skips whole periods once its
-motion is periodic (the state at a later time is the orbit's, exactly) and the blade refuses. The
-driven joints' steps cost one update whatever their length.
+motion is periodic (the state at a later time is the orbit's, exactly) and the blade refuses. A
+march that gives up (its own event budget, a ConvergenceError) is a refused step from the step's
+start. The driven joints' steps cost one update whatever their length; the linear structure's
+step spans at most :attr:`LinearStructureSlave.max_cycles`.
 """
 from __future__ import annotations
 
@@ -298,9 +300,15 @@ class _RunSlave(_Slave):
         except ParameterError as exc:
             return self._refuse(f"invalid input: {exc}")
         t_end = current_time + step_size
-        if t_end > self._run.t and (t_end - self._run.t) * self._cycle_rate() > self.max_cycles:
-            return self._long_step(t_end)
-        self._run.advance(t_end)
+        run = self._run
+        start = run.snapshot()
+        try:
+            if t_end > run.t and (t_end - run.t) * self._cycle_rate() > self.max_cycles:
+                return self._long_step(t_end)
+            run.advance(t_end)
+        except (ConvergenceError, ParameterError) as exc:  # the march's refusal (e.g. its event budget)
+            run.restore(start)
+            return self._refuse(f"the step to t = {t_end!r} s is refused, the state is the step's start: {exc}")
         return True
 
     def _too_long(self, t_end) -> str:
