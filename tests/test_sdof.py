@@ -163,7 +163,12 @@ def test_abnormal_stop():
     marcher, log = Marcher(osc.system), EventLog()
     st_ = marcher.initial_state(x0, v0, t0=t0, log=log)
     marcher.march(st_, t0 + 3.0, log=log)
-    assert [kind for *_, kind in log] == ["abnormal stop"]
+    # the start is the touch only to an ulp (x0 within 5e-17 of an extended-precision evaluation):
+    # the marcher may see the velocity dip below zero by that much, a stop whose stick ends at t*
+    # (4e-8 s before it, its time resolution there); it slips on at t* in the same direction
+    kinds = [kind for *_, kind in log]
+    assert kinds in (["abnormal stop"], ["stick", "slip"])
+    assert abs(log.time[-1] - t_star) <= 1e-12 * t_star and t_star - log.time[0] <= 1e-7
     assert abs(res.x - st_.x[0]) <= AGREEMENT and abs(res.v - st_.v[0]) <= AGREEMENT
 
 

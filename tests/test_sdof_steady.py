@@ -57,13 +57,27 @@ def test_den_hartog(f, r):
 
 
 def test_cases_it_leaves_to_the_general_path():
-    """Unbounded growth (r = 1, F/P0 < pi/4), permanent stick and a start at rest that sticks:
-    None here; steady_state then answers from the general marcher, in words."""
+    """Unbounded growth (r = 1, F/P0 < pi/4): None here; steady_state then answers from the general
+    marcher, in words."""
     k = SdofCoulomb(1.0, 1.0, 0.5, 1.0, 1.0)
     assert sdof_periodic_response(k, 0.0, 0.0, tol=1e-12, max_newton=25, max_periods=300) is None
     res = fj.CoulombOscillator(slip_force=0.5, force_amplitude=1.0, omega=1.0).steady_state(max_periods=300)
     assert res.status == "unbounded" and "grows without bound" in res.message
-    k = SdofCoulomb(1.0, 1.0, 2.0, 1.0, 0.8)  # F > P0: stuck for good
-    assert sdof_periodic_response(k, 0.0, 0.0, tol=1e-12, max_newton=25, max_periods=300) is None
-    res = fj.CoulombOscillator(slip_force=2.0, force_amplitude=1.0, omega=0.8).steady_state()
-    assert res.converged and res.stuck
+
+
+@pytest.mark.parametrize("x0", [0.0, 0.7])
+def test_permanent_stick_answered_like_the_general_path(x0):
+    """F > P0 and a guess at rest with |k x0| <= F - P0: stuck through the period, so a periodic
+    orbit exactly (a member of the family of rest positions), answered by the kernel from that
+    period with the general marcher's fields (it answered this case before, in the first call
+    of a process after seconds of set-up)."""
+    osc = fj.CoulombOscillator(slip_force=2.0, force_amplitude=1.0, omega=0.8)
+    res = sdof_periodic_response(osc._kernel(), x0, 0.0, tol=1e-12, max_newton=25, max_periods=300, n_samples=8)
+    ref = periodic_response(osc.system, x0, 0.0, marcher=osc._marcher, tol=1e-12, max_periods=300, n_samples=8)
+    assert res.converged and ref.converged and res.stuck and ref.stuck
+    assert not res.unique and not ref.unique and "NOT UNIQUE" in res.message
+    # a stuck mass does not move: x0 itself, no arithmetic on it
+    assert res.amplitude == float(ref.amplitude[0]) == abs(x0)
+    assert res.stops_per_cycle == ref.stops_per_cycle == 0 and res.dissipated_per_cycle == 0.0
+    assert np.array_equal(res.x, np.full(8, x0))
+    assert sorted(abs(res.floquet_multipliers)) == sorted(abs(ref.floquet_multipliers)) == [0.0, 1.0]

@@ -237,6 +237,24 @@ class SdofCoulomb:
         em = math.exp(-2.0 * r * tau)
         return e * (-math.expm1(-2.0 * r * tau)) / (2.0 * r), e * (1.0 + em) * 0.5
 
+    def _hom_change(self, tau: float, xh0: float, vh0: float, es: float, esd: float) -> float:
+        """``x_h(tau) - xh0 = xh0 (C - 1) + vh0 es`` (``C = esd + a es``, from :meth:`_at`) with
+        ``C - 1`` formed without cancellation where the closed form allows: ``expm1`` and half-angle
+        sines (under- and critically damped), the two decaying modes (over-damped, ``r >= a/100``)."""
+        q, a, r = self._q, self._a, self._root
+        if q > 0.0:
+            cb, sb = math.cos(r * tau), math.sin(r * tau)
+            h = math.sin(0.5 * r * tau)
+            cm1 = (math.expm1(-a * tau) * (cb + a * sb / r) if a else 0.0) - 2.0 * h * h + a * sb / r
+            return xh0 * cm1 + vh0 * es
+        if q == 0.0:
+            return xh0 * (math.expm1(-a * tau) * (1.0 + a * tau) + a * tau) + vh0 * es
+        if r >= 0.01 * a:
+            l1, l2 = -self._wn2 / (a + r), -(a + r)
+            be = (vh0 - l1 * xh0) / (l2 - l1)
+            return (xh0 - be) * math.expm1(l1 * tau) + be * math.expm1(l2 * tau)
+        return xh0 * (esd + a * es - 1.0) + vh0 * es
+
     def _particular(self, t: float, s: int):
         """Particular solution ``(x_p, v_p)`` at absolute time ``t`` for status ``s``."""
         w = self.omega
@@ -248,15 +266,15 @@ class SdofCoulomb:
 
     def _start(self, t0: float, x0: float, v0: float, s: int):
         """Coefficients of the slip piece (or linear motion) from ``(t0, x0, v0)`` with status ``s``:
-        ``(t0, xh0, vh0, z0, xc)``. Far from resonance ``xh0, vh0`` are the initial homogeneous
+        ``(t0, xh0, vh0, z0, xc, x0)``. Far from resonance ``xh0, vh0`` are the initial homogeneous
         part and ``z0 = None``; near it the free response starts at ``(x0 - xc, v0)`` about
         ``xc = -s F/k`` and ``z0 = e^{i w t0}`` (the forced part starts at rest)."""
         if self._near:
             xc = -s * self.slip_force / self.stiffness
             wt = self.omega * t0
-            return t0, x0 - xc, v0, complex(math.cos(wt), math.sin(wt)), xc
+            return t0, x0 - xc, v0, complex(math.cos(wt), math.sin(wt)), xc, x0
         xp0, vp0, _, _ = self._particular(t0, s)
-        return t0, x0 - xp0, v0 - vp0, None, -s * self.slip_force / self.stiffness
+        return t0, x0 - xp0, v0 - vp0, None, -s * self.slip_force / self.stiffness, x0
 
     def _at(self, co, tau: float):
         """State ``(x, v, cos wt, sin wt, xh, vh)`` at ``t0 + tau`` of the piece ``co`` (:meth:`_start`).
@@ -268,7 +286,7 @@ class SdofCoulomb:
         stable at and near resonance (``phi1(z) = (e^z - 1)/z``, continuous at ``z = 0``: the
         secular growth is its limit); ``xh, vh`` are then ``x - xc`` and ``v``.
         """
-        t0, xh0, vh0, z0, xc = co
+        t0, xh0, vh0, z0, xc, x0 = co
         w = self.omega
         wt = w * (t0 + tau)
         cw, sw = math.cos(wt), math.sin(wt)
@@ -279,11 +297,17 @@ class SdofCoulomb:
             es, esd = e * sb / r, e * cb
         else:
             es, esd = self._hom(tau)
-        xh = xh0 * (esd + a * es) + vh0 * es
         vh = vh0 * (esd - a * es) - self._wn2 * xh0 * es
         if z0 is None:
+            # x = x0 + (x_p(t) - x_p(t0)) + (x_h - xh0), each difference without cancellation: the
+            # parts x_p and xc + xh0 may be far larger than the motion (omega >> omega_n: the
+            # offsets -s F/k against a motion ~ P0/(m w^2)), whose rounding would swamp it
             A, B = self._A, self._B
-            return (A * cw + B * sw + xc + xh, w * (B * cw - A * sw) + vh, cw, sw, xh, vh)
+            sh, mid = math.sin(0.5 * w * tau), w * (t0 + 0.5 * tau)
+            dxp = 2.0 * sh * (B * math.cos(mid) - A * math.sin(mid))
+            dxh = self._hom_change(tau, xh0, vh0, es, esd)
+            return (x0 + dxp + dxh, w * (B * cw - A * sw) + vh, cw, sw, xh0 + dxh, vh)
+        xh = xh0 * (esd + a * es) + vh0 * es
         ew = complex(cw, sw)
         ec, esn = e * cb, e * sb
         lp = z0 * complex(ec, esn)     # e^{i w t0} e^{l+ tau}

@@ -51,8 +51,11 @@ class _SdofPeriodMap:
         self.period = 2 * math.pi / kernel.omega
         self.calls = 0
         self.last = None
-        self.x_floor = residual_floor(abs(kernel.force_amplitude), kernel.slip_force, kernel.stiffness,
-                                      kernel.mass, kernel.omega, tol)
+        # the kernel's slip pieces carry no static offset (SdofCoulomb._at forms x - x0 without
+        # cancellation): their rounding is that of the motion, ~ P0/max(k, m w^2), not of P0/k
+        self.x_floor = residual_floor(abs(kernel.force_amplitude), kernel.slip_force,
+                                      max(kernel.stiffness, kernel.mass * kernel.omega ** 2), kernel.mass,
+                                      kernel.omega, tol)
         self.w_char = max(kernel.omega, math.sqrt(kernel.stiffness / kernel.mass))
         self.exact_jacobian = True  # every call computes the monodromy with the march
 
@@ -176,11 +179,54 @@ def _orbit(kernel, x0, v0, *, tol, max_newton, max_periods):
         if not outcome.converged:
             return None
         jac = pmap.jacobian(outcome.z, None, None)
+        calls = pmap.calls
+        # a multiplier near 1 leaves the mean offset ill-conditioned (a family, or omega >> omega_n:
+        # 1 - lambda ~ 2 pi^2 (omega_n/omega)^2): the antisymmetric orbit pins it -- any member of a
+        # family, else only the same orbit (within 1e-6 of the scales), not another branch
+        scales = pmap.scales(outcome.z)
+        family = has_unit_eigenvalue(np.array(jac), scales)
+        if family or np.min(np.abs(np.linalg.eigvals(np.array(jac)) - 1.0)) < 0.1:
+            half = _HalfPeriodMap(kernel, t_s, tol)
+            anti = _antisymmetric(half, outcome.z, tol, max_newton)
+            calls += half.calls
+            if anti is not None and (family or np.all(np.abs(anti.z - outcome.z) <= 1e-6 * scales)):
+                outcome = anti
+                pmap(anti.z)
+                jac = pmap.jacobian(anti.z, None, None)
+                calls += 1
     except EventBudgetError:
         raise
     except (_NoDerivative, ConvergenceError):
         return None
-    return pmap, outcome, jac, periods + pmap.calls
+    return pmap, outcome, jac, periods + calls
+
+
+class _HalfPeriodMap(_SdofPeriodMap):
+    """``z -> -z(t_s + T/2)``: its fixed points are the orbits with ``x(t + T/2) = -x(t)`` (the
+    forcing changes sign over half a period and friction is odd, so two such half-periods are the
+    period map). Where the period map has an eigenvalue near 1 (a family of orbits, or a free mode
+    far slower than the forcing, omega >> omega_n, whose mean offset one period cannot pin), the
+    half map's Jacobian is near -1: its fixed point is well-conditioned."""
+
+    def __init__(self, kernel: SdofCoulomb, t_s: float, tol: float):
+        super().__init__(kernel, t_s, tol)
+        self.period = math.pi / kernel.omega
+
+    def __call__(self, z):
+        out = -super().__call__(z)
+        z0, _, jac = self.last
+        self.last = (z0, out, None if jac is None else tuple(tuple(-a for a in row) for row in jac))
+        return out
+
+
+def _antisymmetric(half: _HalfPeriodMap, z, tol: float, max_newton: int):
+    """The antisymmetric member near ``z`` of a family of orbits (or of a nearly neutral one), or
+    None (no such orbit found, e.g. a period-doubled or asymmetric orbit)."""
+    try:
+        outcome = find_periodic_orbit(half, z, half(z), tol=tol, max_newton=max_newton, max_periods=0)
+    except (_NoDerivative, ConvergenceError):
+        return None
+    return outcome if outcome.converged else None
 
 
 def exp_integral(mu: complex, ta: float, tb: float) -> complex:
@@ -208,7 +254,7 @@ def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: fl
         xs = np.array([kernel.evaluate(s, ta, xa, va, t)[0] for t in nodes])
         return complex(xs @ (weights * np.cos(nu * nodes)), xs @ (weights * np.sin(nu * nodes)))
     big_t = tb - ta
-    t0, xh0, vh0, _, xc = kernel._start(ta, xa, va, s)
+    t0, xh0, vh0, _, xc, _ = kernel._start(ta, xa, va, s)
     w, a, r = kernel.omega, kernel._a, kernel._root
     jp, jm = exp_integral(1j * (nu + w), ta, tb), exp_integral(1j * (nu - w), ta, tb)
     out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * exp_integral(1j * nu, ta, tb)
