@@ -184,3 +184,38 @@ def test_extreme_values_never_give_non_finite_outputs_with_status_ok(fmus, linea
                 assert read["error"] >= DISCARD and res["messages"], (case["what"], res)
         if res["step"] != OK:
             assert res["messages"], (case["what"], res)
+
+
+def test_iwan_element_states_its_slider_bound():
+    # the element itself (not only the FMUs): 1e7 sliders took 43 s to build, 1e8 never finished
+    import time
+
+    from frictionjoint.elements.iwan import Iwan
+    from frictionjoint.errors import ParameterError
+
+    start = time.perf_counter()
+    for n in (MAX_SLIDERS + 1, 10 ** 7, 10 ** 8, 0):
+        with pytest.raises(ParameterError, match=rf"n_sliders must be an integer in \[1, {MAX_SLIDERS}\]"):
+            Iwan.segalman(0.8, 100.0, -0.5, 0.1, n)
+    assert time.perf_counter() - start < 1.0
+    iw = Iwan.segalman(0.8, 100.0, -0.5, 0.1, MAX_SLIDERS)  # the bound itself: MAX_SLIDERS + the delta
+    assert len(iw.sliders_table) == MAX_SLIDERS + 1
+    assert iw.slip_force == pytest.approx(0.8, rel=1e-12)  # Segalman's table reproduces F_S exactly
+
+
+def test_driven_dovetail_refuses_what_it_cannot_resolve():
+    # u_radial = 1e300 gave root forces of -inf; the state is kept when a move is refused
+    from frictionjoint.elements.dovetail import DovetailRoot
+    from frictionjoint.errors import ParameterError
+
+    root = DovetailRoot(1e4, flank_angle=math.radians(30.0), friction_coefficient=0.3, normal_stiffness=2e8,
+                        tangential_stiffness=1e8, tangential_dof=0, radial_dof=1)
+    for vary in (True, False):
+        d = root.driven(normal_load_variation=vary)
+        d.update([1e-5, 1e-6])
+        before = d.root_force.copy()
+        for u in ([0.0, 1e300], [1e300, 0.0], [-1e308, 1e308]):
+            with pytest.raises(ParameterError, match="moves a flank by"):
+                d.update(u)
+            np.testing.assert_array_equal(d.root_force, before)
+            np.testing.assert_array_equal(d.u, [1e-5, 1e-6])
