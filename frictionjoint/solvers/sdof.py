@@ -12,7 +12,10 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   (``A + iB = P0/D``) plus the homogeneous part ``e^{-a tau} [x_h (S' + a S) + v_h S]`` with
   ``a = c/(2m)``, ``q = k/m - a^2`` and ``S = sin(sqrt(q) tau)/sqrt(q)``, ``tau`` or
   ``sinh(sqrt(-q) tau)/sqrt(-q)`` (under-, critically, over-damped; ``S'' = -q S`` in all
-  three). Near resonance (``|D| < k/4``, then under-damped) the particular and homogeneous parts
+  three). The displacement is formed as ``x0 + (x_p(t) - x_p(t0)) + (x_h(tau) - x_h(0))``, each
+  difference without cancellation (half-angle sines, ``expm1``, the two decaying modes when
+  over-damped): far above resonance the offsets ``-sF/k`` are ``r^2`` times the motion and would
+  round it away. Near resonance (``|D| < k/4``, then under-damped) the particular and homogeneous parts
   would both be ``~P0/|D|`` and cancel; there the piece is ``-sF/k`` + the free response to its
   initial state + the forced response from rest,
   ``Re[P0/m e^{i w t0} (E(l+) - E(l-))/(l+ - l-)]`` with the roots ``l+-`` of
@@ -28,7 +31,9 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   a piece that begins at ``v = 0`` on the sign of its acceleration or jerk). The bounds are
   rigorous. Far from resonance, for the rest of the piece: the homogeneous energy
   ``(m v_h^2 + k x_h^2)/2`` never grows, so ``|x_h| <= D0``, ``|v_h| <= D1`` and
-  ``|x_h^(n)| <= Dn = (c D(n-1) + k D(n-2))/m``; the particular part gives ``w^n |A + iB|``.
+  ``|x_h^(n)| <= Dn = (c D(n-1) + k D(n-2))/m`` (over-damped also ``|a1| l1^n + |a2| l2^n``, the
+  modes' decay rates and coefficients, whichever is smaller: ``(c/m)^n`` alone would cut a heavily
+  damped piece into ``c/(m w)`` steps); the particular part gives ``w^n |A + iB|``.
   Near resonance (where ``|A + iB|`` is large or infinite), over the next radian of the fastest
   rate: ``E = (m v^2 + k (x + sF/k)^2)/2`` has ``dE/dt = v (P0 cos wt - c v)``, so ``sqrt(E)``
   grows at most like ``|P0| t/sqrt(2m)``, which bounds ``|x|``, ``|v|`` and, through the
@@ -47,6 +52,18 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   or an abnormal stop (slips on in the same direction), never a chatter of tiny steps: an
   abnormal stop whose slip reverses again within time rounding (decided inside the tolerance
   bands) is a stick.
+
+- **Scales far apart.** Where the forcing period is far beyond the natural one, the exact motion
+  sticks and slips about once per natural period (every break-away from a stick starts a free
+  oscillation of amplitude ``|v_qs|/wn`` that friction does not end), ``omega_n/omega`` events a
+  period. Where :meth:`SdofCoulomb.quasi_static_bound` (about ``(w/wn) |P0|/k``) is at most
+  :data:`QUASI_STATIC_TOL` of the slip amplitude ``(|P0| - F)/k``, the kernel is *quasi-static*: a
+  slip that starts from a stick (on the curve ``x_qs = (P0 cos wt - sF)/k``, within the bound)
+  follows ``x_qs`` to the force's extremum, where it sticks; the particular part is then ``x_qs``
+  itself, so :meth:`evaluate` and the Fourier integrals of the pieces are those of ``x_qs``.
+  Between that regime and an affordable march (``omega/omega_n`` about 1e-9 .. 1e-5, undamped), a
+  march is refused with :class:`EventBudgetError` once it has taken ``_PIECES_PER_PERIOD`` pieces per
+  period: bounded time and a message that says why, never hours.
 
 Everything in the inner loop is ``math`` on floats: no arrays, no per-event set-up. For the
 n-DOF systems (Jenkins elements, several sliders) use :class:`~frictionjoint.solvers.events.Marcher`.
@@ -75,8 +92,9 @@ QUASI_STATIC_TOL = 1e-9
 #: motion of a forcing period far beyond the natural one sticks and slips about once per natural
 #: period (Coulomb friction restarts the free oscillation at every break-away), so its event count
 #: grows with omega_n/omega; beyond this a march is refused (:class:`EventBudgetError`) instead of
-#: running for hours. 1e4 events per period (omega/omega_n = 1e-4, undamped) take about 0.6 s.
-_PIECES_PER_PERIOD = 20_000
+#: running for hours (a one-period march exhausts it in 3 to 10 s). 1e4 events per period
+#: (omega/omega_n = 1e-4, undamped) take about 0.6 s.
+_PIECES_PER_PERIOD = 12_000
 
 
 class EventBudgetError(ConvergenceError):

@@ -52,10 +52,13 @@ class _SdofPeriodMap:
         self.calls = 0
         self.last = None
         # the kernel's slip pieces carry no static offset (SdofCoulomb._at forms x - x0 without
-        # cancellation): their rounding is that of the motion, ~ P0/max(k, m w^2), not of P0/k
+        # cancellation): their rounding is that of the motion, ~ P0/max(k, m w^2, c w), not of P0/k
+        # (a floor of P0/k let the nearly neutral mean offset of a heavily damped or fast-forced
+        # orbit stray by tol P0/k/(1 - multiplier): 5e-3 of the amplitude at c w = 1.4e6 k)
+        w = kernel.omega
         self.x_floor = residual_floor(abs(kernel.force_amplitude), kernel.slip_force,
-                                      max(kernel.stiffness, kernel.mass * kernel.omega ** 2), kernel.mass,
-                                      kernel.omega, tol)
+                                      max(kernel.stiffness, kernel.mass * w * w, kernel.damping * w), kernel.mass,
+                                      w, tol)
         self.w_char = max(kernel.omega, math.sqrt(kernel.stiffness / kernel.mass))
         self.exact_jacobian = True  # every call computes the monodromy with the march
 
@@ -178,6 +181,16 @@ def _orbit(kernel, x0, v0, *, tol, max_newton, max_periods):
         outcome = find_periodic_orbit(pmap, z, pmap(z), tol=tol, max_newton=max_newton, max_periods=max_periods)
         if not outcome.converged:
             return None
+        # shooting judges the residual on the scales of its guess: a guess far larger than the orbit
+        # (the one-harmonic guess ignores viscous damping: 1e5 x too large at c w = 1.4e5 k) passes a
+        # residual far above the orbit's own, which a nearly neutral mean offset turns into an error
+        # (5e-3 of the amplitude there); polish on the orbit's own scales
+        z = outcome.z
+        pz = pmap.last[1] if np.array_equal(pmap.last[0], z) else pmap(z)
+        if np.max(np.abs(pz - z) / pmap.scales(z)) > tol:
+            polished = find_periodic_orbit(pmap, z, pz, tol=tol, max_newton=max_newton, max_periods=0)
+            if polished.converged:
+                outcome = polished
         jac = pmap.jacobian(outcome.z, None, None)
         calls = pmap.calls
         # a multiplier near 1 leaves the mean offset ill-conditioned (a family, or omega >> omega_n:
