@@ -219,3 +219,15 @@ def test_driven_dovetail_refuses_what_it_cannot_resolve():
                 d.update(u)
             np.testing.assert_array_equal(d.root_force, before)
             np.testing.assert_array_equal(d.u, [1e-5, 1e-6])
+
+
+def test_dovetail_root_whose_slip_limit_overflows_is_refused():
+    # friction_coefficient = 1e308: mu N0 = inf, BladeDovetail.fmu read friction_force = -inf
+    from frictionjoint.elements.dovetail import DovetailRoot
+    from frictionjoint.errors import ParameterError
+
+    args = dict(flank_angle=math.radians(30.0), normal_stiffness=2e8, tangential_stiffness=1e8,
+                tangential_dof=0, radial_dof=1)
+    with pytest.raises(ParameterError, match="friction_coefficient = 1e\\+308"):
+        DovetailRoot(1e4, friction_coefficient=1e308, **args)
+    assert DovetailRoot(1e4, friction_coefficient=1e300, **args).static.normal_force > 0  # mu N0 = 5e303: finite

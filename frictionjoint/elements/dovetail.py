@@ -214,6 +214,15 @@ class DovetailRoot:
             self.tangential_stiffness = k_new
             self._table = iwan
         self.static = self._static(self.tangential_stiffness)
+        n0 = self.static.normal_force
+        if not (math.isfinite(n0) and math.isfinite(self.friction_coefficient * n0)
+                and math.isfinite(self.normal_stiffness * self.static.radial_displacement)):
+            # the slip limit mu N0 or a spring force overflows: no finite answer would be right
+            raise ParameterError(
+                f"centrifugal_force = {self.centrifugal_force!r} N, friction_coefficient = "
+                f"{self.friction_coefficient!r} and normal_stiffness = {self.normal_stiffness!r} N/m give a "
+                f"static normal load N0 = {n0!r} N whose slip limit friction_coefficient * N0 or spring "
+                "forces overflow the floating-point range (about 1.8e308)")
         c, s = math.cos(g), math.sin(g)
         #: flank normals (force directions on the blade) and tangents, rows right/left, (X, Y)
         self.normals = np.array([[-s, -c], [s, -c]])
