@@ -140,7 +140,7 @@ def test_initially_open_flank_and_bad_input():
         fj.DovetailRoot(1000.0, G, MU, KN, flank_contact=lambda n: None, tangential_dof="X",
                         normal_load_variation=True)
     with pytest.raises(ParameterError, match="normal_load_variation"):
-        _root(normal_load_variation=1)
+        _root(normal_load_variation=0.5)  # a switch is True/False or 1/0 (check_bool); 0.5 is neither
 
 
 def test_periodic_orbit_with_lift_off():
