@@ -57,7 +57,8 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   sticks and slips about once per natural period (every break-away from a stick starts a free
   oscillation of amplitude ``|v_qs|/wn`` that friction does not end), ``omega_n/omega`` events a
   period. Where :meth:`SdofCoulomb.quasi_static_bound` (about ``(w/wn) |P0|/k``) is at most
-  :data:`QUASI_STATIC_TOL` of the slip amplitude ``(|P0| - F)/k``, the kernel is *quasi-static*: a
+  :data:`QUASI_STATIC_TOL` of the slip amplitude ``(|P0| - F)/k`` (of ``|P0|/k`` if ``F >= |P0|``:
+  the slips are then a shakedown to a rest position), the kernel is *quasi-static*: a
   slip that starts from a stick (on the curve ``x_qs = (P0 cos wt - sF)/k``, within the bound)
   follows ``x_qs`` to the force's extremum, where it sticks; the particular part is then ``x_qs``
   itself, so :meth:`evaluate` and the Fourier integrals of the pieces are those of ``x_qs``.
@@ -216,8 +217,9 @@ class SdofCoulomb:
         else:
             self._A, self._B = p0 * d_ / den, p0 * e_ / den
         # the quasi-static regime (module docstring): slips that start from a stick follow x_qs
+        # (F >= |P0|: the slips are a shakedown to a rest position, on the scale |P0|/k)
         self._qs_delta = self.quasi_static_bound()
-        slip_amp = (abs(p0) - f) / k
+        slip_amp = (abs(p0) - f if abs(p0) > f else abs(p0)) / k
         self._quasi = f > 0.0 and slip_amp > 0.0 and not self._near and self._qs_delta <= QUASI_STATIC_TOL * slip_amp
         if self._quasi:
             self._A, self._B = p0 / k, 0.0  # x_p = x_qs: within _qs_delta of the exact motion

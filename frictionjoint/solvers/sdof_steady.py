@@ -139,12 +139,12 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     PeriodicResponse or None
         Scalar ``amplitude``, ``phase``, ``harmonic_amplitude``; exact Floquet multipliers.
     """
-    if kernel._quasi:  # the quasi-static limit is within QUASI_STATIC_TOL of the amplitude
-        return quasi_static_response(kernel, n_samples)
     try:
         stuck = _stuck_orbit(kernel, x0, v0, n_samples)
         if stuck is not None:
             return stuck
+        if kernel._quasi:  # the quasi-static limit is within QUASI_STATIC_TOL of the amplitude
+            return quasi_static_response(kernel, n_samples)
         orbit = _orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
     except EventBudgetError as err:
         return quasi_static_response(kernel, n_samples, reason=str(err))

@@ -7,7 +7,10 @@ Before this suite, r = 1e-12 (omega = 1e-12 or k = 1e24) and r = 1e-6 (k = 1e12,
 returned (a march through omega_n/omega natural periods, one stick and slip each), c = 2e9 never
 returned (safe steps of 1/c), c = 2e5 took 42 s (Gauss nodes at the rate c/m) and c = 2e6 was 5e-3
 off, and r = 1e3 .. 1e6 were 6e-6 .. 1e7 off Den Hartog (the offsets -s F/k of the closed form swamped a motion
-P0/(m w^2), and the mean offset is nearly neutral: its multiplier 1 - 2 pi^2/r^2).
+P0/(m w^2), and the mean offset is nearly neutral: its multiplier 1 - 2 pi^2/r^2). Points of the
+decade grids that were right before are kept as its regression guards: stiffness 1e-3 and 1e6,
+r = 1e2 (and 1e3 at f = 0.1), f = 1e-12 at every r, the slip-force decades (F = 1e12 P0 took 15 s
+in the general path) and the continuity through critical damping.
 
 References, each independent of the kernel:
 
@@ -126,6 +129,21 @@ def test_quasi_static_time_response_from_rest():
     assert np.max(np.abs(tr.x - ref)) <= REL
     # the transient's slip and stick, then two of each per cycle (the last stick at t_end itself)
     assert tr.events.count("stick") == 5 and tr.events.count("slip") == 5
+
+
+def test_quasi_static_shakedown_to_rest():
+    """F = 1.5 P0 > P0, r = 1e-12, stuck at x = 1 (k = 1): the holding force cos wt - 1 reaches -1.5
+    at wt = 2 pi/3, the mass is dragged along x = cos wt + 1.5 to 0.5 at wt = pi and rests there
+    for good (|cos wt - 0.5| <= 1.5): the play operator started at 1. Before, the drag was a march
+    through 1e12 natural periods."""
+    w = 1e-12
+    osc = fj.CoulombOscillator(slip_force=1.5, force_amplitude=1.0, omega=w)
+    n = 2 ** 12
+    t = 2 * np.pi / w * np.arange(n) / n
+    tr = osc.simulate(2 * np.pi / w, x0=1.0, t_eval=t, record="x")
+    _, ref = _play(1.0, 1.5, 1.0, x_start=1.0, n=n, cycles=1)
+    assert np.max(np.abs(tr.x - ref)) <= REL
+    assert tr.x[-1] == pytest.approx(0.5, abs=REL) and tr.events.count("slip") == tr.events.count("stick") == 1
 
 
 @pytest.mark.parametrize("k, m", [(1e12, 1.0), (1.0, 1e-12)])
