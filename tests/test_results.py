@@ -70,24 +70,28 @@ def test_no_points_is_no_success():
 
 def test_closed_form_is_compared_only_where_it_is_the_motion():
     """Den Hartog (1931) at r = 1/2, f = 0.3: U = tan(pi/(2r))/r = 0, so X = V P0/k = 4/3 m, a
-    stop-free motion that is one member of a family; the sweep's orbit there is another member,
-    with one stop per cycle (Hong & Liu 2000: odd stop counts exist), so the closed form is not its
-    motion. The point is left out of the headline (it was counted as stop-free, error 2.5e-2, and as
-    a point with stops); r = 0.8 is compared (unique, stop-free)."""
+    stop-free motion that is one member of a family of periodic orbits. From rest (the up
+    branch) the kernel's orbit is Den Hartog's member (it pins the family's mean offset by the
+    antisymmetric orbit, solvers/sdof.py): compared, to rounding, flagged not unique. From the
+    r = 0.8 orbit (the down branch) it is another orbit, with one stop per cycle (Hong & Liu 2000):
+    left out of the headline, which once counted such a point both as stop-free (error 2.5e-2)
+    and as a point with stops; r = 0.8 is unique and stop-free."""
     from frictionjoint.analytic import den_hartog
 
     dh = den_hartog(0.5, 0.3)
     assert dh.regime == "stop-free" and not dh.unique and abs(dh.amplitude - 4.0 / 3.0) <= 1e-12
-    fr = sweep("CoulombOscillator", [0.5, 0.8], {"force_amplitude": 1.0, "slip_force": 0.3})
-    assert list(fr.regime) == ["stops", "stop-free"] and fr.stops_per_cycle[0] == 1 and not fr.unique[0]
-    assert abs(fr.amplitude[0] - 4.0 / 3.0) >= 1e-2  # another orbit than Den Hartog's member
-    assert list(fr.applicable) == [False, True] and list(fr.analytic_regime) == ["not unique", "stop-free"]
+    fr = sweep("CoulombOscillator", np.array([0.5, 0.8]), {"force_amplitude": 1.0, "slip_force": 0.3},
+               direction="both")
+    assert list(fr.regime) == ["stop-free"] * 3 + ["stops"] and fr.stops_per_cycle[3] == 1
+    assert abs(fr.amplitude[0] - 4.0 / 3.0) <= 1e-12 and abs(fr.amplitude[3] - 4.0 / 3.0) >= 1e-2
+    assert list(fr.applicable) == [True, True, True, False]
+    assert list(fr.analytic_regime) == ["stop-free"] * 3 + ["other orbit"]
     for name in ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error"):
-        assert list(np.ma.getmaskarray(getattr(fr, name))) == [True, False]
+        assert list(np.ma.getmaskarray(getattr(fr, name))) == [False, False, False, True]
     assert fr.max_error()[0] <= 1e-9
     last = fr.table().splitlines()
-    assert "at 1 of 2 points (stop-free" in last[-3]
-    assert last[-2].startswith("left out: 1 point with stops (not unique")
+    assert "at 3 of 4 points (stop-free" in last[-3]
+    assert last[-2].startswith("left out: 1 point with stops")
 
 
 def test_every_point_is_compared_or_left_out_once(tmp_path):
