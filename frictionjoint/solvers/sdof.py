@@ -577,9 +577,19 @@ class SdofCoulomb:
         start_zero = v0 == 0.0
         g_prev = g1_prev = None
         tau_prev = 0.0
+        A, B = self._A, self._B
         for _ in range(_MAX_STEPS):
-            acc = (p0 * cw - k * x - c * v - sf) / m
-            jerk = (-p0 * w * sw - k * v - c * acc) / m
+            if near:
+                acc = (p0 * cw - k * x - c * v - sf) / m
+                jerk = (-p0 * w * sw - k * v - c * acc) / m
+            else:
+                # the derivatives of the closed form, part by part: from the force balance they
+                # carry its rounding eps |k x| (c/m)^n, far above the motion's own where the
+                # scales are far apart (k x ~ F, c w >> m w^2: a wrong-signed jerk, a root stepped
+                # over at omega/omega_n = 1e-6, zeta = 0.01)
+                ah = -(c * vh + k * xh) / m
+                acc = ah - w * w * (A * cw + B * sw)
+                jerk = w * w * w * (A * sw - B * cw) - (c * ah + k * vh) / m
             g, g1, g2 = s * v, s * acc, s * jerk
             if tau == 0.0 and start_zero:
                 g, g1 = 0.0, max(g1, 0.0)

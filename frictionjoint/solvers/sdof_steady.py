@@ -107,12 +107,19 @@ def _section(kernel: SdofCoulomb, x0: float, v0: float):
     if (first[3] != 0 and last[3] != 0 and first[4] - first[0] > margin and last[4] - last[0] > margin
             and len(pieces) > 1 and v0 != 0.0 and not _near_reversal(kernel, 0.0, x0, v0, first[3], margin)):
         return 0.0, np.array([x0, v0]), 1.0
-    ta, _, _, _, tb, _, _ = max(slips, key=lambda p: p[4] - p[0])
-    t_s = (ta + 0.5 * (tb - ta)) % period
-    sec = kernel.march(period, end.x, end.v, period + t_s, end.status)
-    if sec.v == 0.0:
-        return None
-    return t_s, np.array([sec.x, sec.v]), 1.0 + t_s / period
+    # the middle of the longest slip piece of a period; where the next period sticks there (the
+    # first period's longest slip was its transient), the next period's longest slip, a few times
+    for n in range(1, 4):
+        ta, _, _, _, tb, _, _ = max(slips, key=lambda p: p[4] - p[0])
+        t_s = (ta + 0.5 * (tb - ta)) % period
+        sec = kernel.march(n * period, end.x, end.v, n * period + t_s, end.status)
+        if sec.v != 0.0:
+            return t_s, np.array([sec.x, sec.v]), n + t_s / period
+        end, pieces = _pieces(kernel, n * period, end.x, end.v, (n + 1) * period, end.status)
+        slips = [p for p in pieces if p[3] != 0 and p[4] > p[0]]
+        if not slips:
+            return None
+    return None
 
 
 def _near_reversal(kernel, t, x, v, s, margin) -> bool:
@@ -254,23 +261,34 @@ def sdof_piece_fourier(kernel: SdofCoulomb, s: int, ta: float, xa: float, va: fl
     In closed form: a stuck piece holds ``x = xa``; a slip piece is ``A cos wt + B sin wt + xc +
     Re(C e^{lam tau})`` (``lam = -a + i r``, ``C = xh0 - i (a xh0 + vh0) / r``), or, over-damped,
     ``... + al e^{l1 tau} + be e^{l2 tau}`` (the two decaying modes, ``be = (vh0 - l1 xh0)/(l2 -
-    l1)``, ``al = xh0 - be``), each term an exponential (:func:`exp_integral`). Near resonance and
-    near critical damping (``r < a/100``, where the modes' coefficients would cancel): Gauss-Legendre
-    on the piece at its fastest rate (exact to rounding; its cost grows with that rate times the
-    piece's length, which stays moderate there)."""
+    l1)``, ``al = xh0 - be``), each term an exponential (:func:`exp_integral`). Near critical damping
+    (``r < a/100``, where the modes' coefficients would cancel) the homogeneous part by
+    Gauss-Legendre over the 50 time constants it lives; near resonance the whole piece by
+    Gauss-Legendre at its fastest rate (exact to rounding; both cost a few hundred nodes at most)."""
     if tb <= ta:
         return 0j
     if s == 0 and kernel.slip_force > 0:
         return xa * exp_integral(1j * nu, ta, tb)
-    if kernel._near or (kernel._q <= 0.0 and not kernel._root >= 0.01 * kernel._a):
+    if kernel._near:
         nodes, weights = gauss_nodes(ta, tb, max(kernel.omega, kernel._rate_slip))
         xs = np.array([kernel.evaluate(s, ta, xa, va, t)[0] for t in nodes])
         return complex(xs @ (weights * np.cos(nu * nodes)), xs @ (weights * np.sin(nu * nodes)))
     big_t = tb - ta
-    t0, xh0, vh0, _, xc, _ = kernel._start(ta, xa, va, s)
+    co = kernel._start(ta, xa, va, s)
+    t0, xh0, vh0, _, xc, _ = co
     w, a, r = kernel.omega, kernel._a, kernel._root
     jp, jm = exp_integral(1j * (nu + w), ta, tb), exp_integral(1j * (nu - w), ta, tb)
     out = kernel._A * 0.5 * (jp + jm) + kernel._B * (jp - jm) / 2j + xc * exp_integral(1j * nu, ta, tb)
+    if kernel._q <= 0.0 and not r >= 0.01 * a:
+        # critically or nearly critically damped: the homogeneous part by Gauss-Legendre over the
+        # window where it lives (50 time constants of its slower mode, beyond which it is below
+        # e^-50 of its start), not over the whole piece at the fast rate (millions of nodes where
+        # the decay is far faster than the forcing: c = 2e6 at k = 1e12)
+        rate = a + r
+        t_cut = min(tb, ta + 50.0 * rate / kernel._wn2)
+        nodes, weights = gauss_nodes(ta, t_cut, rate)
+        xs = np.array([kernel._at(co, t - ta)[4] for t in nodes])
+        return out + complex(xs @ (weights * np.cos(nu * nodes)), xs @ (weights * np.sin(nu * nodes)))
     if kernel._q < 0.0:  # over-damped: two real decaying modes
         l1, l2 = -kernel._wn2 / (a + r), -(a + r)
         be = (vh0 - l1 * xh0) / (l2 - l1)

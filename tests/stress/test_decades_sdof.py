@@ -161,6 +161,20 @@ def test_between_the_exact_march_and_the_quasi_static_limit(k, m):
         osc.simulate(osc.period, t_eval=[0.0, osc.period])
 
 
+def test_stiff_and_critically_damped_is_marched_exactly():
+    """k = 1e12 (r = 1e-6) with critical damping (c = 2 sqrt(k m)): the oscillation a break-away
+    starts dies within a natural period, so the exact march has two stops a cycle, and the amplitude
+    lies in the quasi-static bound [X, X + d], d ~ (r + 2 zeta r) P0/k (module docstring; below X by
+    at most the kernel's force tolerance, 1e-12 F, over k: 1e-12 of X here). Before: a jerk from the force balance, c (k x) eps off with the
+    wrong sign, certified a step over the turning point, and the general path answered 'failed'."""
+    k, f = 1e12, 0.5
+    res = fj.CoulombOscillator(stiffness=k, slip_force=f, force_amplitude=1.0, omega=1.0,
+                               damping=2e6).steady_state()
+    x_amp, r = (1 - f) / k, 1e-6
+    assert res.converged and res.stops_per_cycle == 2
+    assert x_amp - 2e-12 * f / k <= res.amplitude <= x_amp + 3 * r / k
+
+
 STIFFNESS = [1e-6, 1e-3, 1e6, 1e24]   # m = 1, omega = 1: r = 1e3, 31.6, 1e-3, 1e-12 (1e12: below)
 
 
