@@ -199,6 +199,15 @@ class CoulombOscillator:
             ``amplitude`` (max |x|) [m], ``phase`` (first-harmonic lag behind the force) [rad],
             ``stops_per_cycle``, ``converged`` and ``message`` (also on unbounded growth and
             non-unique orbits).
+
+        Notes
+        -----
+        A forcing period far beyond the natural one (``omega/omega_n`` below about 1e-9 at
+        ``f = 0.5``) is answered by the quasi-static limit, whose rigorous distance to the exact
+        motion the message states (:func:`frictionjoint.solvers.sdof_steady.quasi_static_response`).
+        Between that and an affordable march (undamped, ``omega/omega_n`` about 1e-9 .. 1e-5) the
+        exact motion sticks and slips once per natural period, too often to march: status
+        ``'not converged'``, the quasi-static limit and its bound in the message, in a few seconds.
         """
         max_periods = check_count("max_periods", max_periods, 0)
         n_samples = check_count("n_samples", n_samples, 0)
