@@ -280,3 +280,20 @@ def test_monodromy_needs_a_slipping_start():
     k = SdofCoulomb(1.0, 1.0, 0.3, 1.0, 0.8)
     end, jac = k.monodromy(0.0, 0.1, 0.0, 1.0)
     assert jac is None and end == k.march(0.0, 0.1, 0.0, 1.0)
+
+
+def test_a_late_stick_end_is_not_lost_to_the_rounding_of_the_phase():
+    """m = k = P0 = 1, F = 0.5, omega = 0.3: the orbit sticks at x = 0.82562 (v = 0) at every
+    period start, and the holding force P0 cos(wt) - k x reaches -1.83 N, far beyond F, so every
+    period has its stick -> slip onset (4 events per period on the orbit). Found by marching an
+    FMU period by period: from t = 4e4 s on (w t = 1.3e4 rad, whose rounding moves the holding
+    force by 2e-12 N, more than the 1e-12 F band of the rules) the located exit read as still
+    inside the band, the mass stayed stuck and the next exit was a period later: 18089 of 28571
+    sampled periods up to n = 2e5 had no event. Sampled over n = 10^2 .. 10^11 periods."""
+    k = SdofCoulomb(1.0, 1.0, 0.5, 1.0, 0.3, 0.0)
+    period = 2.0 * math.pi / 0.3
+    x = 0.8256157754765914
+    rng = np.random.default_rng(1)
+    for e in range(2, 12):
+        for n in rng.integers(10 ** (e - 1), 10 ** e, 40):
+            assert k.march(n * period, x, 0.0, (n + 1) * period, status=0).n_events == 4, n

@@ -466,6 +466,11 @@ class SdofCoulomb:
         h = p0 * cw - self.stiffness * x
         hd = -p0 * w * sw
         hdd = -p0 * w * w * cw
+        # the holding force is known only to |P0| times the rounding of the phase w t (at a late
+        # time, t = 4e4 s at w = 0.3, 2e-12 rad: more than 1e-12 F). Without this term a stick end
+        # located by _stick_end read as still inside the band (or, slipping, as an acceleration
+        # against the slip), the mass stayed stuck and the next exit found was a period later
+        h_round = 8.0 * _EPS * abs(w * t) * abs(p0)
         s, forced = int(status), False
         visited = set()
         for _ in range(8):
@@ -474,7 +479,7 @@ class SdofCoulomb:
             if s != 0:
                 rate = self._rate_slip
                 v_ref = max(v_scale, fscale / (m * rate))
-                dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate
+                dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate + h_round / m
                 acc = (h - s * f) / m
                 dg, ddg = s * acc, s * (hd - c * acc) / m
                 if dg < -dtol or (abs(dg) <= dtol and ddg < 0 and not (forced and dg > 0)):
@@ -482,7 +487,7 @@ class SdofCoulomb:
                     continue
                 return s
             rate = self._rate_stick
-            tol = 1e-12 * max(f, fscale)
+            tol = 1e-12 * max(f, fscale) + h_round
             dtol = 10.0 * max(tol, 1e-300) * rate
             best, new, g_new = math.inf, 0, 0.0
             for sign, g, dg, ddg in ((1, f - h, -hd, -hdd), (-1, f + h, hd, hdd)):
