@@ -18,6 +18,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import scipy.optimize
 
+from .errors import ConvergenceError, FMUError
 from .fmi.driver import FMUDriver
 from .results import PeriodicResponse
 from .solvers.shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message
@@ -165,6 +166,19 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     """
     p = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items()}
     p.update(parameters)
+    try:
+        return _shoot(driver, p, state, outputs, n_samples, tol, max_periods)
+    except (ConvergenceError, FMUError) as exc:
+        # a march the kernel or the FMU refuses (its event budget, a step it cannot answer): this
+        # point fails with the reason, the sweep goes on
+        nan = float("nan")
+        return PeriodicResponse(omega=float(p["omega"]), amplitude=nan, phase=nan, harmonic_amplitude=nan,
+                                stops_per_cycle=0, stuck=False, converged=False, unique=False,
+                                message=f"the march failed: {exc}", periods=0.0, status="failed")
+
+
+def _shoot(driver, p, state, outputs, n_samples, tol, max_periods) -> PeriodicResponse:
+    """:func:`shoot` with the parameters ``p`` complete."""
     w = float(p["omega"])
     period = 2 * math.pi / w
     outputs = tuple(dict.fromkeys(("x",) + tuple(outputs)))

@@ -118,3 +118,14 @@ def test_a_blade_switch_that_is_no_switch_is_refused():
     for value in (0.5, 2, "maybe"):
         with pytest.raises(ParameterError, match="normal_load_variation"):
             blade_assembly("ti64_compressor_blade", {"normal_load_variation": value})
+
+
+@pytest.mark.slow
+def test_a_point_the_march_refuses_fails_alone_with_the_reason():
+    """omega/omega_n = 1e-6: the exact motion sticks and slips about once per natural period (1e6
+    events per excitation period), beyond the kernel's event budget and outside its quasi-static
+    regime (bound ~1e-6 P0/k, not <= 1e-9 of the amplitude). The point fails with the reason and
+    the sweep goes on (it ended in an EventBudgetError traceback after 11 s)."""
+    fr = fj.sweep("CoulombOscillator", np.array([1e-6, 0.5]), {"force_amplitude": 1.0, "slip_force": 0.3})
+    assert list(fr.converged) == [False, True] and fr.status == "partial"
+    assert "too many to march event by event" in fr.messages[0]
