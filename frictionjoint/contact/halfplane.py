@@ -55,7 +55,7 @@ import numpy as np
 import scipy.optimize
 from scipy.optimize import elementwise
 
-from ..elements.iwan import Iwan
+from ..elements.iwan import Iwan, check_n_sliders
 from ..elements.masing import ContinuousIwan, odd_backbone
 from ..errors import (ConvergenceError, ParameterError, check_nonnegative, check_poisson_ratio, check_positive,
                       check_real)
@@ -705,7 +705,7 @@ class HalfPlaneContact:
 
             return ContinuousIwan(self._backbone_positive, self.tangential_stiffness, self.slip_force,
                                   self.slip_displacement, inverse=self.displacement, primitive=primitive)
-        n = _positive_int("n_sliders", n_sliders, 1)
+        n = check_n_sliders("n_sliders", n_sliders)  # before the slider table is built
         fp = self._load * self.friction_coefficient
         k_total = self.tangential_stiffness / self.length
         k_cum, f_cum = [0.0], [0.0]

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from ..elements.iwan import Iwan
+from ..elements.iwan import Iwan, check_n_sliders
 from ..elements.masing import ContinuousIwan, odd_backbone
 from ..errors import ParameterError, check_nonnegative, check_poisson_ratio, check_positive
 
@@ -145,8 +145,7 @@ class MindlinContact:
 
             return ContinuousIwan(self._backbone_positive, self.tangential_stiffness, fs, c,
                                   inverse=self.displacement, primitive=self._primitive, density=density)
-        if isinstance(n_sliders, bool) or not isinstance(n_sliders, (int, np.integer)) or n_sliders < 1:
-            raise ParameterError(f"n_sliders must be None or an integer >= 1, got {n_sliders!r}")
+        n_sliders = check_n_sliders("n_sliders", n_sliders)  # before the slider table is built
         # with t = sqrt(1 - phi/C): stiffness of the sliders below phi, int_0^phi k rho, is
         # (3 fP/(2C)) (1 - t), linear in t, and their strength, int_0^phi k rho(s) s ds, is
         # fP (1 - 3t/2 + t^3/2); equal steps of t are equal-stiffness intervals

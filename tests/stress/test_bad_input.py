@@ -262,6 +262,9 @@ CASES = [
     ("Mindlin E inf", lambda: MindlinContact(1.0, 0.3, 0.02, INF, 0.3), "youngs_modulus"),
     ("Mindlin nu 0.5", lambda: MindlinContact(1.0, 0.3, 0.02, 210e9, 0.5), "poisson_ratio"),
     ("Mindlin to_iwan 0", lambda: MindlinContact(1.0, 0.3, 0.02, 210e9, 0.3).to_iwan(0), "n_sliders"),
+    # beyond elements.iwan.MAX_SLIDERS: refused before the slider table is allocated (1e9 would
+    # need 8 GB per array, then Iwan refused it)
+    ("Mindlin to_iwan 1e9", lambda: MindlinContact(1.0, 0.3, 0.02, 210e9, 0.3).to_iwan(10 ** 9), "n_sliders"),
     ("HertzCylinder radius 0", lambda: HertzCylinder(0.0), "radius"),
     ("Wedge angle < 0", lambda: Wedge(-0.1), "angle"),
     ("Wedge angle nan", lambda: Wedge(NAN), "angle"),
