@@ -17,7 +17,12 @@ constant load, the event functions' constants and the zero bands), so the marche
 The arithmetic is the one of :meth:`.Marcher.interval` and :meth:`.Interval.start_values`: the
 stuck Jenkins springs' force in spring form (``k (d.x - w)`` terms, not ``K_c x - k w d``), the
 same zero bands (force rows ``1e-12`` of the load scale, velocity rows ``1e-11`` of the velocity
-scale), the same scoring (most violated first, by its band). It runs where the event search runs
+scale), the same scoring (most violated first, by its band). A row inside its band whose slope is
+inside its band too is judged by its curvature, and one that turns up (``g' < 0 < g''``) but whose
+Taylor minimum ``g - g'^2 / (2 g'')`` lies below the band is violated (the dip rule): the search
+would see it leave the band at once, at the start of the piece (a stiff joint's fast oscillation
+taking its force past the slip limit by more than the rounding of ``kt |x|``; judged consistent,
+the same event was found again at the same instant, forever). It runs where the event search runs
 compiled (:data:`.search.ENABLED`); elsewhere the marcher's NumPy path is used.
 """
 from __future__ import annotations
@@ -264,6 +269,9 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
                 score = dgr / dtol
             elif (abs(dgr) <= dtol and ddg[q] < 0
                   and not (row_kind[q] == KIND_V and forced[row_slider[q]] and dgr > 0)):
+                score = -1.0
+            elif dgr < 0 and ddg[q] > 0 and gr - dgr * dgr / (2.0 * ddg[q]) < -tr:
+                # turning up, but below the band first (its Taylor minimum): the dip rule
                 score = -1.0
             else:
                 continue

@@ -32,6 +32,11 @@ from . import consistency, piece_kernels, search
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
 _SAMPLES_PER_PERIOD = 16
+#: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
+#: it stops with a ConvergenceError (a scene whose events come faster than the march can take
+#: them, e.g. a slip velocity inside its zero band for a whole period of quasi-static forcing,
+#: would otherwise march for days; 2e5 pieces are about 5 s)
+MAX_PIECES_PER_PERIOD = 200_000
 #: the status a slider takes when its event row of kind ``v`` (stop), ``o`` (lift-off) or ``c``
 #: (closure) is violated
 _AFTER = {"v": 0, "o": 2, "c": 0}
@@ -449,6 +454,9 @@ class Marcher:
                     elif (abs(dgr) <= dtol and ddg[r] < 0
                           and not (kind == "v" and forced[i] and dgr > 0)):
                         score = -1.0
+                    elif dgr < 0 and ddg[r] > 0 and gr - dgr * dgr / (2.0 * ddg[r]) < -tr:
+                        # turning up, but below the band first (the dip rule of .consistency)
+                        score = -1.0
                     else:
                         continue
                 else:
@@ -671,7 +679,20 @@ class Marcher:
         if itv is None or itv.t0 != state.t:
             itv = self.settle(state, log)
         zero_steps = 0
+        omega = self.system.omega
+        max_pieces = math.inf
+        if omega > 0:
+            max_pieces = MAX_PIECES_PER_PERIOD * (1.0 + max(t_end - state.t, 0.0) * omega / (2 * math.pi))
+        pieces = 0
         while state.t < t_end:
+            pieces += 1
+            if pieces > max_pieces:
+                raise ConvergenceError(
+                    f"the march took {pieces - 1} closed-form pieces from t = {itv.t0!r} s, "
+                    f"{MAX_PIECES_PER_PERIOD} per excitation period, without reaching t = {t_end!r} s "
+                    "(events faster than the march can take them: an event function inside its zero band "
+                    "for long stretches, e.g. a slip velocity of a forcing period many decades beyond "
+                    "the structure's natural periods)")
             t_stop = t_end
             if self._breaks.size:
                 nb = self._breaks[self._breaks > state.t]

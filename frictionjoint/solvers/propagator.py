@@ -564,6 +564,18 @@ class Interval:
             self._prepare()
         if not (cfg.modal and cfg.m):
             return max(self.omega, cfg.max_rate)
+        free, ref = self._free_sizes()
+        nidx = self.near[0]
+        live = free > rel * ref
+        rate = float(np.max(np.abs(cfg.lam[live]), initial=0.0))
+        if nidx.size:
+            rate = max(rate, float(np.max(np.abs(cfg.lam[nidx]))))
+        return max(self.omega, rate)
+
+    def _free_sizes(self):
+        """Sizes of the modes' free responses ``|V_i| |a_i|`` at the start of a modal piece and
+        the scale of its largest term (free, forced or resonant) [m]."""
+        cfg = self.config
         vn = np.linalg.norm(cfg.V[:cfg.m], axis=0)
         free = vn * np.abs(self._a)
         ref = max(float(np.max(free)), float(np.max(vn * (np.abs(self._b[0]) + np.abs(self._b[1])
@@ -573,11 +585,27 @@ class Interval:
             # a resonant term nc E(lam, mu, tau) grows like tau e^{lam tau}: its size over a period
             span = 2 * math.pi / self.omega if self.omega > 0 else 0.0
             ref = max(ref, float(np.max(vn[nidx] * np.abs(nc))) * span)
+        return free, ref
+
+    def decay_time(self, rel: float = 1e-12) -> float:
+        """Local time [s] from which every mode's free response is below ``rel`` of the piece's
+        largest term (:meth:`active_rate` from then on is ``omega``): 0 if none is above it at the
+        start, ``inf`` if one does not decay or the piece has no plain modal form (or a resonant
+        term). A piece of quasi-static forcing, half a period of 1e9 s, need not be sampled at the
+        structure's rate beyond it."""
+        cfg = self.config
+        if not self._ready:
+            self._prepare()
+        if not (cfg.modal and cfg.m) or self.near[0].size:
+            return math.inf
+        free, ref = self._free_sizes()
         live = free > rel * ref
-        rate = float(np.max(np.abs(cfg.lam[live]), initial=0.0))
-        if nidx.size:
-            rate = max(rate, float(np.max(np.abs(cfg.lam[nidx]))))
-        return max(self.omega, rate)
+        if not live.any():
+            return 0.0
+        re = cfg.lam.real[live]
+        if np.any(re >= 0):
+            return math.inf
+        return float(np.max(np.log(free[live] / (rel * ref)) / -re))
 
     def bounds(self, red, horizon: float):
         """Lower and upper bounds ``(lo, hi)`` (n_obs,) of the observables over local times

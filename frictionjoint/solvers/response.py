@@ -62,9 +62,7 @@ def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     np.maximum(amp, np.max(np.abs(x_end), axis=1), out=amp)
     if itv.config.m == 0:
         return x_end
-    rate = itv.active_rate()
-    nsamp = max(2, math.ceil(tau_end * rate / (2 * math.pi) * 16) + 1)
-    taus = np.linspace(0.0, tau_end, nsamp)
+    taus = _sample_times(itv, tau_end)
     vs, acc = itv.velocity(taus, order=1)
     rows, ks = np.nonzero(np.sign(vs[:, :-1]) * np.sign(vs[:, 1:]) < 0)
     lo, hi = taus[ks], taus[ks + 1]
@@ -85,6 +83,21 @@ def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     x = itv.state(t)[0][rows, np.arange(rows.size)]
     np.maximum.at(amp, rows, np.abs(x))
     return x_end
+
+
+def _sample_times(itv, tau_end: float) -> np.ndarray:
+    """Sample times of :func:`piece_peaks` on ``[0, tau_end]``: 16 per period of the active rate
+    until the free modes have decayed below rounding (:meth:`.Interval.decay_time`), 16 per
+    excitation period after (half a period of quasi-static forcing at 1e-9 of the structure's
+    frequency asked for 1e11 samples)."""
+    rate = itv.active_rate()
+    omega = itv.omega
+    t_d = itv.decay_time() if rate > omega > 0 else math.inf
+    if not t_d < tau_end:
+        return np.linspace(0.0, tau_end, max(2, math.ceil(tau_end * rate / (2 * math.pi) * 16) + 1))
+    fast = np.linspace(0.0, t_d, max(2, math.ceil(t_d * rate / (2 * math.pi) * 16) + 1))
+    slow = np.linspace(t_d, tau_end, max(2, math.ceil((tau_end - t_d) * omega / (2 * math.pi) * 16) + 1))
+    return np.concatenate([fast, slow[1:]])
 
 
 def _roots(itv, rows, lo, hi, order: int, tau_end: float, scale) -> np.ndarray:

@@ -299,6 +299,22 @@ def _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nm
 
 
 @_jit
+def _in_band(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, tol):
+    """True when row r, which starts at zero and is at once negative, stays inside its zero band
+    (``g >= -tol``) at the 32 points of ``(a, b]``: a function the settling judged consistent at
+    ``a`` (within the band, its slope too) that only moves inside the band, e.g. the force of a
+    joint 1e9 times stiffer than the structure, whose fast oscillation takes it 2e-4 N past its
+    limit where the rounding of ``kt |x|`` is 3e-4 N. Its zero just after ``a`` is rounding
+    (1e-19 s on, below the time's resolution: the same event found again and again); ``b`` is
+    handed to the settling instead, which judges the row there."""
+    for k in range(1, 33):
+        t = a + (b - a) * k / 32
+        if not _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, t, r) >= -tol:
+            return False
+    return True
+
+
+@_jit
 def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, crossing, tol, h, start_zero):
     """Event time of row r in [a, b] (a crossing or a dip found by the sampling), or -1."""
     xtol = 1e-16 * h
@@ -312,6 +328,8 @@ def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r,
                     if k == 1:
                         if not start_zero:
                             return a
+                        if _in_band(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, tol):
+                            return b
                         return _locate_tiny(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, t, xtol)
                     return _brent(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, prev, t, xtol)
                 prev = t
@@ -322,9 +340,15 @@ def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r,
             or _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, b, r) <= 0):
         return -1.0
     tm = _brentq(1, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol)
-    if start_zero and tm <= 1e-9 * h:
+    if start_zero and (tm <= 1e-9 * h or t0 + tm == t0):
+        # the bottom at the start (or within the time's resolution at t0: the same instant, found
+        # again and again, e.g. at a load reversal 3e9 s into quasi-static forcing)
         return -1.0
     gm = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tm, r)
+    if start_zero and gm >= 0:
+        # a row at zero, judged consistent, that turns up without going below zero: no event
+        # (its bottom, 1e-10 s on under quasi-static forcing, was found again and again)
+        return -1.0
     if gm < 0:
         if start_zero and gm >= -tol:
             return tm
@@ -729,7 +753,11 @@ def _np_locate(itv, red, j, a, b, crossing, tol, h, start_zero):
                 return b
             first = neg[0]
             if first == 0:
-                return a if not start_zero else _np_locate_tiny(g, a, ts[0], xtol)
+                if not start_zero:
+                    return a
+                if np.all(vals >= -tol):  # inside its band throughout (see _in_band)
+                    return b
+                return _np_locate_tiny(g, a, ts[0], xtol)
             a = ts[first - 1]
             b = ts[first]
         return _np_brent(g, a, b, xtol)
@@ -740,9 +768,11 @@ def _np_locate(itv, red, j, a, b, crossing, tol, h, start_zero):
     # tolerances are at a few ulps of the time, where g' is rounding noise and Brent's
     # interpolation steps can use up the iterations without reaching them: scipy would raise)
     tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=RTOL, maxiter=_MAXITER, disp=False)
-    if start_zero and tm <= 1e-9 * h:
+    if start_zero and (tm <= 1e-9 * h or itv.t0 + tm == itv.t0):  # see _locate
         return None
     gm = g(tm)
+    if start_zero and gm >= 0:  # turns up without going below zero: no event (see _locate)
+        return None
     if gm < 0:
         if start_zero and gm >= -tol:
             # a function that starts in its zero band and dips only inside it (e.g. a slip

@@ -4,8 +4,8 @@ says why (never a hang, never NaN with success).
 
 Each test runs under a wall-clock guard (:func:`faulthandler.dump_traceback_later`: a hang ends
 the run with the stack of the hanging call after ``GUARD`` seconds; pytest-timeout is not
-installed). Before the fix, ``kt = 1e9, 1e12`` slipping, ``omega / omega_n = 1e-12`` and the blade
-root at ``normal_stiffness = 1e18, 1e20`` never returned.
+installed). Before the fix, ``kt = 1e9, 1e12`` slipping, ``omega / omega_n = 1e-12, 1e-9, 1e-6`` and
+the blade root at ``normal_stiffness = 1e18, 1e20`` never returned.
 
 Tolerances (stated once): ``EXACT`` for a closed-form answer against an independent linear solve.
 """
@@ -74,29 +74,25 @@ def test_stiff_stuck_joint_is_the_rigid_constraint(ratio):
 
 
 # ----------------------------------------------------------------- a stiff joint that slips
-@pytest.mark.parametrize("kt", [1e3, 1e6, 1e9, 1e12])
+@pytest.mark.parametrize("kt", [1e3, 1e6, 1e9, pytest.param(1e12, marks=pytest.mark.slow)])
 def test_stiff_slipping_joint_answers_in_bounded_time(kt, _wall_clock_guard):
     # Continuous slip near resonance (r = 0.8, F/P0 = 0.5). Reference: the Coulomb oscillator of
     # the closed-form single-DOF kernel (frictionjoint.solvers.sdof, independent of the marcher),
     # the joint's rigid limit. A Jenkins joint differs by the stuck phase at each reversal: its
     # fast mode (sqrt(kt/m)) releases the mass with a velocity of order 2 F / sqrt(kt m), which
     # moves X by that over omega X: rtol 4 F / (sqrt(kt m) omega X) (measured: 1.5e-2 at 1e3,
-    # 4.8e-4 at 1e6, both inside it).
+    # 4.8e-4 at 1e6, 1.5e-5 at 1e9, 1e-9 at 1e12, all inside it). Before the fix, kt >= 1e9 looped
+    # forever on events 1e-19 s apart (the joint's force inside the rounding of kt |x| past its
+    # limit after the transient from rest).
     w, fs = 0.8, 0.5
     ref = fj.CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=fs, damping=0.02, force_amplitude=1.0,
                                omega=w).steady_state()
     assert ref.converged
     pr = fj.periodic_response(_sdof(kt, w, fs))
     assert time.monotonic() - _wall_clock_guard < GUARD
-    if kt <= 1e6:
-        assert pr.converged, pr.message
-        x = float(ref.amplitude)
-        np.testing.assert_allclose(pr.amplitude, x, rtol=4 * fs / (math.sqrt(kt) * w * x))
-    else:
-        # the joint's force dips within the rounding of kt |x| (1e-12 of it) below its limit at
-        # every stick: the march cannot tell stick from slip there and says so (it looped on
-        # events 1e-19 s apart, below the time's resolution, before)
-        _assert_failed_with_reason(pr, "chattering")
+    assert pr.converged, pr.message
+    x = float(ref.amplitude)
+    np.testing.assert_allclose(pr.amplitude, x, rtol=4 * fs / (math.sqrt(kt) * w * x) + EXACT)
 
 
 # -------------------------------------------------------------- forcing far below resonance
@@ -108,14 +104,14 @@ def test_quasi_static_forcing_answers_in_bounded_time(ratio, _wall_clock_guard):
     fs, kt = 0.5, 1e3
     pr = fj.periodic_response(_sdof(kt, ratio, fs))
     assert time.monotonic() - _wall_clock_guard < GUARD
-    if pr.converged:
+    if ratio >= 1e-6:
+        assert pr.converged, pr.message
         np.testing.assert_allclose(pr.amplitude, 1.0 - fs, rtol=10 * (ratio ** 2 + 0.02 * ratio) + EXACT)
     else:
-        # a forcing period 1e6-1e12 times the natural one: the slip velocity is that many times
-        # below the motion's scale and the time's resolution at t ~ 1/omega approaches the events'
-        # spacing; the march stops with the reason
-        assert ratio < 1e-3
-        _assert_failed_with_reason(pr, "chattering", "gave up")
+        # a forcing period 1e9-1e12 times the natural one: the slip velocity (omega X) lies
+        # inside its zero band (1e-11 of the velocities the loads can make in a natural period)
+        # for most of the period, and the search cannot step over it; it stops with the reason
+        _assert_failed_with_reason(pr, "gave up", "chattering", "closed-form pieces")
 
 
 @pytest.mark.parametrize("ratio", [1e3, 1e6, 1e9])
