@@ -145,3 +145,19 @@ def test_blade_root_normal_stiffness_answers_in_bounded_time(kn, variation, _wal
         assert not r.converged.any()
         assert np.all(np.isnan(r.response))
         assert all("gave up" in m and "fastest mode" in m for m in r.messages), r.messages
+
+
+@pytest.mark.slow
+def test_sweep_of_a_stiff_joint_answers_in_bounded_time(_wall_clock_guard):
+    # sweep(build) with the kt = 1e12 joint (it looped forever at its first point before the fix).
+    # Reference: the closed-form Coulomb oscillator at each frequency (see
+    # test_stiff_slipping_joint_answers_in_bounded_time for the tolerance: 4 F / (sqrt(kt) omega X)).
+    omegas = np.array([0.8, 1.0])
+    r = fj.sweep(lambda w: _sdof(1e12, w, 0.5), omegas)
+    assert time.monotonic() - _wall_clock_guard < GUARD
+    assert r.converged.all(), r.messages
+    for w, amp in zip(omegas, r.amplitude[:, 0]):
+        ref = fj.CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=0.5, damping=0.02, force_amplitude=1.0,
+                                   omega=w).steady_state()
+        x = float(ref.amplitude)
+        np.testing.assert_allclose(amp, x, rtol=4 * 0.5 / (1e6 * w * x) + EXACT)
