@@ -63,11 +63,20 @@ def _absmax(a: np.ndarray) -> float:
     return float(np.max(np.abs(a), initial=0.0))
 
 
-def _gave_up_message(itv, tau: float, horizon: float, rate: float, omega: float) -> str:
-    """Why the event search of a piece stopped after :data:`.search.MAX_SAMPLES` samples."""
-    ratio = f"{rate / omega:.3g} times the excitation frequency" if omega > 0 else f"{rate:.3g} rad/s"
+def _sample_budget(itv, horizon: float, omega: float) -> int:
+    """Samples the search of a piece may take: :data:`.search.MAX_SAMPLES` (or
+    :data:`.search.MAX_EXPM_SAMPLES` without a modal form) per excitation period of the horizon,
+    and one period's worth (a long piece, e.g. an FMU's communication step of many periods, costs
+    in proportion to the time simulated; a piece of one period at most the budget's two)."""
     n = search.MAX_SAMPLES if itv.modal_search() else search.MAX_EXPM_SAMPLES
-    return (f"the event search of the piece from t = {itv.t0!r} s gave up after {n} "
+    periods = horizon * omega / (2 * math.pi) if omega > 0 else 0.0
+    return int(min(n * (1.0 + periods), 2.0 ** 62))
+
+
+def _gave_up_message(itv, tau: float, horizon: float, rate: float, omega: float, budget: int) -> str:
+    """Why the event search of a piece stopped after its sample budget (:func:`_sample_budget`)."""
+    ratio = f"{rate / omega:.3g} times the excitation frequency" if omega > 0 else f"{rate:.3g} rad/s"
+    return (f"the event search of the piece from t = {itv.t0!r} s gave up after {budget} "
             f"samples at {tau:.6g} of {horizon:.6g} s: the configuration's fastest mode "
             f"({rate:.3g} rad/s) is {ratio}, and the search resolves every one of its periods "
             "where the motion is near an event (a joint or contact stiffness many decades above the "
@@ -587,6 +596,7 @@ class Marcher:
         atzero = getattr(itv, "atzero", None)
         if atzero is None:
             atzero = np.zeros(len(meta), bool)
+        budget = _sample_budget(itv, horizon, self.system.omega)
         if self.jit and itv.modal_search():
             cy, c0, cc, cs = red
             cfg = itv.config
@@ -597,14 +607,15 @@ class Marcher:
             found, tau, row, vmax = search.first_event(pat.modal_p, pat.modal_abs_p, itv._a, b0, bp, bm, c0,
                                                        cfg.lam, cc, cs, self.system.omega, itv.t0,
                                                        np.asarray(tol, dtype=float), atzero, pat.vrows,
-                                                       float(horizon), h, *itv.near)
+                                                       float(horizon), h, *itv.near, budget)
         else:
-            found, tau, row, vmax = search.numpy_first_event(itv, red, tol, atzero, pat.vrows, horizon, h)
+            found, tau, row, vmax = search.numpy_first_event(itv, red, tol, atzero, pat.vrows, horizon, h,
+                                                             budget)
         self.v_scale *= 0.5
         if pat.any_v:
             self.v_scale = max(self.v_scale, vmax)
         if row == search.GAVE_UP:
-            raise ConvergenceError(_gave_up_message(itv, tau, horizon, rate, self.system.omega))
+            raise ConvergenceError(_gave_up_message(itv, tau, horizon, rate, self.system.omega, budget))
         return (tau, row) if found else None
 
     # ----------------------------------------------------------------- march

@@ -60,10 +60,11 @@ RTOL = 4 * np.finfo(float).eps
 _MAXITER = 100
 #: samples per chunk of the NumPy search
 CHUNK = 48
-#: samples of one piece's search at most (both paths): a piece whose search would need more (a
-#: mode 1e6 times faster than the excitation that the Taylor bound cannot step over, e.g. a
-#: joint or contact stiffness 1e12 times the structure's) ends the search with :data:`GAVE_UP`
-#: instead of running for hours (a second or a few of the compiled search, seconds of NumPy's)
+#: samples of one piece's search at most (both paths), per excitation period of its horizon in
+#: the marcher's budget (plus one period's worth): a piece whose search would need more (a mode
+#: 1e6 times faster than the excitation that the Taylor bound cannot step over, e.g. a joint or
+#: contact stiffness 1e12 times the structure's) ends the search with :data:`GAVE_UP` instead of
+#: running for hours (a second or a few of the compiled search, seconds of NumPy's)
 MAX_SAMPLES = 1_000_000
 #: ... and of a piece without a modal closed form (defective configurations: every sample is a
 #: matrix exponential, about 2 ms for a blade; a blade root of normal stiffness 1e18 N/m needs
