@@ -297,3 +297,17 @@ def test_a_late_stick_end_is_not_lost_to_the_rounding_of_the_phase():
     for e in range(2, 12):
         for n in rng.integers(10 ** (e - 1), 10 ** e, 40):
             assert k.march(n * period, x, 0.0, (n + 1) * period, status=0).n_events == 4, n
+
+
+def test_a_very_late_start_still_slips():
+    """Defaults (m = k = P0 = 1, F = 0.5, omega = 1), from rest at t0 = 1e12 .. 1e15 s: P0 > F, so
+    the mass slips about twice per period (50 events in 100 s from t0 = 0). A zero band widened by
+    the phase's rounding (8 eps |w t| P0 = 0.05 N at w t = 1e14) once kept it stuck for ever,
+    with every step OK; the located limit is now set to zero and the derivatives decide."""
+    from frictionjoint.stepping import OscillatorRun
+
+    for t0 in (1e12, 1e14, 1e15):
+        run = OscillatorRun({}, start_time=t0)
+        for i in range(1, 201):
+            run.advance(t0 + 0.5 * i)
+        assert run.event_count >= 40, (t0, run.event_count)

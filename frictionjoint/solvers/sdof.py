@@ -432,7 +432,7 @@ class SdofCoulomb:
         return max(abs(f_const), self._fscale_fixed, abs(self.stiffness * x))
 
     # ------------------------------------------------------------------ settling
-    def settle(self, t: float, x: float, status: int, v_scale: float = 0.0) -> int:
+    def settle(self, t: float, x: float, status: int, v_scale: float = 0.0, trigger: int = 0) -> int:
         """Stick/slip status at a state with ``v = 0`` (Hong & Liu's rules).
 
         The rules and tolerances of :meth:`frictionjoint.solvers.events.Marcher.settle`: the
@@ -451,6 +451,12 @@ class SdofCoulomb:
         v_scale : float, optional
             Velocity scale seen so far [m/s] (velocity tolerance ``1e-11`` of it or of the
             load scale).
+        trigger : {0, 1, -1}, optional
+            The slip limit (``+1``: the holding force reaches ``+F``; ``-1``: ``-F``) that
+            :meth:`_stick_end` located at ``t`` in closed form, if any. Its holding force is at
+            the limit there, and a slip in its direction starts with zero net force, whatever the
+            rounding of the phase ``w t`` (``8 eps |w t| |P0|``: 2e-12 N at ``t = 4e4 s``,
+            ``w = 0.3``, more than the ``1e-12 F`` band): the derivatives decide.
 
         Returns
         -------
@@ -466,11 +472,10 @@ class SdofCoulomb:
         h = p0 * cw - self.stiffness * x
         hd = -p0 * w * sw
         hdd = -p0 * w * w * cw
-        # the holding force is known only to |P0| times the rounding of the phase w t (at a late
-        # time, t = 4e4 s at w = 0.3, 2e-12 rad: more than 1e-12 F). Without this term a stick end
-        # located by _stick_end read as still inside the band (or, slipping, as an acceleration
-        # against the slip), the mass stayed stuck and the next exit found was a period later
-        h_round = 8.0 * _EPS * abs(w * t) * abs(p0)
+        # the located limit is at zero within the rounding of the phase w t; without this, a
+        # stick end located by _stick_end read as still inside the band (or, slipping, as a net
+        # force against the slip), the mass stayed stuck and the next exit found was a period later
+        h_round = 8.0 * _EPS * abs(w * t) * abs(p0) if trigger else 0.0
         s, forced = int(status), False
         visited = set()
         for _ in range(8):
@@ -479,18 +484,23 @@ class SdofCoulomb:
             if s != 0:
                 rate = self._rate_slip
                 v_ref = max(v_scale, fscale / (m * rate))
-                dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate + h_round / m
-                acc = (h - s * f) / m
+                dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate
+                net = h - s * f
+                if s == trigger and abs(net) <= 1e-12 * max(f, fscale) + h_round:
+                    net = 0.0  # the onset at the located limit: zero net force
+                acc = net / m
                 dg, ddg = s * acc, s * (hd - c * acc) / m
                 if dg < -dtol or (abs(dg) <= dtol and ddg < 0 and not (forced and dg > 0)):
                     s, forced = 0, False
                     continue
                 return s
             rate = self._rate_stick
-            tol = 1e-12 * max(f, fscale) + h_round
+            tol = 1e-12 * max(f, fscale)
             dtol = 10.0 * max(tol, 1e-300) * rate
             best, new, g_new = math.inf, 0, 0.0
             for sign, g, dg, ddg in ((1, f - h, -hd, -hdd), (-1, f + h, hd, hdd)):
+                if sign == trigger and abs(g) <= tol + h_round:
+                    g = 0.0  # the located limit
                 if abs(g) <= tol:
                     if dg < -dtol:
                         score = dg / dtol
@@ -515,23 +525,26 @@ class SdofCoulomb:
         raise ConvergenceError(f"no consistent stick/slip status at t = {t!r}")
 
     # -------------------------------------------------------------- stuck pieces
-    def _stick_end(self, t0: float, x: float) -> float:
-        """First time after ``t0`` at which ``|P0 cos(wt) - k x|`` goes over ``F`` (inf if never)."""
+    def _stick_end(self, t0: float, x: float) -> tuple[float, int]:
+        """First time after ``t0`` at which ``|P0 cos(wt) - k x|`` goes over ``F`` (inf if never),
+        and the limit reached there (``+1``: ``+F``, ``-1``: ``-F``; 0 if never)."""
         p0a = self._p0abs
         if p0a == 0.0:
             return math.inf
         z, f, phi = self.stiffness * x, self.slip_force, self._phi
         tol = 1e-12 * max(f, self._fscale_fixed, abs(z))
-        best = math.inf
+        best, side = math.inf, 0
         # upper limit: |P0| cos(psi) > z + F on psi in (-alpha, alpha), entered at -alpha
         if p0a - (z + f) > tol:
             c1 = (z + f) / p0a
-            best = min(best, self._next_phase(t0, -math.acos(max(c1, -1.0)) - phi))
+            best, side = self._next_phase(t0, -math.acos(max(c1, -1.0)) - phi), 1
         # lower limit: |P0| cos(psi) < z - F on psi in (beta, 2 pi - beta), entered at beta
         if -p0a - (z - f) < -tol:
             c2 = (z - f) / p0a
-            best = min(best, self._next_phase(t0, math.acos(min(c2, 1.0)) - phi))
-        return best
+            t_low = self._next_phase(t0, math.acos(min(c2, 1.0)) - phi)
+            if t_low < best:
+                best, side = t_low, -1
+        return best, side
 
     def _next_phase(self, t0: float, theta: float) -> float:
         """Smallest ``t > t0`` with ``w t = theta (mod 2 pi)``."""
@@ -773,7 +786,7 @@ class SdofCoulomb:
             if n_pieces > budget:
                 raise EventBudgetError(self._budget_message(budget, t0, t_end, "stick/slip events"))
             if s == 0:
-                t_exit = self._stick_end(t, x)
+                t_exit, side = self._stick_end(t, x)
                 t_stop = min(t_exit, t_end)
                 if on_piece is not None:
                     on_piece(t, x, 0.0, 0, t_stop, x, 0.0)
@@ -781,7 +794,7 @@ class SdofCoulomb:
                     t = t_end
                     break
                 t = t_exit
-                new = self.settle(t, x, 0, v_scale)
+                new = self.settle(t, x, 0, v_scale, trigger=side)
                 if new != 0:
                     counts[1] += 1
                     s = new

@@ -353,7 +353,7 @@ def _stuck_orbit(kernel: SdofCoulomb, x0: float, v0: float, n_samples: int) -> P
         return None
     period = 2 * math.pi / kernel.omega
     # the start of SdofCoulomb.march from rest: the rules at v = 0, then the stuck piece's end
-    if kernel.settle(0.0, x0, 0) != 0 or kernel._stick_end(0.0, x0) < period:
+    if kernel.settle(0.0, x0, 0) != 0 or kernel._stick_end(0.0, x0)[0] < period:
         return None
     t_arr = x_arr = None
     if n_samples:
