@@ -287,6 +287,19 @@ def test_time_limit_on_the_pool_kills_a_point_stuck_in_one_call(tmp_path):
 
 
 @pytest.mark.slow
+def test_time_limit_of_a_last_remaining_point_is_the_pools(tmp_path):
+    """The one point left of a study (a resumed study whose last point hit its limit) runs on the
+    pool too: stuck in one call, it is killed after its limit (it ran in the runner's own thread
+    once, where nothing could stop it)."""
+    st = Study(model=_slow_blade(stuck=True), omega="1990:2060:3", vary={"centrifugal_force": Values((259.0,))},
+               refine_peak=False, time_limit=0.5)
+    t0 = time.monotonic()
+    tab = run_study(st, tmp_path / "t.csv", workers=2)
+    assert time.monotonic() - t0 < 45.0  # not the 60 s of the stuck call
+    assert list(tab["status"]) == ["failed"] and tab["error"][0].startswith("TimeLimit:")
+
+
+@pytest.mark.slow
 def test_time_limit_on_dask_worker_threads(tmp_path):
     """A Dask worker runs points in threads (no signals there): the limit is still raised in the
     point's thread."""

@@ -224,12 +224,19 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
 
         if scheduler is not None:
             _run_dask(todo, scheduler, record)
-        elif workers == 1 or len(todo) == 1:
+        elif workers == 1:
             for t in todo:
                 record(evaluate_point(t))
         else:
             _run_pool(todo, workers or os.cpu_count() or 1, record, study.time_limit)
     return finish(rows)
+
+
+#: What a worker sends when it starts a point (the point's time limit runs from there).
+_STARTED = "started"
+#: Seconds a spawned worker may take to start a point it was sent (its interpreter, the package's
+#: imports, numba's cache) before the runner counts it as stuck.
+_STARTUP = 120.0
 
 
 def _grace(limit: float) -> float:
@@ -270,7 +277,13 @@ def _worker_main(conn, parent: int) -> None:
             return
         if task is None:
             return
-        conn.send(evaluate_point(task))
+        conn.send(_STARTED)  # the runner's clock of this point starts here, not at its start-up
+        row = evaluate_point(task)
+        conn.send(row)
+        if str(row.get("error") or "").startswith(TIME_LIMIT_ERROR):
+            # the limit was raised asynchronously, at any bytecode (a cache update, an import, a
+            # compilation): this process ends, the runner starts a fresh one
+            return
 
 
 class _Worker:
@@ -287,8 +300,17 @@ class _Worker:
 
     def send(self, task: dict, limit: float) -> None:
         self.task = task
+        # until the worker says it started the point: its start-up (a spawned interpreter
+        # importing the package, numba's cache) is not the point's time
+        self.deadline = time.monotonic() + limit + _grace(limit) + _STARTUP
+        try:
+            self.conn.send(task)
+        except OSError as exc:
+            raise WorkerError(f"a worker process ended before it could take point {task['point']} ({exc}); the "
+                              "finished points are in the table: run the study again to resume") from None
+
+    def started(self, limit: float) -> None:
         self.deadline = time.monotonic() + limit + _grace(limit)
-        self.conn.send(task)
 
     def kill(self) -> None:
         if self.process.is_alive():
@@ -305,7 +327,8 @@ def _run_pool(todo: list[dict], workers: int, record, limit: float) -> None:
     pending = collections.deque(todo)
     pool = []
     try:
-        pool = [_Worker(ctx) for _ in range(min(workers, len(todo)))]
+        for _ in range(min(workers, len(todo))):
+            pool.append(_Worker(ctx))  # one at a time: a failed spawn leaves the others to end
         while pending or any(w.task is not None for w in pool):
             for w in pool:
                 if w.task is None and pending:
@@ -322,9 +345,15 @@ def _run_pool(todo: list[dict], workers: int, record, limit: float) -> None:
                         row = w.conn.recv()
                     except (EOFError, OSError):
                         row = None
+                    if row == _STARTED:
+                        w.started(limit)
+                        continue
                     if row is not None:
                         w.task = None
                         record(row)
+                        if str(row.get("error") or "").startswith(TIME_LIMIT_ERROR):
+                            w.kill()  # it ends itself (_worker_main): replaced
+                            pool[i] = _Worker(ctx)
                         continue
                 if w.process.sentinel in ready or not w.process.is_alive():
                     raise WorkerError(f"a worker process died (exit code {w.process.exitcode}) running point "
