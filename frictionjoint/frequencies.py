@@ -7,9 +7,10 @@ The frequencies of a sweep [rad/s] are written in one of two ways, everywhere:
   call that takes frequencies); :func:`omega_range` builds the same grid as an array;
 - the frequencies themselves: a NumPy array, a list or a tuple, visited in the given order.
 
-A list or tuple of three numbers whose last is a whole number, ``(0.5, 2.5, 60)``, could be
-either: three frequencies or a range of 60. It is refused with a :class:`ParameterError` that
-shows both unambiguous forms. Functions that need only the ends of a range (a harmonic-balance
+A list or tuple of three numbers whose last is an integer, ``(0.5, 2.5, 60)``, could be either:
+three frequencies or a range of 60. It is refused with a :class:`ParameterError` that shows the
+unambiguous forms. A count is an integer, so a last number written as a float (``60.0``, TOML's
+``2100.0``) is a frequency: ``[1950.0, 2000.0, 2100.0]`` in a study file is three frequencies. Functions that need only the ends of a range (a harmonic-balance
 branch) take the same forms and use the first and the last frequency.
 """
 from __future__ import annotations
@@ -82,13 +83,14 @@ MAX_POINTS = 1_000_000
 
 
 def _ambiguous(values) -> bool:
-    """A list or tuple ``(a, b, n)`` with a whole number ``n >= 2`` reads as a range too."""
+    """A list or tuple ``(a, b, n)`` with an integer ``n >= 2`` reads as a range too (a float
+    ``n`` is a frequency: a count is never written ``60.0``)."""
     if not isinstance(values, (list, tuple)) or len(values) != 3:
         return False
     last = values[-1]
-    if isinstance(last, bool) or not isinstance(last, (Real, np.number)):
+    if isinstance(last, (bool, np.bool_)) or not isinstance(last, (Integral, np.integer)):
         return False
-    return math.isfinite(last) and float(last).is_integer() and last >= 2
+    return last >= 2
 
 
 def check_omegas(name: str, values) -> np.ndarray:
@@ -108,7 +110,8 @@ def check_omegas(name: str, values) -> np.ndarray:
         raise ParameterError(
             f"{name} = {values!r} could be the three frequencies {a!r}, {b!r}, {n!r} rad/s or {int(n)} "
             f"frequencies from {a!r} to {b!r}: write '{a!r}:{b!r}:{int(n)}' (or omega_range({a!r}, {b!r}, {int(n)})) "
-            f"for the range, np.array({list(values)!r}) for the three frequencies")
+            f"for the range; for the three frequencies, write the last with a decimal point "
+            f"([{a!r}, {b!r}, {float(n)!r}], also in a study file) or pass an array")
     arr = check_grid(name, values, unit="rad/s")
     if arr.size > MAX_POINTS:
         raise ParameterError(f"{name} must hold at most {MAX_POINTS} frequencies, got {arr.size}")

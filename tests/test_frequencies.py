@@ -47,7 +47,7 @@ def test_omega_range_is_exported_and_is_linspace():
 def test_a_three_number_tuple_is_refused_everywhere(name, call):
     """The issue's (0.5, 2.5, 60): three frequencies or 60 of them? Refused before any point runs,
     the message showing the range form and the array form."""
-    _refused(lambda: call((0.5, 2.5, 60)), "'0.5:2.5:60'", "np.array")
+    _refused(lambda: call((0.5, 2.5, 60)), "'0.5:2.5:60'", "[0.5, 2.5, 60.0]")
     _refused(lambda: call([0.5, 2.5, 60]), "'0.5:2.5:60'")
 
 
@@ -65,6 +65,10 @@ def test_the_range_string_is_the_same_grid_as_its_array():
 
 def test_three_frequencies_as_an_array_or_with_a_fractional_last_are_frequencies():
     fr = fj.sweep("CoulombOscillator", np.array([0.6, 1.5, 2.0]), PARAMS)
+    assert np.array_equal(fr.omega, [0.6, 1.5, 2.0])
+    # a count is an integer: a last number written as a float is a frequency (a study file's
+    # [1950.0, 2000.0, 2100.0] is three frequencies)
+    fr = fj.sweep("CoulombOscillator", [0.6, 1.5, 2.0], PARAMS)
     assert np.array_equal(fr.omega, [0.6, 1.5, 2.0])
     fr = fj.sweep("CoulombOscillator", (0.6, 1.5, 2.5), PARAMS)  # 2.5 cannot be a count
     assert np.array_equal(fr.omega, [0.6, 1.5, 2.5])

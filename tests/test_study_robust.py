@@ -44,8 +44,11 @@ def test_omega_takes_the_one_convention_and_refuses_the_old_triple():
     st = Study(model=BLADE, omega="1950:2100:40", vary=TWO)
     np.testing.assert_array_equal(st.omega, np.linspace(1950.0, 2100.0, 40))
     np.testing.assert_array_equal(Study(model=BLADE, omega=[2000.0, 1990.0], vary=TWO).omega, [2000.0, 1990.0])
-    with pytest.raises(ParameterError, match=r"'1950.0:2100.0:40'.*np.array"):
+    with pytest.raises(ParameterError, match=r"'1950.0:2100.0:40'.*\[1950.0, 2100.0, 40.0\]"):
         Study(model=BLADE, omega=(1950.0, 2100.0, 40), vary=TWO)
+    # a count is an integer: three frequencies whose last is written as a float are frequencies
+    np.testing.assert_array_equal(Study(model=BLADE, omega=[1950.0, 2000.0, 2100.0], vary=TWO).omega,
+                                  [1950.0, 2000.0, 2100.0])
     with pytest.raises(ParameterError, match="harmonic-balance branch needs two frequencies"):
         Study(model=BLADE, omega=[2000.0], vary=TWO, method="hbm")
 

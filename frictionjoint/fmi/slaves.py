@@ -21,7 +21,8 @@ The wrapper forwards log messages to the host only with debug logging on (``logg
 A step answers in bounded time: the runs (:class:`CoulombOscillatorSlave`,
 :class:`BladeDovetailSlave`) march at most :attr:`_RunSlave.max_cycles` cycles of the excitation
 and of the structure per step, event by event; beyond, the oscillator skips whole periods once its
-motion is periodic (the state at a later time is the orbit's, exactly) and the blade refuses. A
+motion has returned to its orbit (to the periodic tolerance, 1e-9 of the orbit, judged with the exact
+monodromy; the state a whole number of periods later is then the same) and the blade refuses. A
 march that gives up (its own event budget, a ConvergenceError) is a refused step from the step's
 start. The driven joints' steps cost one update whatever their length; the linear structure's
 step spans at most :attr:`LinearStructureSlave.max_cycles`.
