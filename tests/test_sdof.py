@@ -311,3 +311,11 @@ def test_a_very_late_start_still_slips():
         for i in range(1, 201):
             run.advance(t0 + 0.5 * i)
         assert run.event_count >= 40, (t0, run.event_count)
+
+
+def test_a_stuck_mass_without_forcing_stays_stuck():
+    """P0 = 0 and |k x| <= F: the holding force never changes, so the mass stays stuck for ever
+    (no stick end: _stick_end answers (inf, 0))."""
+    k = SdofCoulomb(1.0, 1.0, 0.5, 0.0, 0.3, 0.0)
+    res = k.march(0.0, 0.2, 0.0, 10.0, status=0)
+    assert (res.t, res.x, res.v, res.status, res.n_events) == (10.0, 0.2, 0.0, 0, 0)

@@ -530,7 +530,7 @@ class SdofCoulomb:
         and the limit reached there (``+1``: ``+F``, ``-1``: ``-F``; 0 if never)."""
         p0a = self._p0abs
         if p0a == 0.0:
-            return math.inf
+            return math.inf, 0
         z, f, phi = self.stiffness * x, self.slip_force, self._phi
         tol = 1e-12 * max(f, self._fscale_fixed, abs(z))
         best, side = math.inf, 0
