@@ -23,6 +23,7 @@ from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, sha
 from .structure import LinearStructure
 from .study import Study, load_study, run_study
 from .sweep import FrequencyResponse, SystemSweep, oscillator_sweep, peak_response, sweep, system_sweep
+from .threads import blas_threads, set_blas_threads
 from .system import FrictionSystem
 
 __version__ = "0.1.0"
@@ -63,6 +64,8 @@ __all__ = [
     "melan_check",
     "shakedown_check",
     "omega_range",
+    "blas_threads",
+    "set_blas_threads",
     "oscillator_sweep",
     "periodic_response",
     "regime_map",

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .threads import owns_blas_threads
 from .analytic import den_hartog_curve
 from .errors import (ParameterError, check_count, check_nonnegative, check_oscillator, check_positive,
                      check_real, check_system)
@@ -223,6 +224,7 @@ def _run_sweep(params: dict, c: float, ws, direction: str, progress: bool, solve
 METHODS = ("time", "hbm")
 
 
+@owns_blas_threads
 def sweep(model: str | os.PathLike | Driver | Callable, omegas: ArrayLike, parameters: dict | None = None,
           direction: str = "up", outputs: Sequence[str] = ("x",), n_samples: int = 256, progress: bool = False,
           method: str = "time", n_harmonics: int = 7,
@@ -519,6 +521,7 @@ def _check_build(build) -> None:
         raise ParameterError(f"build must be a callable build(omega) -> FrictionSystem, got {build!r}")
 
 
+@owns_blas_threads
 def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, peaks: bool = True) -> SystemSweep:
     """Periodic steady state of ``build(omega)`` at each ``omega`` [rad/s], in the given order,
     each started from the previous orbit (its state at ``t = 0``).

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..threads import owns_blas_threads
 from ..errors import ParameterError, check_count, check_system
 from ..frequencies import check_omegas
 from ..results.harmonic import HarmonicBalanceSweep
@@ -28,6 +29,7 @@ def _at(system: FrictionSystem, omega: float) -> FrictionSystem:
     return FrictionSystem(system.structure, system.elements, omega=omega, excitation=system.excitation)
 
 
+@owns_blas_threads
 def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int = 7, *, n_points: int | None = None,
               tol: float = 1e-10, max_points: int | None = None, progress: bool = False,
               check: bool | ArrayLike = False) -> HarmonicBalanceSweep:

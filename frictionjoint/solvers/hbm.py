@@ -30,6 +30,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
+from ..threads import owns_blas_threads
 from ..errors import ParameterError, check_count, check_positive, check_system
 from ..results.harmonic import HarmonicBalance
 from ..system import FrictionSystem
@@ -275,6 +276,7 @@ def _peaks(harm: np.ndarray) -> np.ndarray:
     return out
 
 
+@owns_blas_threads
 def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmonics: int = 7, *,
                      guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 60,
                      check: bool = False) -> HarmonicBalance:

@@ -15,6 +15,7 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike
 
+from ..threads import owns_blas_threads
 from ..errors import ConvergenceError, ParameterError, check_real, check_system
 from ..system import FrictionSystem
 from ..results import TimeResponse
@@ -352,6 +353,7 @@ class _EnergyRecord:
             acc["fric"] += float(fsl @ np.abs(d_slip @ xe[:, 0] - s_start))
 
 
+@owns_blas_threads
 def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
              w0: ArrayLike | None = None, t0: float = 0.0, t_eval: ArrayLike | None = None,
              record: str | Sequence[str] = ("x", "v", "friction_force"),

@@ -18,6 +18,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..threads import owns_blas_threads
 from ..errors import ConvergenceError, ParameterError, check_count, check_system
 from ..system import FrictionSystem
 from ..results import PeriodicResponse
@@ -377,6 +378,7 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit, peaks: bool = 
     return amp, a1 * (2 / period), b1 * (2 / period), diss[0], stuck_all, z0[0], log
 
 
+@owns_blas_threads
 def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike = 0.0,
                       w0: ArrayLike | None = None, *, marcher: Marcher | None = None,
                       tol: float = 1e-12, max_newton: int = 25, max_periods: int = 2000,

@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ..threads import owns_blas_threads
 from ..elements.dovetail import FLANK_OUTPUTS
 from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..solvers.eventlog import MarchState
@@ -173,6 +174,7 @@ class BladeRun:
                                       on_interval=on_interval, itv=self.itv)
         self.t = t_end
 
+    @owns_blas_threads
     def advance(self, t: float) -> None:
         """March exactly to time ``t`` [s] (> the current time; events inside)."""
         t = check_real("t", t)

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import scipy.optimize
 
+from ..threads import owns_blas_threads
 from .quantities import QUANTITIES, quantities
 
 __all__ = ["evaluate_point", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
@@ -169,6 +170,7 @@ def _base_model(model):
     return None
 
 
+@owns_blas_threads
 def evaluate_point(task: dict) -> dict:
     """One point's row: its sweep (:func:`frictionjoint.sweep`; a blade's peak refined between the
     sweep's points) and quantities of interest; an exception, or the point's time limit, is the
