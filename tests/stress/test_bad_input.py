@@ -324,6 +324,8 @@ CASES = [
                                               vary={"friction_coefficient": Grid(NAN, 1.0, 3)}).points(),
      "vary.friction_coefficient"),
     ("load_study missing", lambda: fj.load_study("/nonexistent/study.toml"), "study file"),
+    # BLAS threads (blas_threads takes no argument); a refused value leaves the choice as it was
+    ("set_blas_threads 0", lambda: fj.set_blas_threads(0), "n must be None or an integer >= 1"),
     ("run_study workers 0", lambda: fj.run_study(fj.Study(model=BLADE, omega="1:2:3", vary=MU), "t.csv", workers=0),
      "workers"),
     ("run_study table suffix", lambda: fj.run_study(fj.Study(model=BLADE, omega="1:2:3", vary=MU), "t.txt"), "table"),
@@ -346,7 +348,7 @@ def test_every_public_callable_with_numbers_is_covered():
     takes_numbers = [n for n in fj.__all__ if n not in (
         "ConvergenceError", "ParameterError", "FMUError", "NoSolutionError", "EventLog", "PeriodicResponse",
         "TimeResponse", "FrequencyResponse", "RegimeMap", "SystemSweep", "analytic", "contact", "shakedown",
-        "Marcher")]
+        "Marcher", "blas_threads")]
     missing = [n for n in takes_numbers if n not in text]
     assert not missing
 
