@@ -504,9 +504,7 @@ def _fmu_parameters(inst, path, parameters, sweeps) -> dict:
     and converted to each variable's type: a Boolean from any way of writing a switch
     (:func:`~frictionjoint.errors.check_bool`: ``True``, ``1``, ``'true'``, ...), an Integer from a
     whole number, a Real from a real number -- never a silent ``bool(0.5)`` or ``int(5.5)``."""
-    from fmpy import read_model_description
-
-    settable = sorted(v.name for v in read_model_description(str(path)).modelVariables
+    settable = sorted(v.name for v in inst.model.modelVariables  # read when the instance was made
                       if v.causality == "parameter" and v.name not in sweeps)
     params = dict(parameters or {})
     unknown = sorted(k for k in params if k not in settable)
