@@ -22,6 +22,7 @@ from .errors import ConvergenceError, FMUError
 from .fmi.driver import FMUDriver
 from .results import PeriodicResponse
 from .solvers.shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message
+from .solvers.steady import failed_response
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["Driver", "LibraryDriver", "FMUDriver", "shoot"]
@@ -171,10 +172,7 @@ def shoot(driver, parameters: dict, state=None, outputs=("x",), n_samples: int =
     except (ConvergenceError, FMUError) as exc:
         # a march the kernel or the FMU refuses (its event budget, a step it cannot answer): this
         # point fails with the reason, the sweep goes on
-        nan = float("nan")
-        return PeriodicResponse(omega=float(p["omega"]), amplitude=nan, phase=nan, harmonic_amplitude=nan,
-                                stops_per_cycle=0, stuck=False, converged=False, unique=False,
-                                message=f"the march failed: {exc}", periods=0.0, status="failed")
+        return failed_response(float(p["omega"]), None, f"the march failed: {exc}", unique=False)
 
 
 def _shoot(driver, p, state, outputs, n_samples, tol, max_periods) -> PeriodicResponse:

@@ -34,7 +34,7 @@ from .events import EventLog
 from .response import gauss_nodes
 from .sdof import QUASI_STATIC_TOL, EventBudgetError, SdofCoulomb, _phi1, event_kind
 from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
-from .steady import SECTION_MARGIN
+from .steady import SECTION_MARGIN, failed_response
 
 __all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral", "quasi_static_response"]
 
@@ -413,13 +413,10 @@ def quasi_static_response(kernel: SdofCoulomb, n_samples: int = 0, reason: str =
     amp = (pa - f_slip) / k
     why = f" ({reason})" if reason else ""
     if not delta < amp:
-        nan = float("nan")
-        return PeriodicResponse(
-            omega=w, amplitude=nan, phase=nan, harmonic_amplitude=nan, stops_per_cycle=0, stuck=False,
-            converged=False, unique=False, status="failed", periods=0.0,
-            message=(f"the exact march was refused{why}, and the quasi-static limit says nothing here: its "
+        return failed_response(
+            w, None, f"the exact march was refused{why}, and the quasi-static limit says nothing here: its "
                      f"error bound {delta:.3g} m is not below its amplitude {amp:.3g} m "
-                     f"(omega/omega_n = {ratio:.3g})"))
+                     f"(omega/omega_n = {ratio:.3g})", unique=False)
     f = f_slip / pa
     th1 = math.acos(1.0 - 2.0 * f)
     a1 = sgn * (2.0 / math.pi) * (pa / k) * (0.5 * (math.pi - th1) + 0.25 * math.sin(2.0 * th1))

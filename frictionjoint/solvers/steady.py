@@ -435,11 +435,13 @@ def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike
         return failed_response(system.omega, system.n_dof, f"the march failed: {exc}")
 
 
-def failed_response(omega: float, n_dof: int, message: str) -> PeriodicResponse:
-    """The result of a steady-state search that could not march (status ``'failed'``)."""
-    nan = np.full(n_dof, np.nan)
-    return PeriodicResponse(omega=omega, amplitude=nan, phase=nan.copy(), harmonic_amplitude=nan.copy(),
-                            stops_per_cycle=0, stuck=False, converged=False, unique=True, message=message,
+def failed_response(omega: float, n_dof: int | None, message: str, unique: bool = True) -> PeriodicResponse:
+    """The result of a steady-state search that could not march (status ``'failed'``): NaN
+    amplitudes and phases, per DOF (``n_dof``) or scalars (``None``: a single-DOF result)."""
+    def nan():
+        return float("nan") if n_dof is None else np.full(n_dof, np.nan)
+    return PeriodicResponse(omega=omega, amplitude=nan(), phase=nan(), harmonic_amplitude=nan(),
+                            stops_per_cycle=0, stuck=False, converged=False, unique=unique, message=message,
                             periods=0.0, status="failed")
 
 
