@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from frictionjoint.solvers import piece_kernels, search
+from frictionjoint.solvers.marcher import piece_kernels, search
 from frictionjoint.structures import BladeAssembly, load_blade_model
 
 LOADS = (("optimum", 46.09), ("tenth", None), ("full", None))
@@ -74,7 +74,7 @@ def main(argv=None) -> int:
             t_all = time.perf_counter() - t_all
             # per-point times: a second pass point by point (continuation as in the sweep)
             z = None
-            from frictionjoint.solvers.steady import periodic_response
+            from frictionjoint.solvers.marcher.steady import periodic_response
             for w in omegas:
                 system = asm.system(float(w))
                 n = system.n_dof

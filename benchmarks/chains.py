@@ -27,9 +27,9 @@ from contextlib import contextmanager
 import numpy as np
 
 import frictionjoint as fj
-from frictionjoint.solvers import piece_kernels, propagator, steady
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.steady import periodic_response
+from frictionjoint.solvers.marcher import piece_kernels, propagator, steady
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.steady import periodic_response
 
 
 def chain(n: int, joints: int, slip_ratio: float = 0.3) -> fj.FrictionSystem:

@@ -28,9 +28,9 @@ the marcher -- the denominator of every ratio -- is timed both first and last on
 
 Methods (``method`` column):
 
-- ``exact marcher``: :class:`frictionjoint.solvers.events.Marcher`, the general n-DOF marcher:
+- ``exact marcher``: :class:`frictionjoint.solvers.marcher.events.Marcher`, the general n-DOF marcher:
   closed form between events, no tolerance to set (one setting);
-- ``exact SDOF kernel``: :class:`frictionjoint.solvers.sdof.SdofCoulomb`, the dedicated
+- ``exact SDOF kernel``: :class:`frictionjoint.solvers.sdof.kernel.SdofCoulomb`, the dedicated
   single-DOF closed-form kernel (pure-Python scalar maths, certified event location): the same
   motion and events as the general marcher, no tolerance to set (one setting);
 - ``steady_state``: :meth:`CoulombOscillator.steady_state` **from rest** (shooting on the period
@@ -88,8 +88,8 @@ from scipy.integrate import solve_ivp
 from frictionjoint.analytic import den_hartog_response, harmonic_balance_amplitude
 from frictionjoint.errors import ParameterError
 from frictionjoint.oscillator import CoulombOscillator
-from frictionjoint.solvers.events import Marcher
-from frictionjoint.solvers.sdof import SdofCoulomb
+from frictionjoint.solvers.marcher.events import Marcher
+from frictionjoint.solvers.sdof.kernel import SdofCoulomb
 
 __all__ = ["Case", "Problem", "Row", "WorkPrecision", "CASES", "PERIODS", "COLUMNS",
            "make_problem", "marcher_amplitude", "sdof_amplitude", "steady_state_amplitude",

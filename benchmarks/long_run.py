@@ -21,7 +21,7 @@ import numpy as np
 
 import frictionjoint as fj
 from frictionjoint.analytic import den_hartog_response
-from frictionjoint.solvers.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
 
 
 def main(argv=None) -> str:

@@ -12,12 +12,12 @@ from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
 from .frequencies import omega_range
 from .oscillator import CoulombOscillator
 from .results import PeriodicResponse, TimeResponse
-from .solvers.events import EventLog, Marcher
-from .solvers.continuation import hbm_sweep
-from .solvers.hbm import harmonic_balance
-from .solvers.response import simulate
-from .solvers.sdof import SdofCoulomb
-from .solvers.steady import periodic_response
+from .solvers.marcher.events import EventLog, Marcher
+from .solvers.frequency_domain.continuation import hbm_sweep
+from .solvers.frequency_domain.hbm import harmonic_balance
+from .solvers.marcher.response import simulate
+from .solvers.sdof.kernel import SdofCoulomb
+from .solvers.marcher.steady import periodic_response
 from .regime import RegimeMap, regime_map
 from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
 from .structure import LinearStructure

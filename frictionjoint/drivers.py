@@ -22,7 +22,7 @@ from .errors import ConvergenceError, FMUError
 from .fmi.driver import FMUDriver
 from .results import PeriodicResponse
 from .solvers.shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message
-from .solvers.steady import failed_response
+from .solvers.marcher.steady import failed_response
 from .stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 
 __all__ = ["Driver", "LibraryDriver", "FMUDriver", "shoot"]

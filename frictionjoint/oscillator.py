@@ -11,10 +11,10 @@ from .elements import CoulombSlider
 from .errors import ConvergenceError, check_count, check_nonnegative, check_positive, check_real
 from .excitation import HarmonicBaseMotion, HarmonicForce
 from .results import PeriodicResponse, TimeResponse
-from .solvers.events import Marcher
-from .solvers.response import check_run
-from .solvers.response import simulate as _simulate
-from .solvers.steady import periodic_response
+from .solvers.marcher.events import Marcher
+from .solvers.marcher.response import check_run
+from .solvers.marcher.response import simulate as _simulate
+from .solvers.marcher.steady import periodic_response
 from .structure import LinearStructure
 from .system import FrictionSystem
 
@@ -119,7 +119,7 @@ class CoulombOscillator:
 
         Raises
         ------
-        frictionjoint.solvers.sdof.EventBudgetError
+        frictionjoint.solvers.sdof.kernel.EventBudgetError
             A :class:`ConvergenceError` where the exact motion has far too many events to march
             (a forcing period far beyond the natural one sticks and slips about once per natural
             period; deep in that regime the quasi-static motion is the answer, within its bound).
@@ -131,8 +131,8 @@ class CoulombOscillator:
             # the closed-form kernel; the general marcher (the reference) keeps the energy
             # accounting, and answers should the kernel's rules ever find no consistent status
             # (no such case is known since they break stick/slip cycles as Marcher.settle does)
-            from .solvers.sdof import EventBudgetError
-            from .solvers.sdof_simulate import sdof_simulate
+            from .solvers.sdof.kernel import EventBudgetError
+            from .solvers.sdof.simulate import sdof_simulate
 
             try:
                 return sdof_simulate(self._kernel(), t_end, x0, v0, t_eval, record)
@@ -149,7 +149,7 @@ class CoulombOscillator:
 
     def _kernel(self):
         """The closed-form single-DOF kernel of this oscillator (force and base motion in phase)."""
-        from .solvers.sdof import SdofCoulomb
+        from .solvers.sdof.kernel import SdofCoulomb
 
         return SdofCoulomb(self.mass, self.stiffness, self.slip_force, self.equivalent_force_amplitude,
                            self.omega, self.damping)
@@ -204,7 +204,7 @@ class CoulombOscillator:
         -----
         A forcing period far beyond the natural one (``omega/omega_n`` below about 1e-9 at
         ``f = 0.5``) is answered by the quasi-static limit, whose rigorous distance to the exact
-        motion the message states (:func:`frictionjoint.solvers.sdof_steady.quasi_static_response`).
+        motion the message states (:func:`frictionjoint.solvers.sdof.steady.quasi_static_response`).
         Between that and an affordable march (undamped, ``omega/omega_n`` about 1e-9 .. 1e-5) the
         exact motion sticks and slips once per natural period, too often to march: status
         ``'not converged'``, the quasi-static limit and its bound in the message, in a few seconds.
@@ -216,7 +216,7 @@ class CoulombOscillator:
         v0 = gv if v0 is None else check_real("v0", v0)
         if self.slip_force > 0:
             # the closed-form kernel with its exact Jacobian; the general marcher where it does not apply
-            from .solvers.sdof_steady import sdof_periodic_response
+            from .solvers.sdof.steady import sdof_periodic_response
 
             res = sdof_periodic_response(self._kernel(), x0, v0, tol=tol, max_newton=25, max_periods=max_periods,
                                          n_samples=n_samples)
@@ -236,7 +236,7 @@ class CoulombOscillator:
 
     def monodromy(self, t0: float, x0: float, v0: float):
         """Exact Jacobian ``d(x, v)(t0 + T) / d(x0, v0)`` of the period map from a slipping state
-        (:meth:`frictionjoint.solvers.sdof.SdofCoulomb.monodromy`), or None where it has no
+        (:meth:`frictionjoint.solvers.sdof.kernel.SdofCoulomb.monodromy`), or None where it has no
         derivative (a start at rest, or a grazing event on the way).
 
         Parameters

@@ -15,8 +15,8 @@ import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_positive, check_real
 from .oscillator import CoulombOscillator
-from .solvers.sdof import SdofCoulomb
-from .solvers.sdof_steady import exp_integral, sdof_orbit, sdof_piece_fourier
+from .solvers.sdof.kernel import SdofCoulomb
+from .solvers.sdof.steady import exp_integral, sdof_orbit, sdof_piece_fourier
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
 
@@ -71,11 +71,11 @@ _INTEGRALS = ("x", "v", "friction_force")
 class OscillatorRun:
     """The Coulomb oscillator from a start time, stepped exactly with a held external force.
 
-    It runs on the closed-form single-DOF kernel (:class:`~frictionjoint.solvers.sdof.SdofCoulomb`):
+    It runs on the closed-form single-DOF kernel (:class:`~frictionjoint.solvers.sdof.kernel.SdofCoulomb`):
     a held force ``F_h`` only moves the spring's rest position (``x = x~ + F_h / k``), so the kernel
     marches ``x~`` and the outputs shift it back. Every extreme of ``x`` is at a piece end (a slip
     piece ends where ``v = 0``), and the Fourier integrals are closed forms per piece
-    (:func:`~frictionjoint.solvers.sdof_steady.sdof_piece_fourier`; ``int v e^{iwt}`` by parts).
+    (:func:`~frictionjoint.solvers.sdof.steady.sdof_piece_fourier`; ``int v e^{iwt}`` by parts).
 
     Parameters
     ----------

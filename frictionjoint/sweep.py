@@ -535,7 +535,7 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
         Show a progress bar.
     peaks : bool
         Locate each orbit's displacement peaks (``amplitude``); false: NaN there but on stuck
-        orbits, the first harmonics only (:func:`~frictionjoint.solvers.steady.periodic_response`).
+        orbits, the first harmonics only (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`).
 
     Returns
     -------
@@ -544,8 +544,8 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
     """
     from tqdm import tqdm
 
-    from .solvers.hbm import lyapunov_stable
-    from .solvers.steady import periodic_response
+    from .solvers.frequency_domain.hbm import lyapunov_stable
+    from .solvers.marcher.steady import periodic_response
 
     _check_build(build)
     ws = check_omegas("omegas", omegas)

@@ -1,4 +1,4 @@
-"""The compiled consistency test of the marcher's settling (frictionjoint.solvers.consistency)
+"""The compiled consistency test of the marcher's settling (frictionjoint.solvers.marcher.consistency)
 against the NumPy settling it replaces: at every event state of a march, the same settled status,
 the same zero bands and start values of the event functions, the same closed-form piece."""
 import math
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
-from frictionjoint.solvers import consistency
-from frictionjoint.solvers.events import EventLog, Marcher, MarchState
+from frictionjoint.solvers.marcher import consistency
+from frictionjoint.solvers.marcher.events import EventLog, Marcher, MarchState
 
 pytestmark = pytest.mark.skipif(not consistency.ENABLED, reason="numba not available")
 

@@ -77,7 +77,7 @@ def test_shaken_down_stuck_orbit_in_closed_form():
     (Melan): found in closed form (no period marched), it is a fixed point of the exact period
     map (one period marched from it: no event, back to the start to 1e-12), its first harmonic is
     the stuck configuration's linear FRF, and its flank forces touch no limit."""
-    from frictionjoint.solvers.events import EventLog, Marcher
+    from frictionjoint.solvers.marcher.events import EventLog, Marcher
 
     r = rocking_root(fc=2e3, normal_damping=10.0)
     st = fj.LinearStructure(np.diag([0.06, 0.06, 2e-5]), np.diag([2e6, 2e6, 50.0]), np.diag([30.0, 30.0, 1e-3]))

@@ -1,4 +1,4 @@
-"""Harmonic balance (frictionjoint.solvers.hbm) with exact hysteresis (frictionjoint.solvers.hysteresis).
+"""Harmonic balance (frictionjoint.solvers.frequency_domain.hbm) with exact hysteresis (frictionjoint.solvers.frequency_domain.hysteresis).
 
 References: the one-harmonic describing functions of analytic.py (Coulomb: 4F/(pi w X); Jenkins:
 Griffin 1980), finite differences of the AFT map, and the exact time-domain steady state of the
@@ -12,8 +12,8 @@ import pytest
 import frictionjoint as fj
 from frictionjoint.analytic import harmonic_balance_amplitude, jenkins_describing_function
 from frictionjoint.errors import ParameterError
-from frictionjoint.solvers import hysteresis
-from frictionjoint.solvers.hbm import Condensed
+from frictionjoint.solvers.frequency_domain import hysteresis
+from frictionjoint.solvers.frequency_domain.hbm import Condensed
 
 # the Jenkins SDOF of the issue: m = k = 1, zeta = 1 %, kt = 5, Fs = 0.1
 SDOF = fj.LinearStructure([[1.0]], [[1.0]], [[0.02]])
@@ -141,7 +141,7 @@ def test_continuation_follows_the_branch_and_matches_point_solutions():
     the range, its points are harmonic-balance solutions (a point solve at the same omega from
     scratch gives the same harmonics to 1e-8), and the Jenkins resonance (no fold here) is
     single-valued."""
-    from frictionjoint.solvers.continuation import hbm_sweep
+    from frictionjoint.solvers.frequency_domain.continuation import hbm_sweep
 
     sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.5, 3.0), n_harmonics=3, n_points=60)
     assert sw.success and sw.message.startswith("reached") and sw.n_folds == 0
@@ -163,7 +163,7 @@ def test_stability_along_a_branch_from_the_exact_orbits():
     started from it, and its truncation error; the damped Jenkins SDOF's single-valued resonance
     is stable everywhere, and a single balance's check gives the same verdict. check=[frequencies]
     checks only the branch points nearest them, with the same errors as a single balance's check."""
-    from frictionjoint.solvers.continuation import hbm_sweep
+    from frictionjoint.solvers.frequency_domain.continuation import hbm_sweep
 
     sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=5, n_points=15, check=True)
     assert sw.stable is not None and all(v is True for v in sw.stable)
@@ -203,7 +203,7 @@ def test_blade_peak_against_the_time_domain(varying):
 
 
 def test_branch_plot(tmp_path):
-    from frictionjoint.solvers.continuation import hbm_sweep
+    from frictionjoint.solvers.frequency_domain.continuation import hbm_sweep
 
     sw = hbm_sweep(jenkins_sdof(1.0, 0.2), (0.8, 1.6), n_harmonics=3, n_points=10, check=True)
     sw.stable[3] = False  # an unstable stretch is drawn dashed
@@ -242,7 +242,7 @@ def test_hill_exponents_against_the_exact_floquet_multipliers():
     of the cycle (P = 1: -0.01146 and -0.0100 against the exact -0.01146 and -0.0100) and loosely
     where it sticks over part of it (P = 0.2, omega = 2.5: Hill -0.01, exact -0.36: the slips
     erase the slider's memory, which the periodic Jacobian does not see)."""
-    from frictionjoint.solvers.hbm import hill_exponents
+    from frictionjoint.solvers.frequency_domain.hbm import hill_exponents
 
     hb = fj.harmonic_balance(jenkins_sdof(0.8, 0.05), n_harmonics=7, check=True)
     lam = hill_exponents(jenkins_sdof(0.8, 0.05), hb)
@@ -266,7 +266,7 @@ def test_continuation_stays_on_a_steep_lightly_damped_branch():
     through the steep first resonance used to jump to its other flank (a corrector that moved
     farther than its step) and then run back to omega -> 0; now it reaches the end, monotone in
     omega (no fold here), each point a balance."""
-    from frictionjoint.solvers.continuation import hbm_sweep
+    from frictionjoint.solvers.frequency_domain.continuation import hbm_sweep
 
     k = np.array([[1.1, -0.1], [-0.1, 2.1]])
     st = fj.LinearStructure(np.eye(2), k, 0.002 * np.eye(2))

@@ -1,5 +1,5 @@
 """Harmonic balance of dovetail flanks with normal-load variation and lift-off
-(:func:`frictionjoint.solvers.hysteresis.flank_loop` in :func:`frictionjoint.harmonic_balance`).
+(:func:`frictionjoint.solvers.frequency_domain.hysteresis.flank_loop` in :func:`frictionjoint.harmonic_balance`).
 
 References: :class:`~frictionjoint.elements.dovetail.DrivenDovetail` (an independent
 implementation of the flanks' exact return map along a path, with lift-off) driven along a sampled
@@ -14,8 +14,8 @@ import pytest
 
 import frictionjoint as fj
 from benchmarks.hbm_truncation import root_block as _system  # the root block of the benchmark
-from frictionjoint.solvers import hysteresis
-from frictionjoint.solvers.hbm import Condensed
+from frictionjoint.solvers.frequency_domain import hysteresis
+from frictionjoint.solvers.frequency_domain.hbm import Condensed
 
 MU, KN, KT = 0.3, 1e6, 8e5  # the root block's flanks
 

@@ -11,7 +11,7 @@ import pytest
 
 import frictionjoint as fj
 from frictionjoint.errors import ParameterError
-from frictionjoint.solvers.held import HeldPortStructure
+from frictionjoint.solvers.marcher.held import HeldPortStructure
 
 K = np.array([[2.0, -1.0], [-1.0, 1.0]])
 STRUCTURE = fj.LinearStructure(np.eye(2), K, 0.02 * K, dof_names=["x1", "x2"])

@@ -7,8 +7,8 @@ import pytest
 import scipy.linalg
 
 import frictionjoint as fj
-from frictionjoint.solvers.events import Marcher
-from frictionjoint.solvers.steady import _PeriodMap, periodic_response
+from frictionjoint.solvers.marcher.events import Marcher
+from frictionjoint.solvers.marcher.steady import _PeriodMap, periodic_response
 
 
 def chain(n, joints, slip=0.3, r=0.9, rigid=False):
@@ -126,8 +126,8 @@ def test_stuck_only_orbit_is_the_linear_solution_without_marching():
 def test_a_failed_march_is_a_status_not_an_exception(monkeypatch):
     """periodic_response and simulate report a march that fails (here: made to fail by a
     marcher whose settling raises, as it does on no consistent stick/slip status) in the result."""
-    from frictionjoint.solvers import response
-    from frictionjoint.solvers.events import Marcher as M
+    from frictionjoint.solvers.marcher import response
+    from frictionjoint.solvers.marcher.events import Marcher as M
 
     sysm = chain(5, 2, slip=0.0012)
 

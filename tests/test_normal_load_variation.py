@@ -13,8 +13,8 @@ import pytest
 
 import frictionjoint as fj
 from frictionjoint.errors import ParameterError
-from frictionjoint.solvers import search
-from frictionjoint.solvers.events import EventLog, Marcher
+from frictionjoint.solvers.marcher import search
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
 
 G, MU, KN, KT, A = math.radians(40.0), 0.3, 1e6, 8e5, 0.005
 
@@ -149,16 +149,16 @@ def test_periodic_orbit_with_lift_off():
     one period of it the friction dissipation the orbit reports equals that of the energy record of
     a march from its state (int mu N |w'|), whose balance closes."""
     sysm, _ = _system(False, fx=400.0, fy=200.0)
-    r = fj.solvers.steady.periodic_response(sysm)
+    r = fj.solvers.marcher.periodic_response(sysm)
     assert r.converged and r.events.count("lift-off") >= 1 and r.events.count("closure") >= 1
-    fd = fj.solvers.steady.periodic_response(sysm, jacobian="fd")
+    fd = fj.solvers.marcher.periodic_response(sysm, jacobian="fd")
     assert fd.converged
     assert np.max(np.abs(fd.amplitude - r.amplitude)) <= 1e-9 * np.max(r.amplitude)
     n = sysm.n_dof
     period = 2 * math.pi / sysm.omega
     z = r.state
     t_s = r.section_time
-    w0 = fj.solvers.steady._PeriodMap(sysm, Marcher(sysm), t_s).state(z).w
+    w0 = fj.solvers.marcher.steady._PeriodMap(sysm, Marcher(sysm), t_s).state(z).w
     e = fj.simulate(sysm, t_s + period, z[:n], z[n:2 * n], w0, t0=t_s, record=("x", "energy"))
     assert abs(e.dissipated_friction[-1] - r.dissipated_per_cycle) <= 1e-9 * r.dissipated_per_cycle
     assert abs(e.energy_residual()[-1]) <= 1e-9 * r.dissipated_per_cycle

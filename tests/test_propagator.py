@@ -1,4 +1,4 @@
-"""Closed-form pieces (frictionjoint.solvers.propagator): the near-resonant integral E and the
+"""Closed-form pieces (frictionjoint.solvers.marcher.propagator): the near-resonant integral E and the
 compiled coefficients and states of plain modal pieces."""
 import math
 
@@ -7,9 +7,9 @@ import pytest
 import scipy.integrate
 
 import frictionjoint as fj
-from frictionjoint.solvers import piece_kernels, propagator
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.propagator import _E
+from frictionjoint.solvers.marcher import piece_kernels, propagator
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.propagator import _E
 
 
 def test_near_resonant_integral_matches_quadrature_and_stays_finite():

@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from frictionjoint.solvers import piece_kernels, search
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.response import displacement_observables, gauss_nodes, interval_fourier
+from frictionjoint.solvers.marcher import piece_kernels, search
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.response import displacement_observables, gauss_nodes, interval_fourier
 from frictionjoint.structures import MODELS_DIR, BladeAssembly, load_blade_model
 from test_search import compare_compiled_and_numpy
 

@@ -5,8 +5,8 @@ import math
 import numpy as np
 
 import frictionjoint as fj
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.response import displacement_observables, gauss_nodes, interval_fourier, piece_peaks
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.response import displacement_observables, gauss_nodes, interval_fourier, piece_peaks
 
 
 def _system():

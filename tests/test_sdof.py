@@ -1,7 +1,7 @@
-"""Tests of frictionjoint.solvers.sdof: the closed-form single-DOF Coulomb kernel.
+"""Tests of frictionjoint.solvers.sdof.kernel: the closed-form single-DOF Coulomb kernel.
 
 References: Den Hartog's stop-free steady state (frictionjoint.analytic, DESIGN.md section 3); the
-independent general n-DOF marcher (frictionjoint.solvers.events.Marcher on CoulombOscillator's
+independent general n-DOF marcher (frictionjoint.solvers.marcher.events.Marcher on CoulombOscillator's
 system, its own propagator and event search); the linear closed form written out here for
 F = 0; the energy balance (work of the excitation = stored + friction + viscous dissipation)
 integrated by scipy.integrate.quad on the kernel's pieces.
@@ -18,8 +18,8 @@ from scipy.integrate import quad
 from benchmarks import harness as bm  # the harness of the source tree (pytest pythonpath: ".")
 from frictionjoint import CoulombOscillator, ParameterError
 from frictionjoint.analytic import den_hartog_response
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.sdof import EVENT_KINDS, SdofCoulomb
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.sdof.kernel import EVENT_KINDS, SdofCoulomb
 
 # tolerances, stated once
 DEN_HARTOG = 1e-12      # relative amplitude against the closed form

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
-from frictionjoint.solvers.response import simulate
+from frictionjoint.solvers.marcher.response import simulate
 
 CASES = [dict(slip_force=0.3, omega=0.8), dict(slip_force=0.5, omega=0.5, damping=0.1),
          dict(slip_force=0.6, omega=2.0, base_amplitude=0.2), dict(slip_force=0.2, omega=1.3),

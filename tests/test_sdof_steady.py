@@ -8,9 +8,9 @@ import pytest
 
 import frictionjoint as fj
 from frictionjoint.analytic import den_hartog
-from frictionjoint.solvers.sdof import SdofCoulomb
-from frictionjoint.solvers.sdof_steady import sdof_periodic_response
-from frictionjoint.solvers.steady import periodic_response
+from frictionjoint.solvers.sdof.kernel import SdofCoulomb
+from frictionjoint.solvers.sdof.steady import sdof_periodic_response
+from frictionjoint.solvers.marcher.steady import periodic_response
 
 RTOL = 2e-12  # both paths converge to tol = 1e-12 of the scaled residual
 

@@ -1,4 +1,4 @@
-"""The compiled event search (frictionjoint.solvers.search, numba) against the marcher's NumPy
+"""The compiled event search (frictionjoint.solvers.marcher.search, numba) against the marcher's NumPy
 search: the same algorithm, so the same events and states up to rounding."""
 import math
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
-from frictionjoint.solvers import search
-from frictionjoint.solvers.events import EventLog, Marcher
+from frictionjoint.solvers.marcher import search
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
 
 pytestmark = pytest.mark.skipif(not search.ENABLED, reason="numba not available")
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import frictionjoint as fj
-from frictionjoint.solvers.events import EventLog, Marcher
-from frictionjoint.solvers.propagator import Observables
-from frictionjoint.solvers.response import displacement_observables, piece_fourier, piece_peaks, simulate
+from frictionjoint.solvers.marcher.events import EventLog, Marcher
+from frictionjoint.solvers.marcher.propagator import Observables
+from frictionjoint.solvers.marcher.response import displacement_observables, piece_fourier, piece_peaks, simulate
 from frictionjoint.stepping import OscillatorRun
 
 

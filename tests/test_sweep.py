@@ -224,7 +224,7 @@ def test_progress_bar_goes_to_stderr(capsys):
 def test_solver_failure_is_retried_then_reported(monkeypatch):
     """A failed march is a status of the steady state ('failed'), not an exception: the sweep
     retries from the default estimate, then reports the point as not converged."""
-    from frictionjoint.solvers.steady import failed_response
+    from frictionjoint.solvers.marcher.steady import failed_response
 
     original = frictionjoint.CoulombOscillator.steady_state
     failures = {"n": 0}

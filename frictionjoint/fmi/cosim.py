@@ -17,7 +17,7 @@ force only, held over the step; it is unstable for a stiff stuck joint (a spring
 zero-order hold). *Semi-implicit* also transfers the joint's ``tangent_stiffness`` and the
 ``displacement`` at which the force was evaluated, and the structure applies
 ``-(force + tangent_stiffness (x - displacement))`` over the step
-(:class:`~frictionjoint.solvers.held.HeldPortStructure`): exact while the joint sticks, first
+(:class:`~frictionjoint.solvers.marcher.held.HeldPortStructure`): exact while the joint sticks, first
 order in ``h`` through stick/slip changes, and stable whatever the joint stiffness.
 """
 from __future__ import annotations

@@ -50,7 +50,7 @@ from ..elements.dovetail import FLANK_OUTPUTS, RESOLUTION, DovetailRoot
 from ..elements.driven import DrivenSliders
 from ..elements.iwan import MAX_SLIDERS, Iwan, check_n_sliders
 from ..errors import ConvergenceError, ParameterError, check_positive
-from ..solvers.held import HeldPortStructure
+from ..solvers.marcher.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 from ..structure_file import StructureDefinition
 from ..structures.blade_run import BLADE_OUTPUTS, BladeRun, blade_parameters
@@ -723,7 +723,7 @@ class DovetailRootSlave(_Slave):
 class LinearStructureSlave(_Slave):
     """A linear structure (M, C, K, named DOFs) from the definition in the FMU's resources,
     advanced exactly under harmonic force and joint loads held over a step
-    (:class:`~frictionjoint.solvers.held.HeldPortStructure`)."""
+    (:class:`~frictionjoint.solvers.marcher.held.HeldPortStructure`)."""
 
     description = ("Linear structure M x'' + C x' + K x = f, advanced exactly (matrix exponential) under a "
                    "harmonic force and joint loads held over a communication step in linearly implicit form "

@@ -484,7 +484,7 @@ class SystemSweep(PointsContract):
         The solver's message per point.
     stable : (n,) object ndarray, optional
         Per point True/False from the orbit's Floquet multipliers
-        (:func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where no orbit was found.
+        (:func:`~frictionjoint.solvers.frequency_domain.hbm.lyapunov_stable`), None where no orbit was found.
     success, status, message
         The result contract (:func:`~frictionjoint.results.collection_status`).
     """
@@ -546,7 +546,7 @@ class OutputSweep(PointsContract):
         Turning points of a harmonic-balance branch (then the points are in branch order).
     truncation_error : (n,) ndarray, optional
         A harmonic-balance branch checked against the exact orbits: each point's first-harmonic
-        error (:func:`~frictionjoint.solvers.hbm.truncation_error`), NaN where unknown.
+        error (:func:`~frictionjoint.solvers.frequency_domain.hbm.truncation_error`), NaN where unknown.
     """
 
     omega: np.ndarray

@@ -106,10 +106,10 @@ class HarmonicBalanceSweep:
         The corrector converged.
     stable : (n,) object ndarray or None
         With ``check``: True/False per checked point (the matching exact orbit's Floquet
-        multipliers, :func:`~frictionjoint.solvers.hbm.lyapunov_stable`), None where not known.
+        multipliers, :func:`~frictionjoint.solvers.frequency_domain.hbm.lyapunov_stable`), None where not known.
     truncation_error : (n,) ndarray or None
         With ``check``: per checked point, the first harmonics' error against the exact orbit
-        started from it (:func:`~frictionjoint.solvers.hbm.truncation_error`), NaN elsewhere.
+        started from it (:func:`~frictionjoint.solvers.frequency_domain.hbm.truncation_error`), NaN elsewhere.
     n_harmonics : int
         ``H``.
     messages : tuple of str

@@ -124,7 +124,7 @@ class BladeAssembly:
         return FrictionSystem(self.structure, self.joints, omega=omega, excitation=exc)
 
     def steady_state(self, omega: float, **kwargs) -> PeriodicResponse:
-        """Periodic steady state at ``omega`` (:func:`frictionjoint.solvers.steady.periodic_response`).
+        """Periodic steady state at ``omega`` (:func:`frictionjoint.solvers.marcher.steady.periodic_response`).
 
         Parameters
         ----------
@@ -137,12 +137,12 @@ class BladeAssembly:
         -------
         PeriodicResponse
         """
-        from ..solvers.steady import periodic_response
+        from ..solvers.marcher.steady import periodic_response
 
         return periodic_response(self.system(omega), **kwargs)
 
     def simulate(self, omega: float, t_end: float, **kwargs) -> TimeResponse:
-        """Time response at ``omega`` from rest (:func:`frictionjoint.solvers.response.simulate`).
+        """Time response at ``omega`` from rest (:func:`frictionjoint.solvers.marcher.response.simulate`).
 
         Parameters
         ----------
@@ -157,7 +157,7 @@ class BladeAssembly:
         -------
         TimeResponse
         """
-        from ..solvers.response import simulate
+        from ..solvers.marcher.response import simulate
 
         return simulate(self.system(omega), t_end, **kwargs)
 
@@ -204,7 +204,7 @@ class BladeAssembly:
         method : {'time', 'hbm'}
             ``'time'``: the exact steady state at each of ``omegas`` (shooting on the event-driven
             marcher); ``'hbm'``: the harmonic-balance branch from the first to the last of
-            ``omegas`` (:func:`~frictionjoint.solvers.continuation.hbm_sweep`, about ``len(omegas)``
+            ``omegas`` (:func:`~frictionjoint.solvers.frequency_domain.continuation.hbm_sweep`, about ``len(omegas)``
             points; the points are the branch's, past a fold not monotonic in omega).
         n_harmonics : int
             Harmonics of ``'hbm'``.
@@ -227,7 +227,7 @@ class BladeAssembly:
         row = self._row(dof)
         if method == "hbm":
             from ..frequencies import check_omegas
-            from ..solvers.continuation import hbm_sweep
+            from ..solvers.frequency_domain.continuation import hbm_sweep
 
             ws = check_omegas("omegas", omegas)
             if ws.size < 2:

@@ -8,7 +8,7 @@ marches exactly to ``t`` (events located inside, whatever the step). The FMU sla
 (:mod:`frictionjoint.fmi.slaves`) maps FMI variables onto it.
 
 With ``start_on_orbit`` the run starts on the periodic steady state (the library's shooting,
-:func:`~frictionjoint.solvers.steady.periodic_response`, exact Jacobian), so that one period marched
+:func:`~frictionjoint.solvers.marcher.steady.periodic_response`, exact Jacobian), so that one period marched
 from the start gives the steady first harmonic: a sweep through the FMU
 (:func:`frictionjoint.sweep.sweep` of ``BladeDovetail.fmu``) and the library's sweep of the same
 definition (:meth:`BladeAssembly.frequency_response`) answer the same.
@@ -22,10 +22,10 @@ import numpy as np
 from ..threads import owns_blas_threads
 from ..elements.dovetail import FLANK_OUTPUTS
 from ..errors import ParameterError, check_bool, check_positive, check_real
-from ..solvers.eventlog import MarchState
-from ..solvers.events import EventLog, Marcher
-from ..solvers.response import displacement_observables, piece_fourier, piece_slip
-from ..solvers.steady import periodic_response
+from ..solvers.marcher.eventlog import MarchState
+from ..solvers.marcher.events import EventLog, Marcher
+from ..solvers.marcher.response import displacement_observables, piece_fourier, piece_slip
+from ..solvers.marcher.steady import periodic_response
 from .assembly import BladeAssembly
 
 __all__ = ["BladeRun", "blade_parameters", "BLADE_OUTPUTS"]

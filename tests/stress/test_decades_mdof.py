@@ -77,7 +77,7 @@ def test_stiff_stuck_joint_is_the_rigid_constraint(ratio):
 @pytest.mark.parametrize("kt", [1e3, 1e6, 1e9, pytest.param(1e12, marks=pytest.mark.slow)])
 def test_stiff_slipping_joint_answers_in_bounded_time(kt, _wall_clock_guard):
     # Continuous slip near resonance (r = 0.8, F/P0 = 0.5). Reference: the Coulomb oscillator of
-    # the closed-form single-DOF kernel (frictionjoint.solvers.sdof, independent of the marcher),
+    # the closed-form single-DOF kernel (frictionjoint.solvers.sdof.kernel, independent of the marcher),
     # the joint's rigid limit. A Jenkins joint differs by the stuck phase at each reversal: its
     # fast mode (sqrt(kt/m)) releases the mass with a velocity of order 2 F / sqrt(kt m), which
     # moves X by that over omega X: rtol 4 F / (sqrt(kt m) omega X) (measured: 1.5e-2 at 1e3,

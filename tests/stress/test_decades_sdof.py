@@ -40,7 +40,7 @@ import pytest
 
 import frictionjoint as fj
 from frictionjoint.analytic import den_hartog
-from frictionjoint.solvers.sdof import EventBudgetError
+from frictionjoint.solvers.sdof.kernel import EventBudgetError
 
 REL = 1e-9     # against a closed form
 HARM = 1e-8    # first harmonic against the trapezoidal play operator

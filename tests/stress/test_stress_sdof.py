@@ -1,4 +1,4 @@
-"""Stress suite of the closed-form single-DOF kernel (frictionjoint.solvers.sdof.SdofCoulomb).
+"""Stress suite of the closed-form single-DOF kernel (frictionjoint.solvers.sdof.kernel.SdofCoulomb).
 
 Settings as in test_stress.py: hypothesis, ``derandomize=True``, ``deadline=None``, no database,
 no shrinking; ``max_examples`` = 10 x ``STRESS_EXAMPLES`` (environment variable, default 15: one
@@ -7,7 +7,7 @@ example costs a few ms). Ranges: mass and stiffness 1e-3 … 1e3 (log-uniform), 
 1e-6 … 0.3, initial state up to 2 P0/k (and the matching velocity), ~3 excitation periods capped
 at 150 natural periods.
 
-Every run is compared with the general n-DOF marcher (:class:`frictionjoint.solvers.events.Marcher`
+Every run is compared with the general n-DOF marcher (:class:`frictionjoint.solvers.marcher.events.Marcher`
 on :class:`frictionjoint.CoulombOscillator`, independent propagator and event search): end state
 to AGREEMENT of the state scale and identical event counts per kind; and checked for finite
 values, monotone contiguous pieces and a bounded number of events per period.
@@ -40,8 +40,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, example, given, settings, strategies as st
 
 import frictionjoint as fj
-from frictionjoint.solvers.events import EventLog
-from frictionjoint.solvers.sdof import EVENT_KINDS, SdofCoulomb
+from frictionjoint.solvers.marcher.events import EventLog
+from frictionjoint.solvers.sdof.kernel import EVENT_KINDS, SdofCoulomb
 
 EXAMPLES = 10 * int(os.environ.get("STRESS_EXAMPLES", "15"))
 AGREEMENT = 1e-9   # end state against the general marcher, relative to the state scale

@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ..results import TimeResponse
-from .events import EventLog, MarchState
-from .sdof import SdofCoulomb, event_kind
+from ...results import TimeResponse
+from ..marcher import EventLog, MarchState
+from .kernel import SdofCoulomb, event_kind
 
 __all__ = ["sdof_simulate"]
 

@@ -22,12 +22,14 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ConvergenceError, ParameterError, check_system, check_vector
-from ..system import FrictionSystem
+from ...errors import ConvergenceError, ParameterError, check_system, check_vector
+from ...system import FrictionSystem
 from .eventlog import EVENT_KINDS, EventLog, MarchState
 from .patterns import StatusPattern
 from .propagator import ConfigData, Interval, Observables
-from . import consistency, piece_kernels, search
+from . import consistency
+from . import piece_kernels
+from . import search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 

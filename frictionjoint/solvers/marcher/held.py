@@ -25,8 +25,8 @@ from typing import Sequence
 import numpy as np
 import scipy.linalg
 
-from ..errors import ParameterError, check_nonnegative, check_positive, check_real
-from ..structure import LinearStructure
+from ...errors import ParameterError, check_nonnegative, check_positive, check_real
+from ...structure import LinearStructure
 
 __all__ = ["HeldPortStructure"]
 
@@ -53,7 +53,7 @@ class HeldPortStructure:
 
     def __init__(self, structure: LinearStructure, ports: Sequence = (), force_amplitude=None,
                  omega: float = 1.0, x0=None, v0=None, t0: float = 0.0):
-        from ..errors import check_system, check_vector
+        from ...errors import check_system, check_vector
 
         self.structure = check_system("structure", structure, LinearStructure)
         n = structure.n_dof
@@ -111,7 +111,7 @@ class HeldPortStructure:
         reference : (n_ports,) array_like
             Displacement ``r_j`` at which ``F_j`` and ``k_j`` were evaluated [m].
         """
-        from ..errors import check_vector
+        from ...errors import check_vector
 
         h = check_positive("step", step)
         p = self.n_ports

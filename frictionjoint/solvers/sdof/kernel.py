@@ -74,7 +74,7 @@ from __future__ import annotations
 import math
 from typing import Callable, NamedTuple, Optional
 
-from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive, check_real
+from ...errors import ConvergenceError, ParameterError, check_nonnegative, check_positive, check_real
 
 __all__ = ["SdofCoulomb", "event_kind", "SdofResult", "EVENT_KINDS", "EventBudgetError", "QUASI_STATIC_TOL"]
 

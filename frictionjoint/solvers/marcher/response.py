@@ -15,10 +15,10 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike
 
-from ..threads import owns_blas_threads
-from ..errors import ConvergenceError, ParameterError, check_real, check_system
-from ..system import FrictionSystem
-from ..results import TimeResponse
+from ...threads import owns_blas_threads
+from ...errors import ConvergenceError, ParameterError, check_real, check_system
+from ...system import FrictionSystem
+from ...results import TimeResponse
 from .events import EventLog, Marcher
 from .propagator import Observables, _phi1
 

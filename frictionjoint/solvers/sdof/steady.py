@@ -28,13 +28,11 @@ import math
 
 import numpy as np
 
-from ..errors import ConvergenceError
-from ..results import PeriodicResponse
-from .events import EventLog
-from .response import gauss_nodes
-from .sdof import QUASI_STATIC_TOL, EventBudgetError, SdofCoulomb, _phi1, event_kind
-from .shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
-from .steady import SECTION_MARGIN, failed_response
+from ...errors import ConvergenceError
+from ...results import PeriodicResponse
+from .kernel import QUASI_STATIC_TOL, EventBudgetError, SdofCoulomb, _phi1, event_kind
+from ..shooting import find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
+from ..marcher import SECTION_MARGIN, EventLog, failed_response, gauss_nodes
 
 __all__ = ["sdof_periodic_response", "sdof_orbit", "sdof_piece_fourier", "exp_integral", "quasi_static_response"]
 

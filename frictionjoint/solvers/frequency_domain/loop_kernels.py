@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .search import ENABLED, _jit
+from ..jit import ENABLED, _jit
 
 __all__ = ["jenkins_loop_kernel", "ENABLED"]
 

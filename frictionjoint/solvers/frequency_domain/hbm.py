@@ -30,10 +30,10 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from ..threads import owns_blas_threads
-from ..errors import ParameterError, check_count, check_positive, check_system
-from ..results.harmonic import HarmonicBalance
-from ..system import FrictionSystem
+from ...threads import owns_blas_threads
+from ...errors import ParameterError, check_count, check_positive, check_system
+from ...results.harmonic import HarmonicBalance
+from ...system import FrictionSystem
 from . import hysteresis
 
 __all__ = ["harmonic_balance", "Condensed", "exact_orbit", "lyapunov_stable", "truncation_error", "hill_exponents"]
@@ -391,7 +391,7 @@ def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions:
     """The exact time-domain steady state (:func:`~frictionjoint.solvers.steady.periodic_response`)
     started from a balanced orbit: its state at ``t = 0`` and its sliders' positions (within
     their slip bands there: the balance holds the joint coordinates to its tolerance only)."""
-    from .steady import periodic_response
+    from ..marcher import periodic_response
 
     hh = harmonics.shape[0] - 1
     x0 = harmonics.sum(axis=0).real
@@ -413,7 +413,7 @@ def lyapunov_stable(orbit) -> bool | None:
     """Stability of an exact orbit from its Floquet multipliers: not unstable, every modulus <= 1 +
     :data:`~frictionjoint.results.response.STABILITY_MARGIN` (a neutral family of stuck orbits,
     multiplier 1, counts as stable); None without multipliers."""
-    from ..results.response import STABILITY_MARGIN
+    from ...results.response import STABILITY_MARGIN
 
     mu = getattr(orbit, "floquet_multipliers", None)
     if mu is None or not orbit.converged:

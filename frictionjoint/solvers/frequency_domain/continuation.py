@@ -15,11 +15,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..threads import owns_blas_threads
-from ..errors import ParameterError, check_count, check_system
-from ..frequencies import check_omegas
-from ..results.harmonic import HarmonicBalanceSweep
-from ..system import FrictionSystem
+from ...threads import owns_blas_threads
+from ...errors import ParameterError, check_count, check_system
+from ...frequencies import check_omegas
+from ...results.harmonic import HarmonicBalanceSweep
+from ...system import FrictionSystem
 from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable, truncation_error
 
 __all__ = ["hbm_sweep"]

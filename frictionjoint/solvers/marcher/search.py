@@ -33,26 +33,10 @@ import math
 import numpy as np
 import scipy.optimize
 
-numba = None
-if __name__.startswith("frictionjoint."):  # not in an FMU's bundled copy: not even imported there
-    try:
-        import numba
-    except ImportError:  # pragma: no cover - numba is a dependency of the installed library
-        numba = None
+from ..jit import ENABLED, _jit
 
 __all__ = ["first_event", "numpy_first_event", "RTOL", "ENABLED", "CHUNK", "MAX_SAMPLES", "MAX_EXPM_SAMPLES",
            "GAVE_UP"]
-
-#: whether the compiled search is used: numba is importable and this is the installed library
-#: (not the copy an FMU carries in its resources)
-ENABLED = numba is not None and __name__.startswith("frictionjoint.")
-
-
-def _jit(fun):
-    # error_model "numpy": a division by zero gives inf or nan as in C (the Brent steps mirror
-    # scipy's brentq.c, whose guards reject such a step), instead of raising
-    return numba.njit(cache=True, error_model="numpy")(fun) if ENABLED else fun
-
 
 #: relative tolerance of the root (as the Python path's brentq)
 RTOL = 4 * np.finfo(float).eps

@@ -18,14 +18,14 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..threads import owns_blas_threads
-from ..errors import ConvergenceError, ParameterError, check_count, check_system
-from ..system import FrictionSystem
-from ..results import PeriodicResponse
+from ...threads import owns_blas_threads
+from ...errors import ConvergenceError, ParameterError, check_count, check_system
+from ...system import FrictionSystem
+from ...results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
 from .response import displacement_observables, piece_fourier, piece_peaks, piece_slip
-from .shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
+from ..shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT",
            "NONMODAL_COND"]
