@@ -30,6 +30,8 @@ import numpy as np
 
 from ..errors import ParameterError, check_positive, check_real
 from ..results import CoSimulationResult
+from .ports import split_port
+from .ssp import write_ssp
 
 __all__ = ["FMUSystem", "joint_connections"]
 
@@ -60,13 +62,6 @@ def joint_connections(structure: str, joint: str, dof: str, coupling: str = "sem
     if coupling == "semi-implicit":
         pairs.append((f"{joint}.tangent_stiffness", f"{structure}.joint_stiffness_{dof}"))
     return pairs
-
-
-def _port(name: str) -> tuple[str, str]:
-    component, sep, variable = str(name).partition(".")
-    if not sep or not component or not variable:
-        raise ParameterError(f"ports are named 'component.variable', got {name!r}")
-    return component, variable
 
 
 @dataclass(frozen=True)
@@ -105,7 +100,7 @@ class FMUSystem:
         for pair in self.connections:
             if len(pair) != 2:
                 raise ParameterError(f"connections are (source, target) pairs, got {pair!r}")
-            (sc, sv), (tc, tv) = _port(pair[0]), _port(pair[1])
+            (sc, sv), (tc, tv) = split_port(pair[0]), split_port(pair[1])
             for comp, var, causality in ((sc, sv, "output"), (tc, tv, "input")):
                 if comp not in variables:
                     raise ParameterError(f"connection {pair!r}: no component {comp!r}")
@@ -132,7 +127,7 @@ class FMUSystem:
 
     def variable(self, port: str):
         """The model variable (fmpy) of ``"component.variable"``."""
-        comp, var = _port(port)
+        comp, var = split_port(port)
         try:
             return self._variables[comp][var]
         except KeyError:
@@ -201,7 +196,7 @@ class FMUSystem:
                                   step=h, host="frictionjoint master (fmpy)")
 
     def _transfer(self, insts, transfer: str) -> None:
-        pairs = [(_port(s), _port(t)) for s, t in self.connections]
+        pairs = [(split_port(s), split_port(t)) for s, t in self.connections]
         if transfer == "jacobi":
             values = [insts[sc].get([sv])[0] for (sc, sv), _ in pairs]
             for ((_, _), (tc, tv)), value in zip(pairs, values):
@@ -212,12 +207,10 @@ class FMUSystem:
 
     @staticmethod
     def _read(insts, outputs) -> list:
-        return [float(insts[c].get([v])[0]) for c, v in map(_port, outputs)]
+        return [float(insts[c].get([v])[0]) for c, v in map(split_port, outputs)]
 
     def to_ssp(self, path, name: str = "system") -> Path:
         """Write the system as an SSP archive (:func:`frictionjoint.fmi.ssp.write_ssp`)."""
-        from .ssp import write_ssp
-
         return write_ssp(self, path, name=name)
 
 

@@ -12,6 +12,8 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
+from .ports import split_port
+
 __all__ = ["PARAMETER_SET", "write_ssp"]
 
 PARAMETER_SET = "initialValues"
@@ -51,8 +53,6 @@ def write_ssp(system, path, name: str = "system") -> Path:
     -------
     Path
     """
-    from .cosim import _port
-
     for prefix, uri in _NS.items():
         ET.register_namespace(prefix, uri)
     root = ET.Element(f"{{{_NS['ssd']}}}SystemStructureDescription", {"name": name, "version": "1.0"})
@@ -61,7 +61,7 @@ def write_ssp(system, path, name: str = "system") -> Path:
     used = {}
     for source, target in system.connections:
         for port, kind in ((source, "output"), (target, "input")):
-            comp, var = _port(port)
+            comp, var = split_port(port)
             used.setdefault(comp, {})[var] = kind
     sources = {}  # FMU file -> its name in the archive (one copy however many components use it)
     for fmu in dict.fromkeys(p.resolve() for p in system.components.values()):
@@ -86,7 +86,7 @@ def write_ssp(system, path, name: str = "system") -> Path:
     if system.connections:
         conns = _el(sys_el, "ssd:Connections")
         for source, target in system.connections:
-            (sc, sv), (tc, tv) = _port(source), _port(target)
+            (sc, sv), (tc, tv) = split_port(source), split_port(target)
             _el(conns, "ssd:Connection", startElement=sc, startConnector=sv, endElement=tc, endConnector=tv)
     ET.indent(root)
     path = Path(path)
