@@ -23,6 +23,7 @@ from ..excitation import HarmonicForce
 from ..results import OutputSweep, PeriodicResponse, SystemSweep, TimeResponse
 from ..structure import LinearStructure
 from ..system import FrictionSystem
+from ..system_sweeps import peak_response, system_sweep
 from .reduction import craig_bampton
 
 __all__ = ["BladeAssembly"]
@@ -162,7 +163,8 @@ class BladeAssembly:
         return simulate(self.system(omega), t_end, **kwargs)
 
     def sweep(self, omegas: ArrayLike, progress: bool = False) -> SystemSweep:
-        """Stepped-sine sweep (:func:`frictionjoint.sweep.sweep` with this assembly's ``system``).
+        """Stepped-sine sweep (:func:`~frictionjoint.system_sweeps.system_sweep` of this assembly's
+        ``system``, as :func:`frictionjoint.sweep.sweep` runs it).
 
         Parameters
         ----------
@@ -176,9 +178,7 @@ class BladeAssembly:
         -------
         SystemSweep
         """
-        from ..sweep import sweep
-
-        return sweep(self.system, omegas, progress=progress)
+        return system_sweep(self.system, omegas, progress=progress)
 
     @property
     def tip(self) -> str | None:
@@ -222,8 +222,6 @@ class BladeAssembly:
         dof = self.tip if dof is None else str(dof)
         if dof is None:
             raise ParameterError("dof: the assembly has no loads, name the output DOF")
-        from ..sweep import system_sweep
-
         row = self._row(dof)
         if method == "hbm":
             from ..frequencies import check_omegas
@@ -273,7 +271,7 @@ class BladeAssembly:
     def peak(self, omega_min: float, omega_max: float, dof: str, n_grid: int = 25,
              xtol: float = 1e-6) -> tuple[float, float]:
         """Resonance peak of the first-harmonic amplitude of ``dof`` (a DOF of the full model, e.g.
-        the tip) over ``[omega_min, omega_max]`` (:func:`frictionjoint.sweep.peak_response`).
+        the tip) over ``[omega_min, omega_max]`` (:func:`frictionjoint.system_sweeps.peak_response`).
 
         Parameters
         ----------
@@ -291,8 +289,6 @@ class BladeAssembly:
         (omega_peak, amplitude_peak) : (float, float)
             [rad/s], [m].
         """
-        from ..sweep import peak_response
-
         w, amp, _ = peak_response(self.system, omega_min, omega_max, n_grid=n_grid, xtol=xtol,
                                   output=self._row(dof), peaks=False)  # the sweep is not returned
         return w, amp
