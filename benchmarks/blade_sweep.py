@@ -18,14 +18,18 @@ switched off), at every tenth point. Usage::
 from __future__ import annotations
 
 import argparse
-import os
-import platform
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-from frictionjoint.solvers.marcher import piece_kernels, search
-from frictionjoint.structures import BladeAssembly, load_blade_model
+if __package__ in (None, ""):  # run as a script: the repository is not on the path, benchmarks/ is
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from benchmarks.harness import script_header, write_results  # noqa: E402
+from frictionjoint.solvers.marcher import piece_kernels, search  # noqa: E402
+from frictionjoint.structures import BladeAssembly, load_blade_model  # noqa: E402
 
 LOADS = (("optimum", 46.09), ("tenth", None), ("full", None))
 
@@ -57,8 +61,7 @@ def main(argv=None) -> int:
     omegas = np.linspace(1600.0, 2200.0, n_points)
     check = omegas[::10]
     reference = assemblies(15)
-    lines = [f"# benchmarks/blade_sweep.py{' --quick' if args.quick else ''}: {platform.machine()}, "
-             f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}",
+    lines = [script_header("blade_sweep.py", args.quick),
              f"# {n_points}-point sweep 1600-2200 rad/s, 1 N at the tip; error of the tip amplitude against "
              f"15 modes and tol 1e-14 at {check.size} points; baseline: NumPy kernels at the same points",
              f"{'modes':>5} {'load':>8} {'ms/pt mean':>10} {'median':>7} {'max':>7} {'conv':>8} {'slip pts':>8} "
@@ -102,11 +105,7 @@ def main(argv=None) -> int:
                    f"{int((~sw.stuck & sw.converged).sum()):8d} {err:11.2e} {t_n / t_c:14.1f}")
             print(row, flush=True)
             lines.append(row)
-    out = os.path.join(os.path.dirname(__file__), "results_blade.txt")
-    if not args.quick:
-        with open(out, "w") as f:
-            f.write("\n".join(lines) + "\n")
-        print(f"wrote {out}")
+    write_results("results_blade.txt", lines, args.quick)
     return 0
 
 

@@ -94,7 +94,8 @@ from frictionjoint.solvers.sdof.kernel import SdofCoulomb
 __all__ = ["Case", "Problem", "Row", "WorkPrecision", "CASES", "PERIODS", "COLUMNS",
            "make_problem", "marcher_amplitude", "sdof_amplitude", "steady_state_amplitude",
            "describing_function_amplitude", "hbm_amplitude", "fmu_sweep_amplitude", "regularised_amplitude",
-           "event_driven_amplitude", "plan", "run_benchmark", "machine_description", "EXACT_METHODS"]
+           "event_driven_amplitude", "plan", "run_benchmark", "machine_description", "EXACT_METHODS",
+           "script_header", "write_results"]
 
 #: Excitation periods marched by the time-marching methods; the amplitude is taken over the last.
 PERIODS = 2
@@ -256,21 +257,11 @@ def marcher_amplitude(problem: Problem, periods: int = PERIODS) -> float:
 
 
 def sdof_amplitude(problem: Problem, periods: int = PERIODS) -> float:
-    """Amplitude by the dedicated single-DOF kernel from the common start.
+    """Amplitude by the dedicated single-DOF kernel from the common start: parameters and answer
+    (``max |x|`` over the last period [m]) as :func:`marcher_amplitude`'s.
 
     :meth:`SdofCoulomb.peak` over the last period: the largest ``|x|`` at the ends of the
     closed-form pieces (every ``v = 0`` is one) and at the window ends, as for the marcher.
-
-    Parameters
-    ----------
-    problem : Problem
-    periods : int
-        Periods marched; the peak is taken over the last.
-
-    Returns
-    -------
-    float
-        ``max |x|`` over the last period [m].
     """
     kernel = SdofCoulomb(problem.mass, problem.stiffness, problem.slip_force, problem.force_amplitude,
                          problem.omega)
@@ -870,3 +861,46 @@ def run_benchmark(quick: bool = False, cases=None, repeat: Optional[int] = None,
     marcher_time = {r.case: r.time for r in rows if r.method == MARCHER}
     rows = [replace(r, ratio=r.time / marcher_time[r.case]) for r in rows]
     return WorkPrecision(rows, problems)
+
+
+# --------------------------------------------------------------------------- the scripts' tables
+
+
+def script_header(script: str, quick: bool) -> str:
+    """The first line of a benchmark script's table: the script (``--quick`` if so), the machine,
+    its cores and the date.
+
+    Parameters
+    ----------
+    script : str
+        The script's file name in ``benchmarks/``.
+    quick : bool
+        Whether the script runs its ``--quick`` variant.
+
+    Returns
+    -------
+    str
+    """
+    return (f"# benchmarks/{script}{' --quick' if quick else ''}: {platform.machine()}, "
+            f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}")
+
+
+def write_results(name: str, lines: list, quick: bool) -> None:
+    """Write a benchmark script's table to ``benchmarks/<name>`` and say so; a quick run's table is
+    only printed (the files hold full runs).
+
+    Parameters
+    ----------
+    name : str
+        The results file's name in ``benchmarks/`` (e.g. ``results_blade.txt``).
+    lines : list of str
+        The table, one row a line.
+    quick : bool
+        Whether the script ran its ``--quick`` variant (nothing is written then).
+    """
+    if quick:
+        return
+    out = os.path.join(os.path.dirname(__file__), name)
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print(f"wrote {out}")

@@ -21,14 +21,18 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import platform
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-import frictionjoint as fj
-from frictionjoint.structures import BladeAssembly, load_blade_model
+if __package__ in (None, ""):  # run as a script: the repository is not on the path, benchmarks/ is
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import frictionjoint as fj  # noqa: E402
+from benchmarks.harness import script_header, write_results  # noqa: E402
+from frictionjoint.structures import BladeAssembly, load_blade_model  # noqa: E402
 
 H_LIST = (1, 3, 7, 15, 31)
 FORCES = (0.05, 0.2, 1.0)
@@ -59,8 +63,7 @@ def main(argv=None) -> int:
     n_w = 10 if args.quick else 40
     h_list = H_LIST[:-1] if args.quick else H_LIST
     omegas = np.linspace(0.5, 3.0, n_w)
-    lines = [f"# benchmarks/hbm_truncation.py{' --quick' if args.quick else ''}: {platform.machine()}, "
-             f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}",
+    lines = [script_header("hbm_truncation.py", args.quick),
              f"# Jenkins SDOF m = k = 1, zeta = 1 %, kt = 5, Fs = 0.1; {n_w} frequencies 0.5-3 rad/s; error of the "
              "harmonic balance against the exact time-domain steady state (relative, max / median over the "
              "frequencies); rate: slope of log(error) against log H from H = 3 (stuck points are exact)",
@@ -135,11 +138,7 @@ def main(argv=None) -> int:
         hb = fj.harmonic_balance(block, n_harmonics=hh, check=True)
         emit(f"H = {hh:2d}: first harmonic {hb.truncation_error:.2e}, peak {hb.amplitude_error:.2e}, dissipation "
              f"{abs(hb.dissipated_per_cycle / hb.exact.dissipated_per_cycle - 1):.2e}, {dt:.1f} ms")
-    if not args.quick:
-        out = os.path.join(os.path.dirname(__file__), "results_hbm.txt")
-        with open(out, "w") as f:
-            f.write("\n".join(lines) + "\n")
-        print(f"wrote {out}")
+    write_results("results_hbm.txt", lines, args.quick)
     return 0
 
 

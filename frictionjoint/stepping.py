@@ -18,7 +18,7 @@ from .oscillator import CoulombOscillator
 from .solvers.sdof.kernel import SdofCoulomb
 from .solvers.sdof.steady import exp_integral, sdof_orbit, sdof_piece_fourier
 
-__all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS"]
+__all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS", "run_parameters"]
 
 #: parameter name -> (default, description with unit). The defaults are the README's case (m = k = 1,
 #: P0 = 1 N, F/P0 = 0.5) at r = 1.5, a stop-free steady state (Den Hartog), so that the FMU dropped
@@ -68,6 +68,18 @@ OSCILLATOR_OUTPUTS = {
 _INTEGRALS = ("x", "v", "friction_force")
 
 
+def run_parameters(table: dict, parameters: dict) -> dict:
+    """A stepped run's parameters: ``parameters`` over the defaults of ``table`` (name -> (default,
+    description), e.g. :data:`OSCILLATOR_PARAMETERS`); a name not in ``table`` is a
+    :class:`ParameterError` that lists the allowed ones."""
+    unknown = set(parameters) - set(table)
+    if unknown:
+        raise ParameterError(f"unknown parameter(s) {sorted(unknown)}; allowed: {sorted(table)}")
+    p = {k: v[0] for k, v in table.items()}
+    p.update(parameters)
+    return p
+
+
 class OscillatorRun:
     """The Coulomb oscillator from a start time, stepped exactly with a held external force.
 
@@ -88,12 +100,7 @@ class OscillatorRun:
     """
 
     def __init__(self, parameters: dict, start_time: float = 0.0, force: float = 0.0):
-        unknown = set(parameters) - set(OSCILLATOR_PARAMETERS)
-        if unknown:
-            raise ParameterError(f"unknown parameter(s) {sorted(unknown)}; allowed: {sorted(OSCILLATOR_PARAMETERS)}")
-        p = {k: v[0] for k, v in OSCILLATOR_PARAMETERS.items()}
-        p.update(parameters)
-        self.parameters = p
+        self.parameters = p = run_parameters(OSCILLATOR_PARAMETERS, parameters)
         self._osc = None
         base = check_real("base_amplitude", p["base_amplitude"])
         stiffness = check_positive("stiffness", p["stiffness"])

@@ -1,6 +1,7 @@
 """Iwan element: Jenkins sliders in parallel (discrete), with the Segalman 4-parameter form."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Iterable
 
@@ -10,7 +11,7 @@ from numpy.typing import ArrayLike
 from ..errors import ParameterError, check_nonnegative, check_positive, check_real
 from .base import MasingCycles, Slider
 
-__all__ = ["Iwan", "segalman_density", "MAX_SLIDERS", "check_n_sliders"]
+__all__ = ["Iwan", "segalman_density", "MAX_SLIDERS", "check_n_sliders", "check_backbone_force"]
 
 #: The most sliders a discrete Iwan element holds. Building one costs about 10 us per slider (the
 #: validated table: 1 s at this bound, 43 s at 1e7) and every update of a driven joint is O(n)
@@ -26,6 +27,17 @@ def check_n_sliders(name: str, value) -> int:
             or not 1 <= value <= MAX_SLIDERS):
         raise ParameterError(f"{name} must be an integer in [1, {MAX_SLIDERS}], got {value!r}")
     return int(value)
+
+
+def check_backbone_force(force, slip_force: float) -> float:
+    """``|force|`` [N] for the inverse of an Iwan backbone (discrete or continuous), where it is
+    defined: ``|force| < slip_force``, the macroslip force; else a :class:`ParameterError` naming
+    ``force`` and that range."""
+    q = abs(float(force))
+    if not (math.isfinite(q) and q < slip_force):
+        raise ParameterError(f"force must be in (-{slip_force:g}, {slip_force:g}) N "
+                             f"(below the macroslip force), got {force!r}")
+    return q
 
 
 def segalman_density(slip_force, stiffness, chi, beta):
@@ -205,11 +217,8 @@ class Iwan(MasingCycles):
         float
             Displacement [m] on the backbone, with the sign of ``force``.
         """
+        q = check_backbone_force(force, self.slip_force)
         k, f, phi = self._table()
-        q = abs(float(force))
-        if not (np.isfinite(q) and q < self.slip_force):
-            raise ParameterError(f"force must be in (-{self.slip_force:g}, {self.slip_force:g}) N "
-                                 f"(below the macroslip force), got {force!r}")
         order = np.argsort(phi)
         k, f, phi = k[order], f[order], phi[order]
         # at u = phi_j: F = sum_{i<j} f_i + phi_j sum_{i>=j} k_i (non-decreasing)

@@ -22,7 +22,7 @@ import scipy.optimize
 
 from ..errors import ParameterError, check_nonnegative, check_positive
 from .base import MasingCycles
-from .iwan import segalman_density
+from .iwan import check_backbone_force, segalman_density
 
 __all__ = ["ContinuousIwan", "MasingMemory", "odd_backbone"]
 
@@ -157,10 +157,7 @@ class ContinuousIwan(MasingCycles):
             Displacement [m] on the backbone, with the sign of ``force`` (closed-form ``inverse`` if
             given, else Brent's method).
         """
-        q = abs(float(force))
-        if not (math.isfinite(q) and q < self.slip_force):
-            raise ParameterError(f"force must be in (-{self.slip_force:g}, {self.slip_force:g}) N "
-                                 f"(below the slip force), got {force!r}")
+        q = check_backbone_force(force, self.slip_force)
         if q == 0.0:
             return 0.0
         if self._inverse is not None:

@@ -26,6 +26,7 @@ from ..solvers.marcher.eventlog import MarchState
 from ..solvers.marcher.events import EventLog, Marcher
 from ..solvers.marcher.response import displacement_observables, piece_fourier, piece_slip
 from ..solvers.marcher.steady import periodic_response
+from ..stepping import run_parameters
 from .assembly import BladeAssembly
 
 __all__ = ["BladeRun", "blade_parameters", "BLADE_OUTPUTS"]
@@ -88,13 +89,7 @@ class BladeRun:
     """
 
     def __init__(self, model, parameters: dict, start_time: float = 0.0, tip_force: float = 0.0):
-        table = blade_parameters(model)
-        unknown = set(parameters) - set(table)
-        if unknown:
-            raise ParameterError(f"unknown parameter(s) {sorted(unknown)}; allowed: {sorted(table)}")
-        p = {k: v[0] for k, v in table.items()}
-        p.update(parameters)
-        self.parameters = p
+        self.parameters = p = run_parameters(blade_parameters(model), parameters)
         omega = check_positive("omega", p["omega"])
         speed = check_positive("rotor_speed", p["rotor_speed"])
         fc = check_real("centrifugal_force", p["centrifugal_force"])
