@@ -37,7 +37,14 @@ class FrictionSystem:
         self.structure = structure
         self.elements = tuple(elements)
         self.excitation = tuple(excitation)
-        n = structure.n_dof
+        harmonic = self._check_excitation(omega)
+        k, c = self._harmonic_sources(harmonic)
+        contacts = self._expand_elements(k, c)
+        self._contact_arrays(contacts)
+
+    def _check_excitation(self, omega) -> list:
+        """Check the excitation items and ``omega``; set :attr:`omega` (0 without harmonic sources)
+        and return the harmonic sources."""
         harmonic = [e for e in self.excitation if isinstance(e, (HarmonicForce, HarmonicBaseMotion))]
         for e in self.excitation:
             if not isinstance(e, (HarmonicForce, HarmonicBaseMotion, ExternalForce)):
@@ -49,7 +56,14 @@ class FrictionSystem:
             self.omega = 0.0
         else:
             self.omega = check_positive("omega", omega)
+        return harmonic
 
+    def _harmonic_sources(self, harmonic: list) -> tuple[np.ndarray, np.ndarray]:
+        """The harmonic forces and base motions as one equivalent force (:attr:`force_cos`,
+        :attr:`force_sin`), the held forces by DOF (:attr:`external`) and :attr:`mass`; return the
+        structure's stiffness and damping with the base motions' springs and dashpots added."""
+        structure = self.structure
+        n = structure.n_dof
         k = np.array(structure.stiffness)
         c = np.array(structure.damping)
         fc = np.zeros(n)
@@ -68,12 +82,18 @@ class FrictionSystem:
                 fc[i] += e.stiffness * y * np.cos(e.phase) + e.damping * y * w * np.sin(e.phase)
                 fs[i] += e.stiffness * y * np.sin(e.phase) - e.damping * y * w * np.cos(e.phase)
         self.mass = np.array(structure.mass)
-        self.damping = c
         self.force_cos = fc
         self.force_sin = fs
         self.external = [(structure.dof_index(e.dof), e) for e in self.excitation
                          if isinstance(e, ExternalForce)]
+        return k, c
 
+    def _expand_elements(self, k: np.ndarray, c: np.ndarray) -> list:
+        """Expand the joint elements into sliders (one row of each slider array per slider) and add
+        their linear springs, dashpots and constant force to ``k``, ``c`` (:attr:`stiffness`,
+        :attr:`damping`, :attr:`constant_force`); return the contacts with a varying normal load."""
+        structure = self.structure
+        n = structure.n_dof
         d_rows, fsl, ksl, owner, pre, on_contact, contacts = [], [], [], [], [], [], []
         self.constant_force = np.zeros(n)
         for ie, el in enumerate(self.elements):
@@ -123,6 +143,11 @@ class FrictionSystem:
         #: ``slip_force + slip_gradient . x = mu (N0 - kn normal . x)`` while c is closed, and
         #: slips freely (status 2, no force) while c is open (lift-off, ``N0 - kn normal . x <= 0``)
         self.slider_contact = np.array(on_contact, dtype=np.intp)
+        return contacts
+
+    def _contact_arrays(self, contacts: list) -> None:
+        """Normal-load variation: the contacts' arrays and each slider's slip-limit gradient."""
+        n = self.structure.n_dof
         self.varying = self.slider_contact >= 0
         self.n_contacts = len(contacts)
         self.contact_normal = np.array([c.normal for c in contacts], dtype=float).reshape(len(contacts), n)
