@@ -1,5 +1,6 @@
-"""Examples and documentation run as tests: examples/forced_response.py, the README's Python
-example, the README's two set-up commands and their agreement with .ci/run."""
+"""Examples and documentation run as tests: examples/forced_response.py, the Python examples of the
+user guide (docs/*.md) and of the README (copies of the guide's), the README's two set-up commands
+and their agreement with .ci/run."""
 import os
 import re
 import shutil
@@ -11,6 +12,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+DOCS = ROOT / "docs"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 TIMEOUT = 120  # seconds per subprocess
 
@@ -18,6 +20,46 @@ TIMEOUT = 120  # seconds per subprocess
 def code_blocks(text):
     """``(language, body)`` of every fenced code block, in order."""
     return [(m.group(1), m.group(2)) for m in re.finditer(r"^```(\w*)\n(.*?)^```", text, re.S | re.M)]
+
+
+#: the Python examples of the guide, each executed by a test below: page -> a line only it holds
+GUIDE_EXAMPLES = {
+    "getting-started.md": "osc = fj.CoulombOscillator(",
+    "cosimulation.md": "system = FMUSystem(",
+    "blades.md": "from frictionjoint.structures import BeamBlade",
+    "harmonic-balance.md": "hb = fj.harmonic_balance(",
+    "studies.md": "study = Study(",
+}
+
+
+def guide_example(page):
+    """The Python example of a guide page (the one block holding its marker), and its origin."""
+    path = DOCS / page
+    blocks = [body for lang, body in code_blocks(path.read_text()) if lang == "python"]
+    found = [b for b in blocks if GUIDE_EXAMPLES[page] in b]
+    assert len(found) == 1, f"{page}: {len(found)} Python blocks hold {GUIDE_EXAMPLES[page]!r}"
+    return found[0], f"{path}:python-example"
+
+
+def test_every_python_example_is_executed():
+    """Each Python block of the guide is one of GUIDE_EXAMPLES (so a test runs it), and each Python
+    block of the README is a copy of one of them."""
+    guide = {}
+    for path in sorted(DOCS.rglob("*.md")):
+        if "_build" in path.parts:
+            continue
+        for lang, body in code_blocks(path.read_text()):
+            if lang == "python":
+                page = path.relative_to(DOCS).as_posix()
+                assert page in GUIDE_EXAMPLES and GUIDE_EXAMPLES[page] in body, \
+                    f"{page}: a Python block no test runs (add it to GUIDE_EXAMPLES and a test)"
+                guide.setdefault(page, []).append(body)
+    assert {p: len(b) for p, b in guide.items()} == {p: 1 for p in GUIDE_EXAMPLES}
+    executed = {bodies[0] for bodies in guide.values()}
+    readme = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
+    assert readme, "the README shows the scripted co-simulation example"
+    for body in readme:
+        assert body in executed, "a README Python block that is not a copy of the guide's example"
 
 
 @pytest.mark.slow  # about 2-3 s: the example script in a subprocess
@@ -59,32 +101,37 @@ def test_readme_opens_with_the_two_commands():
     assert tests.startswith("python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && ")
     assert tests.endswith("pytest -q")
     assert "<!-- numbers filled in by the core developer -->" in text or "## Accuracy" in text
+    # what a newcomer needs in the first five minutes; the rest is in the guide (issue 27)
+    assert len(text.splitlines()) <= 250
+    for link in re.findall(r"\]\((docs/[^)#]+)", text):
+        assert (ROOT / link).is_file(), f"README links to a missing page {link}"
 
 
 @pytest.mark.slow
-def test_readme_python_example_runs(tmp_path, monkeypatch):
-    python = [body for lang, body in code_blocks(README.read_text()) if lang == "python"]
-    assert len(python) == 5  # the library example, the system of FMUs, the blade models, harmonic balance, studies
+def test_library_example_runs(tmp_path, monkeypatch):
+    """The library example of docs/getting-started.md."""
+    block, origin = guide_example("getting-started.md")
     monkeypatch.chdir(tmp_path)
-    exec(compile(python[0], str(README) + ":python-example", "exec"), {"__name__": "readme"})
+    exec(compile(block, origin, "exec"), {"__name__": "guide"})
     assert (tmp_path / "sweep.png").read_bytes()[:8] == PNG_MAGIC
 
 
-def test_readme_harmonic_balance_example_runs(tmp_path, monkeypatch):
-    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][3]
+def test_harmonic_balance_example_runs(tmp_path, monkeypatch):
+    block, origin = guide_example("harmonic-balance.md")
     monkeypatch.chdir(tmp_path)
-    namespace = {"__name__": "readme"}
-    exec(compile(block, str(README) + ":hbm-example", "exec"), namespace)
+    namespace = {"__name__": "guide"}
+    exec(compile(block, origin, "exec"), namespace)
     hb, sw = namespace["hb"], namespace["sw"]
     assert hb.converged and hb.truncation_error <= 1e-3 and hb.stable is True
     assert sw.success and (tmp_path / "hbm_branch.png").read_bytes()[:8] == PNG_MAGIC
 
 
-def test_readme_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
-    """The README's FMUSystem example, with the FMUs its shell commands build in build/."""
+def test_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
+    """The FMUSystem example of docs/cosimulation.md (and the README), with the FMUs its shell
+    commands build in build/."""
     from frictionjoint.fmi.build import build_fmus
 
-    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][1]
+    block, origin = guide_example("cosimulation.md")
     build = tmp_path / "build"
     build.mkdir()
     for path in fmus.values():
@@ -92,7 +139,7 @@ def test_readme_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
     build_fmus(build, structures=[ROOT / "models" / "two_dof_chain.toml"])
     monkeypatch.chdir(tmp_path)
     namespace = {"__name__": "readme"}
-    exec(compile(block, str(README) + ":system-example", "exec"), namespace)
+    exec(compile(block, origin, "exec"), namespace)
     result = namespace["result"]
     assert result.t[-1] == pytest.approx(20.9, abs=0.0524) and abs(result["j2.force"]).max() <= 0.8 + 1e-12
     assert (tmp_path / "chain.ssp").is_file()
@@ -149,11 +196,11 @@ def test_readme_main_job_runs_with_fewer_points(tmp_path):
     assert (tmp_path / png).read_bytes()[:8] == PNG_MAGIC
 
 
-def test_readme_blade_example_runs():
-    """The README's blade-models example (issue 13)."""
-    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][2]
-    namespace = {"__name__": "readme"}
-    exec(compile(block, str(README) + ":blade-example", "exec"), namespace)
+def test_blade_example_runs():
+    """The blade-models example of docs/blades.md (issue 13)."""
+    block, origin = guide_example("blades.md")
+    namespace = {"__name__": "guide"}
+    exec(compile(block, origin, "exec"), namespace)
     assert namespace["reduced"].dof_names[-1] == "r_w30" and namespace["model"].name == "Ti64CompressorBlade"
 
 
@@ -169,15 +216,15 @@ def test_blade_root_study_example(tmp_path):
 
 
 @pytest.mark.slow
-def test_readme_study_example_runs(tmp_path, monkeypatch):
-    """The README's study example (5 root loads on 2 local processes) writes its table and plot,
-    and the damper curve has its minimum inside the range of loads."""
+def test_study_example_runs(tmp_path, monkeypatch):
+    """The study example of docs/studies.md (5 root loads on 2 local processes) writes its table
+    and plot, and the damper curve has its minimum inside the range of loads."""
     import numpy as np
 
-    block = [body for lang, body in code_blocks(README.read_text()) if lang == "python"][4]
+    block, origin = guide_example("studies.md")
     monkeypatch.chdir(tmp_path)
     namespace = {"__name__": "__main__"}  # run as a script (its guard lets the pool's workers import it)
-    exec(compile(block, str(README) + ":study-example", "exec"), namespace)
+    exec(compile(block, origin, "exec"), namespace)
     table = namespace["table"]
     assert len(table) == 5 and table.success
     assert 0 < int(np.argmin(table["peak_amplitude"])) < 4
