@@ -128,6 +128,21 @@ def event_kind(before: int, after: int) -> str:
     return "stick" if after == 0 else "normal stop" if after == -before else "abnormal stop"
 
 
+def _start_status(v: float, status: Optional[int]):
+    """``(s, settle_first)``: the status a march starts with from velocity ``v`` and the ``status``
+    argument of :meth:`SdofCoulomb.march` (validated), and whether the rules at ``v = 0`` must
+    settle it first (``status`` None and ``v = 0``)."""
+    if status is None:
+        return ((1 if v > 0 else -1) if v != 0.0 else 0), v == 0.0
+    if status not in (-1, 0, 1) or isinstance(status, bool):
+        raise ParameterError(f"status must be None, -1, 0 or 1, got {status!r}")
+    s = int(status)
+    if (s == 0 and v != 0.0) or s * v < 0:
+        raise ParameterError(f"v0 = {v!r} is inconsistent with status = {s!r} "
+                             "(stuck needs v0 = 0; slipping needs v0 of its sign or 0)")
+    return s, False
+
+
 class SdofResult(NamedTuple):
     """State at the end of :meth:`SdofCoulomb.march`.
 
@@ -236,6 +251,7 @@ class SdofCoulomb:
         self._p0abs = abs(p0)
         self._phi = math.pi if p0 < 0 else 0.0
         self._period = _TWO_PI / w
+        self._bound_constants()
 
     def __repr__(self) -> str:
         return (f"SdofCoulomb(mass={self.mass!r}, stiffness={self.stiffness!r}, "
@@ -466,8 +482,7 @@ class SdofCoulomb:
         f = self.slip_force
         if f == 0.0:
             return 0
-        m, c, w = self.mass, self.damping, self.omega
-        p0 = self.force_amplitude
+        w, p0 = self.omega, self.force_amplitude
         cw, sw = math.cos(w * t), math.sin(w * t)
         h = p0 * cw - self.stiffness * x
         hd = -p0 * w * sw
@@ -482,38 +497,11 @@ class SdofCoulomb:
             visited.add(s)
             fscale = self._fscale(t, x, s)
             if s != 0:
-                rate = self._rate_slip
-                v_ref = max(v_scale, fscale / (m * rate))
-                dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate
-                net = h - s * f
-                if s == trigger and abs(net) <= 1e-12 * max(f, fscale) + h_round:
-                    net = 0.0  # the onset at the located limit: zero net force
-                acc = net / m
-                dg, ddg = s * acc, s * (hd - c * acc) / m
-                if dg < -dtol or (abs(dg) <= dtol and ddg < 0 and not (forced and dg > 0)):
-                    s, forced = 0, False
-                    continue
-                return s
-            rate = self._rate_stick
-            tol = 1e-12 * max(f, fscale)
-            dtol = 10.0 * max(tol, 1e-300) * rate
-            best, new, g_new = math.inf, 0, 0.0
-            for sign, g, dg, ddg in ((1, f - h, -hd, -hdd), (-1, f + h, hd, hdd)):
-                if sign == trigger and abs(g) <= tol + h_round:
-                    g = 0.0  # the located limit
-                if abs(g) <= tol:
-                    if dg < -dtol:
-                        score = dg / dtol
-                    elif abs(dg) <= dtol and ddg < 0:
-                        score = -1.0
-                    else:
-                        continue
-                elif g < 0:
-                    score = g / max(tol, 1e-300)
-                else:
-                    continue
-                if score < best:
-                    best, new, g_new = score, sign, g
+                if self._slip_holds(s, h, hd, fscale, v_scale, trigger, h_round, forced):
+                    return s
+                s, forced = 0, False
+                continue
+            new, g_new, tol = self._stick_breaks(h, hd, hdd, fscale, trigger, h_round)
             if new == 0:
                 return 0
             if new in visited and g_new >= -tol:
@@ -523,6 +511,51 @@ class SdofCoulomb:
                 return 0
             s, forced = new, True
         raise ConvergenceError(f"no consistent stick/slip status at t = {t!r}")
+
+    def _slip_holds(self, s: int, h: float, hd: float, fscale: float, v_scale: float, trigger: int,
+                    h_round: float, forced: bool) -> bool:
+        """The slipping rule of :meth:`settle`: a slider slipping in direction ``s`` at ``v = 0``
+        (holding force ``h``, its rate ``hd``) slips on unless its velocity would change sign (the
+        acceleration ``s v'`` below its band, or in it with ``s v'' < 0``; a slip just started from
+        a stick (``forced``) keeps a positive ``s v'``)."""
+        m, f = self.mass, self.slip_force
+        rate = self._rate_slip
+        v_ref = max(v_scale, fscale / (m * rate))
+        dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate
+        net = h - s * f
+        if s == trigger and abs(net) <= 1e-12 * max(f, fscale) + h_round:
+            net = 0.0  # the onset at the located limit: zero net force
+        acc = net / m
+        dg, ddg = s * acc, s * (hd - self.damping * acc) / m
+        return not (dg < -dtol or (abs(dg) <= dtol and ddg < 0 and not (forced and dg > 0)))
+
+    def _stick_breaks(self, h: float, hd: float, hdd: float, fscale: float, trigger: int,
+                      h_round: float):
+        """The stuck rule of :meth:`settle`: ``(direction, g, tol)``, the limit (``+1``: ``+F``,
+        ``-1``: ``-F``; 0: none) that the holding force ``h`` (rates ``hd``, ``hdd``) goes over
+        most, its margin ``g = F -+ h`` and the force tolerance. At the limit (``|g| <= tol``)
+        the first derivative decides and, within its band, the second."""
+        f = self.slip_force
+        tol = 1e-12 * max(f, fscale)
+        dtol = 10.0 * max(tol, 1e-300) * self._rate_stick
+        best, new, g_new = math.inf, 0, 0.0
+        for sign, g, dg, ddg in ((1, f - h, -hd, -hdd), (-1, f + h, hd, hdd)):
+            if sign == trigger and abs(g) <= tol + h_round:
+                g = 0.0  # the located limit
+            if abs(g) <= tol:
+                if dg < -dtol:
+                    score = dg / dtol
+                elif abs(dg) <= dtol and ddg < 0:
+                    score = -1.0
+                else:
+                    continue
+            elif g < 0:
+                score = g / max(tol, 1e-300)
+            else:
+                continue
+            if score < best:
+                best, new, g_new = score, sign, g
+        return new, g_new, tol
 
     # -------------------------------------------------------------- stuck pieces
     def _stick_end(self, t0: float, x: float) -> tuple[float, int]:
@@ -564,27 +597,12 @@ class SdofCoulomb:
         ``|v|`` seen on the way.
         """
         m, k, c, w = self.mass, self.stiffness, self.damping, self.omega
-        p0, f, wn2 = self.force_amplitude, self.slip_force, self._wn2
+        p0, f = self.force_amplitude, self.slip_force
         sf = s * f
         co = self._start(t0, x0, v0, s)
         near = co[3] is not None
         xh, vh = (x0 - co[4], v0) if near else co[1:3]
-        # particular bounds on |x_p^(3)| and |x_p^(4)| over the piece (far from resonance)
-        R = self._R
-        w3 = w * w * w
-        mp3, mp4 = w3 * R, w3 * w * R
-        p0a = abs(p0)
-        # near resonance: bounds over the next dlt from the energy about xc (below)
-        dlt = 1.0 / self._rate_slip
-        ge = p0a * dlt / math.sqrt(2.0 * m)
-        # over-damped: the decay rates l1a < l2a of the two real modes (module docstring)
-        over = self._q < 0.0
-        if over:
-            l1a, l2a = wn2 / (self._a + self._root), self._a + self._root
-            l1, l2 = -l1a, -l2a
-            inv_dl = 1.0 / (l2a - l1a)
-            slack = 8.0 * _EPS * inv_dl
-        rm, rk = math.sqrt(2.0 / m), math.sqrt(2.0 / k)
+        bounds = self._near_bounds if near else self._far_bounds
         fscale = max(abs(p0) + f, self._fscale_fixed, abs(k * x0))
         v_ref = max(v_scale, fscale / (m * self._rate_slip))
         tol_v = 1e-11 * v_ref
@@ -596,6 +614,8 @@ class SdofCoulomb:
         g_prev = g1_prev = None
         tau_prev = 0.0
         A, B = self._A, self._B
+        eps_period = _EPS * self._period
+        w2, w3 = w * w, w * w * w
         for _ in range(_MAX_STEPS):
             if near:
                 acc = (p0 * cw - k * x - c * v - sf) / m
@@ -606,8 +626,8 @@ class SdofCoulomb:
                 # scales are far apart (k x ~ F, c w >> m w^2: a wrong-signed jerk, a root stepped
                 # over at omega/omega_n = 1e-6, zeta = 0.01)
                 ah = -(c * vh + k * xh) / m
-                acc = ah - w * w * (A * cw + B * sw)
-                jerk = w * w * w * (A * sw - B * cw) - (c * ah + k * vh) / m
+                acc = ah - w2 * (A * cw + B * sw)
+                jerk = w3 * (A * sw - B * cw) - (c * ah + k * vh) / m
             g, g1, g2 = s * v, s * acc, s * jerk
             if tau == 0.0 and start_zero:
                 g, g1 = 0.0, max(g1, 0.0)
@@ -619,36 +639,7 @@ class SdofCoulomb:
                 dip = self._dip(t0, x0, v0, s, tau_prev, tau, tol_v)
                 if dip is not None:
                     return dip + (0.0, vmax)
-            if near:
-                # rigorous bounds on |g^(2)|, |g^(3)| over [tau, tau + dlt]: the energy
-                # E = (m v^2 + k (x - xc)^2)/2 has dE/dt = v (P0 cos wt - c v) <= |P0| |v|, so
-                # sqrt(E) grows at most by |P0| dlt/sqrt(2 m) (resonance-proof)
-                se = math.sqrt(0.5 * (m * vh * vh + k * xh * xh)) + ge
-                d1, d0 = rm * se, rk * se
-                d2 = (p0a + k * d0 + c * d1) / m
-                d3 = (p0a * w + k * d1 + c * d2) / m
-                d4 = (p0a * w * w + k * d2 + c * d3) / m
-                cap = dlt
-            else:
-                # rigorous bounds for the rest of the piece (homogeneous energy never grows)
-                d0 = math.sqrt(xh * xh + vh * vh / wn2)
-                d1 = math.sqrt(wn2) * d0
-                d2 = (c * d1 + k * d0) / m
-                d3 = (c * d2 + k * d1) / m
-                d4 = (c * d3 + k * d2) / m
-                if over:
-                    # over-damped: the modes a e^{l1 tau} + b e^{l2 tau} both decay, so |x_h^(n)| <=
-                    # |a| |l1|^n + |b| |l2|^n (with the rounding of a, b); the energy bound's
-                    # (c/m)^n alone would cut a heavily damped piece into ~c/(m w) steps per period
-                    ra = abs(l2 * xh - vh) * inv_dl + slack * (abs(l2 * xh) + abs(vh))
-                    rb = abs(vh - l1 * xh) * inv_dl + slack * (abs(l1 * xh) + abs(vh))
-                    d3 = min(d3, ra * l1a ** 3 + rb * l2a ** 3)
-                    d4 = min(d4, ra * l1a ** 4 + rb * l2a ** 4)
-                d3 += mp3
-                d4 += mp4
-                cap = math.inf
-            m2 = d3 * (1.0 + 1e-12) + 1e-300
-            m3 = d4 * (1.0 + 1e-12) + 1e-300
+            m2, m3, cap = bounds(xh, vh)
             # safe step: g + g1 d - m2 d^2/2 > 0, and (g1 >= 0) d (g1 + g2 d/2 - m3 d^2/6) > 0
             disc = math.sqrt(g1 * g1 + 2.0 * m2 * g)
             step = (g1 + disc) / m2 if g1 >= 0.0 else 2.0 * g / (disc - g1)
@@ -658,8 +649,7 @@ class SdofCoulomb:
                 step3 = (b + disc3) / (m3 / 3.0) if b >= 0.0 else 2.0 * g1 / (disc3 - b)
                 step = max(step, step3)
             step = min(step, cap)
-            t_now = t0 + tau
-            tol_t = 4.0 * _EPS * abs(t_now) + _EPS * self._period
+            tol_t = 4.0 * _EPS * abs(t0 + tau) + eps_period  # the time's resolution
             g_prev, g1_prev, tau_prev = g, g1, tau
             if tau + step >= horizon:
                 tau = horizon
@@ -676,6 +666,65 @@ class SdofCoulomb:
                     return self._touch(t0, x0, v0, s, tau, x, tol_v, horizon) + (0.0, vmax)
                 return None, x, v, vmax
         raise ConvergenceError(f"no event located after {_MAX_STEPS} safe steps from t = {t0!r}")
+
+    def _bound_constants(self):
+        """Sets the constants of :meth:`_near_bounds` and :meth:`_far_bounds`, the parameters' alone
+        (once: a slip piece's search then starts without set-up)."""
+        m, k, c, w, wn2 = self.mass, self.stiffness, self.damping, self.omega, self._wn2
+        p0a = abs(self.force_amplitude)
+        # near resonance: bounds over the next dlt from the energy about xc
+        dlt = 1.0 / self._rate_slip
+        ge = p0a * dlt / math.sqrt(2.0 * m)
+        self._near_consts = (m, k, c, p0a, p0a * w, p0a * w * w, dlt, ge, math.sqrt(2.0 / m),
+                             math.sqrt(2.0 / k))
+        # far from it: the particular part's bounds on |x_p^(3)| and |x_p^(4)| over the piece and,
+        # over-damped, the decay rates l1a < l2a of the two real modes (module docstring)
+        w3 = w * w * w
+        over = self._q < 0.0
+        l1a = l2a = inv_dl = 1.0  # (unused unless over-damped)
+        if over:
+            l1a, l2a = wn2 / (self._a + self._root), self._a + self._root
+            inv_dl = 1.0 / (l2a - l1a)
+        self._far_consts = (m, k, c, wn2, math.sqrt(wn2), w3 * self._R, w3 * w * self._R, over)
+        self._over_consts = (l1a, l2a, inv_dl, 8.0 * _EPS * inv_dl)
+
+    def _near_bounds(self, xh: float, vh: float):
+        """``(M2, M3, cap)``: bounds on ``|g''|`` and ``|g'''|`` (``g = s v``) over the next ``cap``
+        seconds of a slip piece near resonance at the state ``x - xc = xh``, ``v = vh``.
+
+        Rigorous: the energy ``E = (m v^2 + k (x - xc)^2)/2`` has ``dE/dt = v (P0 cos wt - c v) <=
+        |P0| |v|``, so ``sqrt(E)`` grows at most by ``|P0| cap/sqrt(2 m)`` (resonance-proof)."""
+        m, k, c, p0a, p0a_w, p0a_w2, dlt, ge, rm, rk = self._near_consts
+        se = math.sqrt(0.5 * (m * vh * vh + k * xh * xh)) + ge
+        d1, d0 = rm * se, rk * se
+        d2 = (p0a + k * d0 + c * d1) / m
+        d3 = (p0a_w + k * d1 + c * d2) / m
+        d4 = (p0a_w2 + k * d2 + c * d3) / m
+        return d3 * (1.0 + 1e-12) + 1e-300, d4 * (1.0 + 1e-12) + 1e-300, dlt
+
+    def _far_bounds(self, xh: float, vh: float):
+        """``(M2, M3, inf)``: bounds on ``|g''|`` and ``|g'''|`` (``g = s v``) for the rest of a slip
+        piece far from resonance, from its homogeneous state ``(xh, vh)`` (whose energy never
+        grows) and the particular part's ``w^n |A + iB|``."""
+        m, k, c, wn2, wn, mp3, mp4, over = self._far_consts
+        d0 = math.sqrt(xh * xh + vh * vh / wn2)
+        d1 = wn * d0
+        d2 = (c * d1 + k * d0) / m
+        d3 = (c * d2 + k * d1) / m
+        d4 = (c * d3 + k * d2) / m
+        if over:
+            # over-damped: the modes a e^{l1 tau} + b e^{l2 tau} both decay, so |x_h^(n)| <=
+            # |a| |l1|^n + |b| |l2|^n (with the rounding of a, b); the energy bound's
+            # (c/m)^n alone would cut a heavily damped piece into ~c/(m w) steps per period
+            l1a, l2a, inv_dl, slack = self._over_consts
+            l1, l2 = -l1a, -l2a
+            ra = abs(l2 * xh - vh) * inv_dl + slack * (abs(l2 * xh) + abs(vh))
+            rb = abs(vh - l1 * xh) * inv_dl + slack * (abs(l1 * xh) + abs(vh))
+            d3 = min(d3, ra * l1a ** 3 + rb * l2a ** 3)
+            d4 = min(d4, ra * l1a ** 4 + rb * l2a ** 4)
+        d3 += mp3
+        d4 += mp4
+        return d3 * (1.0 + 1e-12) + 1e-300, d4 * (1.0 + 1e-12) + 1e-300, math.inf
 
     def _touch(self, t0, x0, v0, s, tau, x, tol_v, horizon):
         """An event at ``tau`` where ``s v'' > 0`` and ``s v'`` is within its tolerance band, or
@@ -759,17 +808,7 @@ class SdofCoulomb:
         t_end = check_real("t_end", t_end)
         if t_end < t:
             raise ParameterError(f"t_end must be >= t0 = {t!r}, got {t_end!r}")
-        if status is None:
-            s = (1 if v > 0 else -1) if v != 0.0 else 0
-            settle_first = v == 0.0
-        else:
-            if status not in (-1, 0, 1) or isinstance(status, bool):
-                raise ParameterError(f"status must be None, -1, 0 or 1, got {status!r}")
-            s = int(status)
-            if (s == 0 and v != 0.0) or s * v < 0:
-                raise ParameterError(f"v0 = {v!r} is inconsistent with status = {s!r} "
-                                     "(stuck needs v0 = 0; slipping needs v0 of its sign or 0)")
-            settle_first = False
+        s, settle_first = _start_status(v, status)
         counts = [0, 0, 0, 0]
         if self.slip_force == 0.0:
             return self._march_linear(t, x, v, t_end, on_piece)
@@ -786,18 +825,7 @@ class SdofCoulomb:
             if n_pieces > budget:
                 raise EventBudgetError(self._budget_message(budget, t0, t_end, "stick/slip events"))
             if s == 0:
-                t_exit, side = self._stick_end(t, x)
-                t_stop = min(t_exit, t_end)
-                if on_piece is not None:
-                    on_piece(t, x, 0.0, 0, t_stop, x, 0.0)
-                if t_exit >= t_end:
-                    t = t_end
-                    break
-                t = t_exit
-                new = self.settle(t, x, 0, v_scale, trigger=side)
-                if new != 0:
-                    counts[1] += 1
-                    s = new
+                t, s = self._stuck_piece(t, x, t_end, v_scale, counts, on_piece)
                 continue
             if self._quasi:
                 qs = self._quasi_static_piece(t, x, v, s, t_end)
@@ -819,15 +847,34 @@ class SdofCoulomb:
                 break
             if not (math.isfinite(x) and math.isfinite(t)):
                 raise ConvergenceError(f"non-finite state at t = {t!r}")
-            new = self.settle(t, x, s, v_scale)
-            if new == s and start_v == 0.0 and ev <= 4.0 * _EPS * abs(t) + _EPS * self._period:
-                # an abnormal stop whose slip reverses again within time rounding (s v' in its
-                # tolerance band, s v'' > 0 only for an instant): the slider does not leave the
-                # stop, it sticks (no chatter of vanishing pieces)
-                new = 0
-            counts[0 if new == 0 else (3 if new == s else 2)] += 1
-            s = new
+            s = self._after_stop(t, x, s, ev, start_v == 0.0, v_scale, counts)
         return SdofResult(t, x, v, s, sum(counts), dict(zip(EVENT_KINDS, counts)), v_scale)
+
+    def _stuck_piece(self, t, x, t_end, v_scale, counts, on_piece):
+        """A stuck piece from ``t`` at ``x`` to the end of the stick (:meth:`_stick_end`) or
+        ``t_end``, handed to ``on_piece``; at the stick's end the rules decide (a slip is counted
+        in ``counts``). Returns ``(t, status)`` at its end."""
+        t_exit, side = self._stick_end(t, x)
+        if on_piece is not None:
+            on_piece(t, x, 0.0, 0, min(t_exit, t_end), x, 0.0)
+        if t_exit >= t_end:
+            return t_end, 0
+        new = self.settle(t_exit, x, 0, v_scale, trigger=side)
+        if new != 0:
+            counts[1] += 1
+        return t_exit, new
+
+    def _after_stop(self, t, x, s, ev, from_rest, v_scale, counts):
+        """The status after a slip piece of direction ``s`` stopped (``v = 0``) at ``(t, x)``, ``ev``
+        after its start (``from_rest``: it started at ``v = 0``), counted in ``counts`` by kind:
+        stick, normal or abnormal stop. An abnormal stop whose slip reverses again within time
+        rounding (``s v'`` in its tolerance band, ``s v'' > 0`` only for an instant) is a stick:
+        the slider does not leave the stop (no chatter of vanishing pieces)."""
+        new = self.settle(t, x, s, v_scale)
+        if new == s and from_rest and ev <= 4.0 * _EPS * abs(t) + _EPS * self._period:
+            new = 0
+        counts[0 if new == 0 else (3 if new == s else 2)] += 1
+        return new
 
     def _budget(self, t0: float, t_end: float) -> float:
         """Pieces allowed to a march from ``t0`` to ``t_end`` (:data:`_PIECES_PER_PERIOD`)."""
