@@ -425,35 +425,10 @@ def den_hartog(frequency_ratio: float, friction_ratio: float) -> DenHartogSoluti
     """
     r = check_positive("frequency_ratio", frequency_ratio)
     f = check_nonnegative("friction_ratio", friction_ratio)
-
-    # Uniqueness of the stop-free member (a property of r alone, for the given f).
-    if f == 0.0:
-        m = round(1.0 / r)
-        unique = not _special_ratio(r, m)
-    else:
-        n = round(0.5 / r)
-        unique = not _special_ratio(r, 2 * n)
-
+    unique = _unique(r, f)
     nan = math.nan
     if r == 1.0:
-        if f < math.pi / 4.0:
-            regime, amp = "unbounded", math.inf
-            msg = (
-                f"resonance r = 1 with f = {f:g} < pi/4: no steady state; the amplitude "
-                f"grows by about (pi - 4 f) = {math.pi - 4.0 * f:g} (units P0/k) per period"
-            )
-        else:
-            regime, amp = "stops", nan
-            msg = (
-                f"resonance r = 1 with f = {f:g} >= pi/4: Den Hartog's closed form does not "
-                "exist; the bounded steady motion has stops"
-            )
-        if f >= 1.0:
-            regime = "stuck"
-            msg = _stuck_message(f)
-        return DenHartogSolution(
-            r, f, regime, unique, False, amp, nan, nan, nan, nan, math.inf, math.inf, msg
-        )
+        return _at_resonance(r, f, unique)
 
     v, u = _coefficients(r)
     disc = v * v - (f * u) ** 2
@@ -477,40 +452,75 @@ def den_hartog(frequency_ratio: float, friction_ratio: float) -> DenHartogSoluti
     h_amp = math.hypot(a1, b1)
     h_phase = math.atan2(b1 + 0.0, a1)
     dissipation = 4.0 * f * amp
-
-    margin = amp * r * r - f
-    if f >= 1.0:
-        regime, msg = "stuck", _stuck_message(f)
-    elif margin < 0.0:
-        regime = "stops"
-        msg = (
-            f"the mass sticks at the turning point: Den Hartog's boundary X̄ r^2 >= f "
-            f"fails (X̄ r^2 - f = {margin:.6g}); the closed form is real but not the motion"
-        )
-    else:
-        tau_stop = _interior_stop(f, r, v, u, theta) if f > 0.0 else None
-        if tau_stop is not None:
-            regime = "stops"
-            msg = (
-                f"the velocity of the closed-form waveform vanishes inside the half-cycle "
-                f"(tau = wn t = {tau_stop:.9g} after the turning point, force phase "
-                f"{_wrap(r * tau_stop + theta - math.pi):.9g} rad) although X̄ r^2 >= f: "
-                "the steady motion has stops and the closed form is not the motion"
-            )
-        else:
-            regime = "stop-free"
-            msg = "stop-free motion: Den Hartog's closed form is the steady motion"
-            if not unique:
-                msg += (
-                    " (not unique: at r = 1/(2n) it is one member of a family of stop-free "
-                    "periodic motions with different mean offsets)"
-                    if f > 0.0
-                    else " (not unique: without friction, free vibration at wn is periodic "
-                    "with the forcing at r = 1/n)"
-                )
+    regime, msg = _real_regime(r, f, v, u, amp, theta, unique)
     return DenHartogSolution(
         r, f, regime, unique, True, amp, theta, h_amp, h_phase, dissipation, v, u, msg
     )
+
+
+def _unique(r: float, f: float) -> bool:
+    """Whether the stop-free periodic motion is unique: not at ``r = 1/(2n)`` (``U = 0``, a family
+    of mean offsets), for ``f = 0`` not at ``r = 1/n`` (free vibration is periodic with the force)."""
+    if f == 0.0:
+        return not _special_ratio(r, round(1.0 / r))
+    return not _special_ratio(r, 2 * round(0.5 / r))
+
+
+def _at_resonance(r: float, f: float, unique: bool) -> DenHartogSolution:
+    """The answer at ``r = 1``, where Den Hartog's closed form does not exist: unbounded growth
+    for ``f < pi/4``, a bounded motion with stops above, permanent sticking for ``f >= 1``."""
+    nan = math.nan
+    if f < math.pi / 4.0:
+        regime, amp = "unbounded", math.inf
+        msg = (
+            f"resonance r = 1 with f = {f:g} < pi/4: no steady state; the amplitude "
+            f"grows by about (pi - 4 f) = {math.pi - 4.0 * f:g} (units P0/k) per period"
+        )
+    else:
+        regime, amp = "stops", nan
+        msg = (
+            f"resonance r = 1 with f = {f:g} >= pi/4: Den Hartog's closed form does not "
+            "exist; the bounded steady motion has stops"
+        )
+    if f >= 1.0:
+        regime = "stuck"
+        msg = _stuck_message(f)
+    return DenHartogSolution(
+        r, f, regime, unique, False, amp, nan, nan, nan, nan, math.inf, math.inf, msg
+    )
+
+
+def _real_regime(r: float, f: float, v: float, u: float, amp: float, theta: float,
+                 unique: bool) -> tuple[str, str]:
+    """``(regime, message)`` where the closed form is real (steps 1, 4, 5 and 6 of
+    :func:`den_hartog`): permanent sticking, a stop at the turning point (Den Hartog's boundary),
+    a stop inside the half-cycle (the exact velocity), else stop-free."""
+    margin = amp * r * r - f
+    if f >= 1.0:
+        return "stuck", _stuck_message(f)
+    if margin < 0.0:
+        return "stops", (
+            f"the mass sticks at the turning point: Den Hartog's boundary X̄ r^2 >= f "
+            f"fails (X̄ r^2 - f = {margin:.6g}); the closed form is real but not the motion"
+        )
+    tau_stop = _interior_stop(f, r, v, u, theta) if f > 0.0 else None
+    if tau_stop is not None:
+        return "stops", (
+            f"the velocity of the closed-form waveform vanishes inside the half-cycle "
+            f"(tau = wn t = {tau_stop:.9g} after the turning point, force phase "
+            f"{_wrap(r * tau_stop + theta - math.pi):.9g} rad) although X̄ r^2 >= f: "
+            "the steady motion has stops and the closed form is not the motion"
+        )
+    msg = "stop-free motion: Den Hartog's closed form is the steady motion"
+    if not unique:
+        msg += (
+            " (not unique: at r = 1/(2n) it is one member of a family of stop-free "
+            "periodic motions with different mean offsets)"
+            if f > 0.0
+            else " (not unique: without friction, free vibration at wn is periodic "
+            "with the forcing at r = 1/n)"
+        )
+    return "stop-free", msg
 
 
 def _stuck_message(f: float) -> str:
