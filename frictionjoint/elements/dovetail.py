@@ -187,42 +187,10 @@ class DovetailRoot:
             self.tangential_stiffness = check_positive("tangential_stiffness", tangential_stiffness)
             self._table = None
         else:
-            if not callable(flank_contact):
-                raise ParameterError("flank_contact must be a callable normal_load -> contact")
-            n_sliders = check_n_sliders("n_sliders", n_sliders)
-            kt = check_positive("tangential_stiffness", tangential_stiffness) \
-                if tangential_stiffness is not None else None
-            # the flank stiffness sets the static N0 (stuck run-up) and the contact at N0 sets the
-            # stiffness: iterate to the fixed point (the stiffness grows only like N0^(1/3))
-            k_guess = kt if kt is not None else 1.0
-            for _ in range(100):
-                n0 = self._static(k_guess).normal_force
-                contact = flank_contact(n0)
-                iwan = contact.to_iwan(int(n_sliders))
-                k_new = iwan.stiffness if kt is None else kt
-                if abs(self._static(k_new).normal_force - n0) <= 1e-15 * n0:
-                    break
-                k_guess = k_new
-            else:
-                raise ParameterError("flank_contact: the static normal load and the flank stiffness "
-                                     "did not reach a fixed point in 100 iterations")
-            fs = float(contact.slip_force)
-            if not math.isclose(fs, self.friction_coefficient * n0, rel_tol=1e-9):
-                raise ParameterError(
-                    f"flank_contact(N) must have slip_force = friction_coefficient * N "
-                    f"= {self.friction_coefficient * n0:g} N, got {fs:g} N")
-            self.tangential_stiffness = k_new
-            self._table = iwan
+            self.tangential_stiffness, self._table = self._microslip_flank(
+                flank_contact, tangential_stiffness, n_sliders)
         self.static = self._static(self.tangential_stiffness)
-        n0 = self.static.normal_force
-        if not (math.isfinite(n0) and math.isfinite(self.friction_coefficient * n0)
-                and math.isfinite(self.normal_stiffness * self.static.radial_displacement)):
-            # the slip limit mu N0 or a spring force overflows: no finite answer would be right
-            raise ParameterError(
-                f"centrifugal_force = {self.centrifugal_force!r} N, friction_coefficient = "
-                f"{self.friction_coefficient!r} and normal_stiffness = {self.normal_stiffness!r} N/m give a "
-                f"static normal load N0 = {n0!r} N whose slip limit friction_coefficient * N0 or spring "
-                "forces overflow the floating-point range (about 1.8e308)")
+        self._check_static_finite()
         c, s = math.cos(g), math.sin(g)
         #: flank normals (force directions on the blade) and tangents, rows right/left, (X, Y)
         self.normals = np.array([[-s, -c], [s, -c]])
@@ -230,6 +198,47 @@ class DovetailRoot:
         #: the same in the root coordinates, (X, Y) or with rocking (X, Y, theta): ``n_i . B_i``
         #: and ``t_i . B_i``, ``B_i`` the map to flank i's contact point (module docstring)
         self.normal_rows, self.tangent_rows = self._rows()
+
+    def _microslip_flank(self, flank_contact, tangential_stiffness, n_sliders):
+        """``(kt, iwan)``: a microslip flank's tangential stiffness and Iwan table, the contact
+        ``flank_contact(N0)`` at the static normal load. The flank stiffness sets ``N0`` (stuck
+        run-up) and the contact at ``N0`` sets the stiffness (unless ``tangential_stiffness`` is
+        given): iterated to the fixed point (the stiffness grows only like ``N0^(1/3)``)."""
+        if not callable(flank_contact):
+            raise ParameterError("flank_contact must be a callable normal_load -> contact")
+        n_sliders = check_n_sliders("n_sliders", n_sliders)
+        kt = check_positive("tangential_stiffness", tangential_stiffness) \
+            if tangential_stiffness is not None else None
+        k_guess = kt if kt is not None else 1.0
+        for _ in range(100):
+            n0 = self._static(k_guess).normal_force
+            contact = flank_contact(n0)
+            iwan = contact.to_iwan(int(n_sliders))
+            k_new = iwan.stiffness if kt is None else kt
+            if abs(self._static(k_new).normal_force - n0) <= 1e-15 * n0:
+                break
+            k_guess = k_new
+        else:
+            raise ParameterError("flank_contact: the static normal load and the flank stiffness "
+                                 "did not reach a fixed point in 100 iterations")
+        fs = float(contact.slip_force)
+        if not math.isclose(fs, self.friction_coefficient * n0, rel_tol=1e-9):
+            raise ParameterError(
+                f"flank_contact(N) must have slip_force = friction_coefficient * N "
+                f"= {self.friction_coefficient * n0:g} N, got {fs:g} N")
+        return k_new, iwan
+
+    def _check_static_finite(self):
+        """Refuses a static state whose slip limit ``mu N0`` or a spring force overflows: no finite
+        answer would be right."""
+        n0 = self.static.normal_force
+        if not (math.isfinite(n0) and math.isfinite(self.friction_coefficient * n0)
+                and math.isfinite(self.normal_stiffness * self.static.radial_displacement)):
+            raise ParameterError(
+                f"centrifugal_force = {self.centrifugal_force!r} N, friction_coefficient = "
+                f"{self.friction_coefficient!r} and normal_stiffness = {self.normal_stiffness!r} N/m give a "
+                f"static normal load N0 = {n0!r} N whose slip limit friction_coefficient * N0 or spring "
+                "forces overflow the floating-point range (about 1.8e308)")
 
     def replace(self, **changes: Any) -> DovetailRoot:
         """The same root with some constructor arguments changed (e.g. ``centrifugal_force``,
