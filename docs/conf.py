@@ -45,8 +45,8 @@ html_static_path = []
 html_title = "frictionjoint user guide"
 
 # Markdown: headings get anchors down to level 3, so pages may link to each other's sections
+# (no MyST extensions: the pages write their formulas as text, and a `$` stays a `$`)
 myst_heading_anchors = 3
-myst_enable_extensions = ["dollarmath"]
 
 # Every reference must resolve (nitpicky), in the guide's own pages. The API pages render the
 # library's docstrings, which also name private helpers and modules the reference does not
@@ -66,8 +66,8 @@ autodoc_member_order = "bysource"
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autodoc_preserve_defaults = True
 
-# numpydoc: the docstrings are rendered, not validated here (tests/test_numpydoc-style checks live
-# with the code); class member tables would need a stub page per member
+# numpydoc: the docstrings are rendered, not validated here (tests/test_api_docs.py checks their
+# sections and type hints); class member tables would need a stub page per member
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
