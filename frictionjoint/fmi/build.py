@@ -105,9 +105,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     -------
     list of Path
     """
-    from ..errors import FMUError
     from ..structure_file import StructureDefinition, load_structure_definition
-    from .slaves import STRUCTURE_RESOURCE
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -134,40 +132,55 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            jobs = []
-            for n in names:
-                files = [bundle]
-                if n in BLADE_MODELS:  # the definition travels in the resources
-                    from ..structures import load_blade_model
-                    from .slaves import BLADE_RESOURCE
-
-                    data = tmp / n / BLADE_RESOURCE
-                    data.parent.mkdir()
-                    shutil.copyfile(load_blade_model(BLADE_MODELS[n]).path, data)
-                    files.append(data)
-                jobs.append((FMUS[n], out / f"{n}.fmu", files))
-            for d in structures:
-                data = tmp / d.name / STRUCTURE_RESOURCE
-                data.parent.mkdir()
-                d.to_json(data)
-                jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
-            for script_name, dest, project_files in jobs:
-                script = source / script_name
-                if not script.is_file():
-                    raise FileNotFoundError(f"FMU script {script} not found (source_dir)")
-                path = _pythonfmu_build(script, dest, project_files)
-                postprocess(path)
-                if check:
-                    problems = validate(path)
-                    if problems:
-                        raise FMUError(f"{path.name} does not validate: " + "; ".join(problems))
-                built.append(Path(path))
+            for script_name, dest, project_files in _jobs(names, structures, out, tmp, bundle):
+                built.append(_build_one(source / script_name, dest, project_files, check))
         finally:
             sys.path.remove(str(tmp))
             for mod in [m for m in sys.modules if ours(m)]:
                 del sys.modules[mod]
             sys.modules.update(loaded)
     return built
+
+
+def _jobs(names, structures, out: Path, tmp: Path, bundle: Path) -> list:
+    """``(script name, destination, project files)`` of each FMU to build: the named FMUs (with
+    their blade model definition in the resources where :data:`BLADE_MODELS` gives one) and one
+    ``LinearStructure`` FMU per structure definition (written into ``tmp``)."""
+    from .slaves import BLADE_RESOURCE, STRUCTURE_RESOURCE
+
+    jobs = []
+    for n in names:
+        files = [bundle]
+        if n in BLADE_MODELS:  # the definition travels in the resources
+            from ..structures import load_blade_model
+
+            data = tmp / n / BLADE_RESOURCE
+            data.parent.mkdir()
+            shutil.copyfile(load_blade_model(BLADE_MODELS[n]).path, data)
+            files.append(data)
+        jobs.append((FMUS[n], out / f"{n}.fmu", files))
+    for d in structures:
+        data = tmp / d.name / STRUCTURE_RESOURCE
+        data.parent.mkdir()
+        d.to_json(data)
+        jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
+    return jobs
+
+
+def _build_one(script: Path, dest: Path, project_files, check: bool) -> Path:
+    """Build one FMU from ``script`` to ``dest``, post-process it and, with ``check``, validate it
+    (:class:`~frictionjoint.errors.FMUError` listing the problems)."""
+    from ..errors import FMUError
+
+    if not script.is_file():
+        raise FileNotFoundError(f"FMU script {script} not found (source_dir)")
+    path = _pythonfmu_build(script, dest, project_files)
+    postprocess(path)
+    if check:
+        problems = validate(path)
+        if problems:
+            raise FMUError(f"{path.name} does not validate: " + "; ".join(problems))
+    return Path(path)
 
 
 def _pythonfmu_build(script: Path, dest: Path, project_files) -> Path:
