@@ -65,32 +65,11 @@ def craig_bampton(structure: LinearStructure, boundary_dofs: Sequence, n_modes: 
     if n_modes > len(i):
         raise ParameterError(f"n_modes must be in [0, {len(i)}] (interior DOFs), got {n_modes}")
     m, k, c = structure.mass, structure.stiffness, structure.damping
-    kii = k[np.ix_(i, i)]
-    try:
-        psi = -scipy.linalg.solve(kii, k[np.ix_(i, b)], assume_a="sym")
-        lam, phi = scipy.linalg.eigh(kii, m[np.ix_(i, i)], subset_by_index=[0, n_modes - 1]) if n_modes else \
-            (np.zeros(0), np.zeros((len(i), 0)))
-    except (np.linalg.LinAlgError, scipy.linalg.LinAlgError) as exc:
-        raise ParameterError(f"the structure with its boundary DOFs clamped is singular: {exc}") from None
-    if lam.size and lam[0] <= 0:
-        raise ParameterError(f"the structure with its boundary clamped is not stable (omega^2 = {lam[0]:.3g})")
+    psi, phi = _interior_modes(k, m, b, i, n_modes)
     loaded = [structure.dof_index(d) for d in loaded_dofs]
     if any(d in set(b) for d in loaded) or len(set(loaded)) != len(loaded):
         raise ParameterError(f"loaded_dofs must be distinct interior DOFs, got {list(loaded_dofs)!r}")
-    mii = m[np.ix_(i, i)]
-    vectors = [phi]
-    for d in loaded:
-        f = np.zeros(len(i))
-        f[i.index(d)] = 1.0
-        r = r0 = scipy.linalg.solve(kii, f, assume_a="sym")
-        for _ in range(2):  # mass-orthogonal to the modes and the earlier vectors (twice: rounding)
-            basis = np.column_stack(vectors)
-            r = r - basis @ (basis.T @ (mii @ r))
-        norm = float(r @ mii @ r)
-        if not norm > 1e-20 * float(r0 @ mii @ r0):
-            raise ParameterError(f"the residual vector of {structure.dof_names[d]!r} lies in the kept modes")
-        vectors.append((r / np.sqrt(norm))[:, None])
-    v = np.column_stack(vectors)
+    v = _with_residual_vectors(structure, i, loaded, phi)
     nb, nv = len(b), v.shape[1]
     t = np.zeros((structure.n_dof, nb + nv))
     t[b, :nb] = np.eye(nb)
@@ -108,3 +87,40 @@ def craig_bampton(structure: LinearStructure, boundary_dofs: Sequence, n_modes: 
     out.transformation = t
     out.full_dof_names = structure.dof_names
     return out
+
+
+def _interior_modes(k, m, b, i, n_modes):
+    """``(Psi, Phi)``: the constraint modes ``-K_ii^-1 K_ib`` and the first ``n_modes``
+    fixed-interface modes (mass-normalised) of the interior ``i`` with the boundary ``b`` clamped;
+    a singular or unstable clamped structure is refused."""
+    kii = k[np.ix_(i, i)]
+    try:
+        psi = -scipy.linalg.solve(kii, k[np.ix_(i, b)], assume_a="sym")
+        lam, phi = scipy.linalg.eigh(kii, m[np.ix_(i, i)], subset_by_index=[0, n_modes - 1]) if n_modes else \
+            (np.zeros(0), np.zeros((len(i), 0)))
+    except (np.linalg.LinAlgError, scipy.linalg.LinAlgError) as exc:
+        raise ParameterError(f"the structure with its boundary DOFs clamped is singular: {exc}") from None
+    if lam.size and lam[0] <= 0:
+        raise ParameterError(f"the structure with its boundary clamped is not stable (omega^2 = {lam[0]:.3g})")
+    return psi, phi
+
+
+def _with_residual_vectors(structure, i, loaded, phi):
+    """The interior vectors ``[Phi, r_1, ...]``: the kept modes and, per loaded DOF, the interior's
+    static response to a unit load there (boundary clamped), made mass-orthogonal to the modes and
+    the earlier vectors and mass-normalised (refused if it lies in them)."""
+    kii = structure.stiffness[np.ix_(i, i)]
+    mii = structure.mass[np.ix_(i, i)]
+    vectors = [phi]
+    for d in loaded:
+        f = np.zeros(len(i))
+        f[i.index(d)] = 1.0
+        r = r0 = scipy.linalg.solve(kii, f, assume_a="sym")
+        for _ in range(2):  # mass-orthogonal to the modes and the earlier vectors (twice: rounding)
+            basis = np.column_stack(vectors)
+            r = r - basis @ (basis.T @ (mii @ r))
+        norm = float(r @ mii @ r)
+        if not norm > 1e-20 * float(r0 @ mii @ r0):
+            raise ParameterError(f"the residual vector of {structure.dof_names[d]!r} lies in the kept modes")
+        vectors.append((r / np.sqrt(norm))[:, None])
+    return np.column_stack(vectors)
