@@ -20,23 +20,15 @@ FORBIDDEN = {"frictionjoint.solvers.marcher": ("frictionjoint.solvers.sdof", "fr
 MAX_LINES = 80
 #: functions over MAX_LINES lines (``def`` to last line, docstring included) that stay whole, and why
 LONG = {
-    "frictionjoint.analytic:den_hartog": "pending (issue 27)",
-    "frictionjoint.elements.dovetail:DovetailRoot.__init__": "pending (issue 27)",
-    "frictionjoint.fmi.build:build_fmus": "pending (issue 27)",
     "frictionjoint.solvers.frequency_domain.continuation:hbm_sweep": "pending (issue 27)",
     "frictionjoint.solvers.frequency_domain.hbm:harmonic_balance": "pending (issue 27)",
     "frictionjoint.solvers.frequency_domain.loop_kernels:flank_loop_kernel": "pending (issue 27)",
-    "frictionjoint.solvers.frequency_domain.loop_kernels:jenkins_loop_kernel": "pending (issue 27)",
     "frictionjoint.solvers.marcher.consistency:check": "pending (issue 27)",
     "frictionjoint.solvers.marcher.events:Marcher.settle": "pending (issue 27)",
     "frictionjoint.solvers.marcher.patterns:StatusPattern.__init__": "pending (issue 27)",
     "frictionjoint.solvers.marcher.propagator:ConfigData.__init__": "pending (issue 27)",
     "frictionjoint.solvers.marcher.response:simulate": "pending (issue 27)",
     "frictionjoint.solvers.marcher.search:first_event": "pending (issue 27)",
-    "frictionjoint.solvers.sdof.kernel:SdofCoulomb.march": "pending (issue 27)",
-    "frictionjoint.solvers.sdof.kernel:SdofCoulomb.settle": "pending (issue 27)",
-    "frictionjoint.structures.reduction:craig_bampton": "pending (issue 27)",
-    "frictionjoint.study.execution:run_study": "pending (issue 27)",
     "frictionjoint.sweep:sweep":
         "the one sweep entry point: its docstring documents every kind of model it takes (about 70 "
         "lines), and its body is the 25-line dispatch on the model, whose branches are named functions",
