@@ -10,7 +10,9 @@ is set in the environment, BLAS threads are the library's and NumPy's defaults):
   of the same chain made linear with every joint stuck (the structure's stiffness plus each joint's
   ``tangential_stiffness`` on its DOF, the structure's damping, the tip force), a plain
   ``A @ z`` right-hand side, at ``rtol = 1e-6, atol = 1e-9`` -- the baseline of every ratio -- and,
-  for reference only, at ``rtol = 1e-10, atol = 1e-12`` (``tight``);
+  for reference only, at ``rtol = 1e-10, atol = 1e-12`` (``tight``) and with one BLAS thread
+  (``1 thread``, threadpoolctl: the library's own setting; NumPy's default threads make ``A @ z``
+  of 800 states several times slower on a busy 2-core machine);
 - ``cold``: ``fj.periodic_response(system)`` on a freshly built system (its first call; the compiled
   kernels were loaded before, on a 6-DOF chain, and that first call of the process is shown apart
   as ``jit``), ``warm``: a second call on the same system object;
@@ -43,6 +45,7 @@ from pathlib import Path
 import numpy as np
 import scipy
 from scipy.integrate import solve_ivp
+from threadpoolctl import threadpool_limits
 
 if __package__ in (None, ""):  # run as a script: the repository is not on the path, benchmarks/ is
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -58,7 +61,6 @@ TIGHT = (1e-10, 1e-12)              # the reference column's
 # issue 26: (n, joints, column, largest ratio to the baseline)
 TARGETS = ((100, 20, "cold", 0.5), (200, 40, "cold", 0.5), (200, 40, "hbm7", 0.05))
 SAME_ORBIT = 1e-12                  # amplitudes against a kept reference, relative
-COLUMNS = ("dop853", "tight", "cold", "warm", "hbm7", "hbm15")  # the timed columns, in the worker's order
 ENVIRONMENT = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
                "FRICTIONJOINT_BLAS_THREADS", "NUMBA_NUM_THREADS")
 
@@ -108,6 +110,11 @@ def measure(n: int, joints: int, send) -> None:
     """One size's row, column by column: ``send((key, value))`` as each is known (a worker's pipe)."""
     t_jit, _ = _timed(lambda: (fj.periodic_response(chain(6, 2)), fj.harmonic_balance(chain(6, 2), n_harmonics=3)))
     send(("jit", t_jit))
+    for h in (7, 15):  # the short columns first: a size past its limit loses the fewest
+        fresh = chain(n, joints)
+        t_h, res = _timed(lambda: fj.harmonic_balance(fresh, n_harmonics=h))
+        send((f"hbm{h}", t_h))
+        send((f"hbm{h}_converged", bool(res.converged)))
     send(("dop853", dop853(chain(n, joints), *TOLERANCES)[0]))
     system = chain(n, joints)
     send(("sliders", system.n_sliders))
@@ -120,11 +127,8 @@ def measure(n: int, joints: int, send) -> None:
     t_warm, warm = _timed(lambda: fj.periodic_response(system))
     send(("warm", t_warm))
     send(("warm_same", bool(np.array_equal(warm.amplitude, cold.amplitude))))
-    for h in (7, 15):
-        fresh = chain(n, joints)
-        t_h, res = _timed(lambda: fj.harmonic_balance(fresh, n_harmonics=h))
-        send((f"hbm{h}", t_h))
-        send((f"hbm{h}_converged", bool(res.converged)))
+    with threadpool_limits(1):  # the library's own BLAS setting (frictionjoint.threads)
+        send(("dop853_1", dop853(chain(n, joints), *TOLERANCES)[0]))
     send(("tight", dop853(chain(n, joints), *TIGHT)[0]))
 
 
@@ -189,6 +193,13 @@ def _commit() -> str:
     return (head or "unknown") + (" with uncommitted changes in frictionjoint/" if dirty else "")
 
 
+def _load() -> str:
+    try:
+        return " ".join(f"{v:.1f}" for v in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
 def header(args) -> list[str]:
     env = [f"{k}={os.environ[k]}" for k in ENVIRONMENT if k in os.environ]
     return [
@@ -196,10 +207,11 @@ def header(args) -> list[str]:
         f"{os.cpu_count()} cores, Python {platform.python_version()}, NumPy {np.__version__}, SciPy "
         f"{scipy.__version__}, frictionjoint at {_commit()}, {time.strftime('%Y-%m-%d %H:%M')}",
         f"# environment: {', '.join(env) if env else 'no thread settings (library and NumPy defaults)'}; "
-        f"one spawned worker per size, limit {args.limit:g} s",
+        f"one spawned worker per size, limit {args.limit:g} s; load average {_load()} at the start",
         f"# chains.chain(n, joints); baseline DOP853 (ratios' denominator): {PERIODS} periods from rest of the "
         f"stuck linear chain, rtol={TOLERANCES[0]:g}, atol={TOLERANCES[1]:g}; tight: rtol={TIGHT[0]:g}, "
-        f"atol={TIGHT[1]:g} (reference only)",
+        f"atol={TIGHT[1]:g}, and 1 thread: the baseline with one BLAS thread (threadpoolctl), as the library "
+        "runs (both for reference only)",
         "# cold: periodic_response, first call on a new system (compiled kernels loaded before: jit, the "
         "process's first call on a 6-DOF chain); warm: second call on the same system; HBM7/15: "
         "harmonic_balance, one point, new system; times in s, (x) the ratio to DOP853",
@@ -214,9 +226,9 @@ def _time(row, key, base=None):
     return "> limit" if row.get("limit") else ("error" if "error" in row else "-")
 
 
-WIDTHS = (4, 6, 7, 8, 8, 15, 15, 15, 15, 7, 9, 10, 9)
-NAMES = ("n", "joints", "jit", "DOP853", "tight", "cold", "warm", "HBM7", "HBM15", "periods", "ev/period",
-         "status", "amp diff")
+WIDTHS = (4, 6, 6, 8, 8, 8, 15, 15, 15, 15, 7, 9, 10, 9)
+NAMES = ("n", "joints", "jit", "DOP853", "1 thread", "tight", "cold", "warm", "HBM7", "HBM15", "periods",
+         "ev/period", "status", "amp diff")
 
 
 def _line(cells) -> str:
@@ -229,8 +241,9 @@ def row_lines(r: dict, reference: dict | None) -> list[str]:
     periods = f"{r['periods']:.2f}" if "periods" in r else "-"
     events = str(r["events"]) if "events" in r else "-"
     lines = [_line((str(r["n"]), str(r.get("sliders", r["joints"])), _time(r, "jit"), _time(r, "dop853"),
-                    _time(r, "tight"), _time(r, "cold", base), _time(r, "warm", base), _time(r, "hbm7", base),
-                    _time(r, "hbm15", base), periods, events, r.get("status", "-"), _amp_diff(r, reference)))]
+                    _time(r, "dop853_1"), _time(r, "tight"), _time(r, "cold", base), _time(r, "warm", base),
+                    _time(r, "hbm7", base), _time(r, "hbm15", base), periods, events, r.get("status", "-"),
+                    _amp_diff(r, reference)))]
     notes = [f"HBM{h} not converged" for h in (7, 15) if r.get(f"hbm{h}_converged") is False]
     if r.get("warm_same") is False:
         notes.append("warm amplitudes differ from cold")
@@ -245,7 +258,7 @@ def exponents(rows: list[dict]) -> list[str]:
     """The growth exponents' lines, under the table."""
     exps = []
     for key, name in (("cold", "cold"), ("warm", "warm"), ("hbm7", "HBM7"), ("hbm15", "HBM15"),
-                      ("dop853", "DOP853"), ("tight", "DOP853 tight")):
+                      ("dop853", "DOP853"), ("dop853_1", "DOP853 1 thread"), ("tight", "DOP853 tight")):
         p, count = growth(rows, key)
         exps.append(f"{name} {p:.2f}" if count >= 2 else f"{name} -")
     return ["growth exponents (least squares of log time on log n over the sizes that finished):",
@@ -318,8 +331,8 @@ def main(argv=None) -> int:
         rows.append(run_size(n, joints, args.limit))
         lines += row_lines(rows[-1], reference)
         print("\n".join(row_lines(rows[-1], reference)), flush=True)  # the row as soon as it is known
-    lines += exponents(rows)
-    print("\n".join(lines[-2:]))
+    lines += exponents(rows) + [f"load average {_load()} at the end"]
+    print("\n".join(lines[-3:]))
     if args.amplitudes is not None and reference is None:
         np.savez(args.amplitudes, **{f"{r['n']}_{r['joints']}": r["amplitude"] for r in rows if "amplitude" in r})
         lines.append(f"amplitudes written to {args.amplitudes}")
