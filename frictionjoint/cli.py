@@ -137,6 +137,15 @@ def _add_csv_and_progress(parser, what: str) -> None:
     parser.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
 
+def _command(sub, name: str, func, *, help: str, description: str, **defaults) -> argparse.ArgumentParser:
+    """The parser of the subcommand ``name``: abbreviated options refused (a misspelt option is an
+    error, not a guess), ``func(args, parser)`` with this parser (for its errors) as what
+    :func:`main` runs, and the parser-level ``defaults``."""
+    parser = sub.add_parser(name, allow_abbrev=False, help=help, description=description)
+    parser.set_defaults(func=func, subparser=parser, **defaults)
+    return parser
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``frictionjoint`` command.
 
@@ -161,8 +170,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _add_study(sub) -> None:
-    st = sub.add_parser(
-        "study", allow_abbrev=False,
+    st = _command(
+        sub, "study", _study, csv=None,
         help="run a design study (a TOML file): many sweeps over parameter grids and random samples",
         description="Run a design study defined in a TOML file (frictionjoint.study.definition): one "
                     "frequency sweep per point over grids, lists and random samples of the model's "
@@ -184,7 +193,6 @@ def _add_study(sub) -> None:
     st.add_argument("--plot", dest="out", default=None, metavar="PNG",
                     help="write the study's plot (damper curve, contour or Monte Carlo scatter and histogram)")
     st.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-    st.set_defaults(func=_study, subparser=st, csv=None)
 
 
 def _study(args, parser) -> int:
@@ -236,8 +244,8 @@ def _study(args, parser) -> int:
 
 
 def _add_demo(sub) -> None:
-    demo = sub.add_parser(
-        "demo", allow_abbrev=False,
+    demo = _command(
+        sub, "demo", _demo,
         help="forced response of the Coulomb oscillator across resonance vs Den Hartog",
         description="Stepped-sine sweep of m x'' + k x + F sgn(x') = P cos(omega t) across "
                     "resonance, up and down, with the exact periodic steady state at every "
@@ -263,12 +271,11 @@ def _add_demo(sub) -> None:
     demo.add_argument("--out", default="forced_response.png", metavar="PNG",
                       help="plot file (default forced_response.png)")
     _add_csv_and_progress(demo, "table")
-    demo.set_defaults(func=_demo, subparser=demo)
 
 
 def _add_map(sub) -> None:
-    mp = sub.add_parser(
-        "map", allow_abbrev=False,
+    mp = _command(
+        sub, "map", _map,
         help="Hong & Liu's map of stops per cycle over (F/P0, r)",
         description="Number of stops per cycle of the steady motion of the Coulomb oscillator "
                     "(m = k = P0 = 1) over a grid of friction ratio F/P0 and frequency ratio r, "
@@ -283,12 +290,11 @@ def _add_map(sub) -> None:
                     help="worker processes (default: the number of CPUs)")
     mp.add_argument("--table", action="store_true", help="print the map as text")
     _add_csv_and_progress(mp, "map")
-    mp.set_defaults(func=_map, subparser=mp)
 
 
 def _add_sweep(sub) -> None:
-    sw = sub.add_parser(
-        "sweep", allow_abbrev=False,
+    sw = _command(
+        sub, "sweep", _sweep,
         help="stepped-sine forced-response sweep through an FMU (fmpy), the library model or a blade model",
         description="Stepped-sine sweep of CoulombOscillator.fmu (or any FMU with its variables), "
                     "driven through fmpy, or of the library model 'CoulombOscillator' without the FMU "
@@ -337,13 +343,12 @@ def _add_sweep(sub) -> None:
                          "truncation error and stability (one shooting per point; --method time is exact and "
                          "judges every orbit's stability anyway)")
     _add_csv_and_progress(sw, "table")
-    sw.set_defaults(func=_sweep, subparser=sw)
 
 
 def _add_tools(sub) -> None:
     """build-fmus, host-env and bench."""
-    bf = sub.add_parser(
-        "build-fmus", allow_abbrev=False,
+    bf = _command(
+        sub, "build-fmus", _build_fmus, csv=None,
         help="build the FMUs (pythonfmu), post-process and validate them",
         description="Build " + ", ".join(f"{name}.fmu" for name in FMUS) + " from the scripts in "
                     "fmus/, with the library bundled inside, and check each with fmpy's validate_fmu.")
@@ -354,10 +359,9 @@ def _add_tools(sub) -> None:
                     help="also build a LinearStructure FMU from each structure definition (.toml or .json, "
                          "see frictionjoint.structure_file; e.g. models/two_dof_chain.toml), named after its "
                          "'name'; with --structure and no --only, only the structure FMUs are built")
-    bf.set_defaults(func=_build_fmus, subparser=bf, csv=None)
 
-    he = sub.add_parser(
-        "host-env", allow_abbrev=False,
+    _command(
+        sub, "host-env", _host_env, csv=None, out=None,
         help="print the environment a non-Python FMU host needs (eval \"$(frictionjoint host-env)\")",
         description="Print shell exports for a host that is not Python (Ecos, a C/C++ master) to run "
                     "these FMUs with this Python: LD_PRELOAD of this interpreter's libpython (the FMUs' "
@@ -366,10 +370,9 @@ def _add_tools(sub) -> None:
                     "folder (Ecos needs its libtbb.so.12), and ECOS, the path of an executable ecos, "
                     "checked to start. Where Ecos cannot run it prints nothing, says why on stderr and "
                     "exits with status 1, so that eval applies all or nothing.")
-    he.set_defaults(func=_host_env, subparser=he, csv=None, out=None)
 
-    be = sub.add_parser(
-        "bench", allow_abbrev=False,
+    be = _command(
+        sub, "bench", _bench, csv=None,
         help="work-precision benchmark: run time against error, exact marcher vs scipy baselines",
         description="Amplitude of the periodic steady state of the Coulomb oscillator (r = 0.8 and "
                     "1.5 at F/P0 = 0.3 against Den Hartog; r = 2, F/P0 = 0.6 with stops against the "
@@ -384,7 +387,6 @@ def _add_tools(sub) -> None:
     be.add_argument("--out", default=".", metavar="DIR",
                     help="folder for work_precision.csv and work_precision.png (default: .)")
     be.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-    be.set_defaults(func=_bench, subparser=be, csv=None)
 
 
 def _check_writable(parser, option: str, path) -> None:
