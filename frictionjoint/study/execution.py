@@ -171,22 +171,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     WorkerError
         A pool or Dask worker died (the finished rows are kept: run again to resume).
     """
-    from tqdm import tqdm
-
-    if not isinstance(study, Study):
-        raise ParameterError(f"study must be a Study (frictionjoint.study.load_study), got {type(study).__name__}")
-    table = Path(table if table is not None else (study.table or "study.csv"))
-    if table.suffix not in (".csv", ".parquet"):
-        raise ParameterError(f"table must end in .csv or .parquet, got {str(table)!r}")
-    for p in (table, _journal_path(table)):
-        if p.is_dir():
-            raise ParameterError(f"table {str(p)!r} is a directory: give a file name ending in .csv or .parquet")
-    if not table.absolute().parent.is_dir():
-        raise ParameterError(f"table: the folder of {str(table)!r} does not exist")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
-    if workers is not None and scheduler is not None:
-        raise ParameterError("workers is for the local pool; a Dask cluster has its own workers (scheduler)")
+    table = _checked_arguments(study, table, workers, scheduler)
     all_tasks = tasks(study)
     fingerprint = study.fingerprint()
     columns = ("point", *study.varied, *QUANTITIES, *STATUS_COLUMNS)
@@ -209,8 +194,42 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     # the journal anew with the rows kept: no line cut short, no half header, no duplicate
     _write_journal(journal, fingerprint, random, columns, done)
     rows = list(done)
+    _run_points(todo, journal, columns, rows, (len(done_ids), len(all_tasks)), progress, on_row,
+                scheduler, workers, study.time_limit)
+    return finish(rows)
+
+
+def _checked_arguments(study, table, workers, scheduler) -> Path:
+    """The table's path, :func:`run_study`'s arguments checked (a Study; a ``.csv`` or ``.parquet``
+    file, not a directory, in a folder that exists; ``workers`` an integer >= 1, not with a
+    ``scheduler``)."""
+    if not isinstance(study, Study):
+        raise ParameterError(f"study must be a Study (frictionjoint.study.load_study), got {type(study).__name__}")
+    table = Path(table if table is not None else (study.table or "study.csv"))
+    if table.suffix not in (".csv", ".parquet"):
+        raise ParameterError(f"table must end in .csv or .parquet, got {str(table)!r}")
+    for p in (table, _journal_path(table)):
+        if p.is_dir():
+            raise ParameterError(f"table {str(p)!r} is a directory: give a file name ending in .csv or .parquet")
+    if not table.absolute().parent.is_dir():
+        raise ParameterError(f"table: the folder of {str(table)!r} does not exist")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
+    if workers is not None and scheduler is not None:
+        raise ParameterError("workers is for the local pool; a Dask cluster has its own workers (scheduler)")
+    return table
+
+
+def _run_points(todo, journal: Path, columns, rows: list, done_of_total: tuple, progress: bool, on_row,
+                scheduler, workers, time_limit) -> None:
+    """Evaluate the points ``todo`` (on a Dask cluster, in this process or on the local pool),
+    appending each row to ``journal`` as one flushed line (a consistent journal) and to ``rows``,
+    with the progress bar and ``on_row``."""
+    from tqdm import tqdm
+
+    done, total = done_of_total
     with open(journal, "a", newline="", encoding="utf-8") as f, \
-            tqdm(total=len(all_tasks), initial=len(done_ids), desc="study", unit="pt", file=sys.stderr,
+            tqdm(total=total, initial=done, desc="study", unit="pt", file=sys.stderr,
                  disable=not progress, leave=False) as bar:
 
         def record(row):
@@ -228,8 +247,7 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
             for t in todo:
                 record(evaluate_point(t))
         else:
-            _run_pool(todo, workers or os.cpu_count() or 1, record, study.time_limit)
-    return finish(rows)
+            _run_pool(todo, workers or os.cpu_count() or 1, record, time_limit)
 
 
 #: What a worker sends when it starts a point (the point's time limit runs from there).
