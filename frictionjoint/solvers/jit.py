@@ -1,7 +1,10 @@
 """The compiled kernels' switch, shared by the engines: numba's ``njit`` where it is importable and
 this is the installed library (not the copy an FMU carries in its resources, which runs the
-NumPy paths and does not even import numba)."""
+NumPy paths and does not even import numba); and the small compiled helpers that kernels of both
+engines call (:func:`row_dot`, :func:`matvec`)."""
 from __future__ import annotations
+
+import numpy as np
 
 numba = None
 if __name__.startswith("frictionjoint."):  # not in an FMU's bundled copy: not even imported there
@@ -10,14 +13,40 @@ if __name__.startswith("frictionjoint."):  # not in an FMU's bundled copy: not e
     except ImportError:  # pragma: no cover - numba is a dependency of the installed library
         numba = None
 
-__all__ = ["ENABLED"]
+__all__ = ["ENABLED", "matvec", "row_dot"]
 
 #: whether the compiled search is used: numba is importable and this is the installed library
 #: (not the copy an FMU carries in its resources)
 ENABLED = numba is not None and __name__.startswith("frictionjoint.")
 
 
-def _jit(fun):
+def _jit(fun=None, *, inline=False):
+    """``fun`` compiled where :data:`ENABLED`, else ``fun`` itself; ``@_jit(inline=True)``: numba
+    inlines it into its compiled callers (a kernel's step, named for the reader, without the cost
+    of a call per use: some 2 % of a hysteresis loop's time for its pieces' calls)."""
+    if fun is None:
+        return lambda f: _jit(f, inline=inline)
     # error_model "numpy": a division by zero gives inf or nan as in C (the Brent steps mirror
     # scipy's brentq.c, whose guards reject such a step), instead of raising
-    return numba.njit(cache=True, error_model="numpy")(fun) if ENABLED else fun
+    return (numba.njit(cache=True, error_model="numpy", inline="always" if inline else "never")(fun) if ENABLED
+            else fun)
+
+
+@_jit(inline=True)
+def row_dot(a, i, x):
+    """``a[i] @ x``, summed from the first column on, in a plain loop (inside a compiled kernel: no
+    temporary and no call into BLAS for a few numbers; the same rounding wherever a kernel uses
+    it)."""
+    s = 0.0
+    for k in range(x.size):
+        s += a[i, k] * x[k]
+    return s
+
+
+@_jit
+def matvec(a, x):
+    """``a @ x`` of a real ``(r, c)`` matrix and a ``(c,)`` vector, row by row (:func:`row_dot`)."""
+    out = np.zeros(a.shape[0])
+    for i in range(a.shape[0]):
+        out[i] = row_dot(a, i, x)
+    return out

@@ -4,7 +4,7 @@ safeguarded Newton roots, closed-form piece integrals, the analytic Jacobian (th
 calls per loop.
 
 Harmonic balance evaluates one loop per slider per Newton iteration: ~70 us at 15 harmonics.
-Compiled where the event search is (:data:`.search.ENABLED`); in an FMU's bundled copy, which
+Compiled where the event search is (:data:`..jit.ENABLED`); in an FMU's bundled copy, which
 never balances harmonics, the same functions run as plain Python.
 """
 from __future__ import annotations
@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from ..jit import ENABLED, _jit
+from ..jit import ENABLED, _jit, row_dot
 
 __all__ = ["jenkins_loop_kernel", "ENABLED"]
 
@@ -173,16 +173,12 @@ def _extremum(c, vals, sgn, dtheta, ng):
     return t
 
 
-@_jit
-def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
-    """The loop of :func:`.hysteresis.jenkins_loop`; ``cos_table, sin_table``: ``(H, N)`` values of
-    ``cos/sin(h theta_j)`` on the grid ``theta_j = 2 pi j / N``. Returns ``(coef, jac, w0,
-    slips)`` with the Fourier normalisation applied."""
-    n = c.size
-    hh = (n - 1) // 2
+@_jit(inline=True)
+def _grid_values(c, cos_table, sin_table):
+    """``u`` and ``u'`` of the coefficient vector ``c`` on the grid of the tables (``(H, N)``
+    values of ``cos/sin(h theta_j)``)."""
+    hh = (c.size - 1) // 2
     ng = cos_table.shape[1]
-    dtheta = 2 * math.pi / ng
-    reach = f / k
     u = np.empty(ng)
     du = np.empty(ng)
     for j in range(ng):
@@ -194,6 +190,135 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
             s1 += h * (-ca * sin_table[h - 1, j] + sb * cos_table[h - 1, j])
         u[j] = s0
         du[j] = s1
+    return u, du
+
+
+@_jit(inline=True)
+def _held_spring(c, k, lo, hi, t_lo, t_hi, w_ref, want_jac, coef, jac, phi):
+    """A slider that never slips: a spring ``k (u - w)`` with ``w = w_ref`` clipped into its stuck
+    band ``[lo, hi]`` (the band's edges at ``t_lo``, ``t_hi``). Fills ``coef`` and ``jac`` (not
+    normalised) and returns ``w``; where ``w`` was clipped, ``phi`` holds the basis at the edge
+    that holds it (``w`` moves with ``u`` there)."""
+    n = c.size
+    w = min(max(w_ref, lo), hi)
+    for i in range(n):
+        coef[i] = k * c[i]
+    coef[0] -= k * w
+    if want_jac:
+        for i in range(n):
+            jac[i, i] = k
+        if w != w_ref:
+            _phi(t_lo if w == lo else t_hi, (n - 1) // 2, phi)
+            for i in range(n):
+                jac[0, i] -= k * phi[i]
+    return w
+
+
+@_jit(inline=True)
+def _add_stuck(coef, k, c, w, v, pm):
+    """A stuck piece's force ``k (u - w)`` into ``coef`` (``v``, ``pm``: its :func:`_integrals`)."""
+    for i in range(coef.size):
+        coef[i] += k * row_dot(pm, i, c) - k * w * v[i]
+
+
+@_jit(inline=True)
+def _add_stuck_jacobian(jac, k, pm, v, dw):
+    """... and its derivative by the coefficients of ``u``, ``w`` moving by ``dw`` (the basis at
+    the event that started the piece)."""
+    n = v.size
+    for i in range(n):
+        for j in range(n):
+            jac[i, j] += k * (pm[i, j] - v[i] * dw[j])
+
+
+@_jit(inline=True)
+def _spans_start(w0, t, e):
+    """Whether the piece ``[t, e]`` is the first that holds ``theta = 2 pi`` (the period's start:
+    the slider's position there is ``w0``)."""
+    return math.isnan(w0) and t <= 2 * math.pi <= e
+
+
+@_jit(inline=True)
+def _normalise(x):
+    """The Fourier normalisation of the coefficients ``x``, in place: ``1/(2 pi)`` for the mean,
+    ``1/pi`` for the others."""
+    inv_pi = 1.0 / math.pi
+    for i in range(x.size):
+        x[i] *= 0.5 * inv_pi if i == 0 else inv_pi
+
+
+@_jit(inline=True)
+def _normalise_rows(m):
+    """... of the rows of a matrix of coefficients (a derivative of ``x`` or an integral matrix)."""
+    inv_pi = 1.0 / math.pi
+    for i in range(m.shape[0]):
+        sc = 0.5 * inv_pi if i == 0 else inv_pi
+        for j in range(m.shape[1]):
+            m[i, j] *= sc
+
+
+@_jit(inline=True)
+def _first_exit(g_up, g_dn, t, dtheta, ng):
+    """Grid indices (``k`` for ``theta = k dtheta``, beyond ``t``, up to two periods) where the
+    stuck band's upper and lower exit functions first go negative: ``(ku, kd)``, -1 for the one
+    that does not before the other."""
+    k0 = int(math.floor(t / dtheta)) + 1
+    while k0 * dtheta <= t:
+        k0 += 1
+    ku = -1
+    kd = -1
+    for kk in range(k0, 2 * ng + 1):
+        if ku < 0 and g_up[kk % ng] < 0:
+            ku = kk
+        if kd < 0 and g_dn[kk % ng] < 0:
+            kd = kk
+        if ku >= 0 or kd >= 0:
+            break
+    return ku, kd
+
+
+@_jit(inline=True)
+def _jenkins_stuck(c, k, reach, w, sig, t, t_end, t_rev, u, dtheta, want_jac, coef, jac, phi, v, pm, g_up, g_dn):
+    """A stuck piece of the Jenkins loop from ``t``: its end (where ``u`` leaves ``w +- reach``, the
+    exit the grid shows first; ``t_end`` if none) and the slip direction there (``sig`` if none);
+    its force and derivatives added to ``coef``, ``jac`` (``w`` set by the reversal at ``t_rev``)."""
+    ng = u.size
+    hh = (c.size - 1) // 2
+    for j in range(ng):
+        g_up[j] = w + reach - u[j]
+        g_dn[j] = u[j] - (w - reach)
+    ku, kd = _first_exit(g_up, g_dn, t, dtheta, ng)
+    b = t_end
+    new_sig = sig
+    if ku >= 0 and (kd < 0 or ku <= kd):
+        x = _crossing(c, 0, w + reach, -1.0, 1.0, g_up, dtheta, ng, t)
+        if x > t and x < b:
+            b = x
+            new_sig = 1.0
+    if kd >= 0 and (ku < 0 or kd <= ku):
+        x = _crossing(c, 0, w - reach, 1.0, 1.0, g_dn, dtheta, ng, t)
+        if x > t and x < b:
+            b = x
+            new_sig = -1.0
+    _integrals(t, b, hh, v, pm, True)
+    _add_stuck(coef, k, c, w, v, pm)
+    if want_jac:
+        _phi(t_rev, hh, phi)
+        _add_stuck_jacobian(jac, k, pm, v, phi)
+    return b, new_sig
+
+
+@_jit
+def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
+    """The loop of :func:`.hysteresis.jenkins_loop`; ``cos_table, sin_table``: ``(H, N)`` values of
+    ``cos/sin(h theta_j)`` on the grid ``theta_j = 2 pi j / N``. Returns ``(coef, jac, w0,
+    slips)`` with the Fourier normalisation applied."""
+    n = c.size
+    hh = (n - 1) // 2
+    ng = cos_table.shape[1]
+    dtheta = 2 * math.pi / ng
+    reach = f / k
+    u, du = _grid_values(c, cos_table, sin_table)
     coef = np.zeros(n)
     jac = np.zeros((n, n))
     phi = np.empty(n)
@@ -203,20 +328,10 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
     u_max = _value(c, t_max, 0)[0]
     u_min = _value(c, t_min, 0)[0]
     if u_max - u_min <= 2 * reach:  # never slips
-        lo_w, hi_w = u_max - reach, u_min + reach
-        w = min(max(w_ref, lo_w), hi_w)
-        for i in range(n):
-            coef[i] = k * c[i]
-        coef[0] -= k * w
-        if want_jac:
-            for i in range(n):
-                jac[i, i] = k
-            if w != w_ref:
-                _phi(t_max if w == lo_w else t_min, hh, phi)
-                for i in range(n):
-                    jac[0, i] -= k * phi[i]
+        w = _held_spring(c, k, u_max - reach, u_min + reach, t_max, t_min, w_ref, want_jac, coef, jac, phi)
         return coef, jac, w, False
-    t0 = t_max  # in [0, 2 pi) (_extremum)
+    # from the maximum of u (in [0, 2 pi), _extremum): the slider has just slipped forward and sticks
+    t0 = t_max
     t_end = t0 + 2 * math.pi
     t = t0
     sig = 1.0
@@ -230,57 +345,20 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
     g_dn = np.empty(ng)
     while t < t_end:
         if stuck:
-            for j in range(ng):
-                g_up[j] = w + reach - u[j]
-                g_dn[j] = u[j] - (w - reach)
-            # the exit the grid shows first
-            k0 = int(math.floor(t / dtheta)) + 1
-            while k0 * dtheta <= t:
-                k0 += 1
-            ku = -1
-            kd = -1
-            for kk in range(k0, 2 * ng + 1):
-                if ku < 0 and g_up[kk % ng] < 0:
-                    ku = kk
-                if kd < 0 and g_dn[kk % ng] < 0:
-                    kd = kk
-                if ku >= 0 or kd >= 0:
-                    break
-            b = t_end
-            new_sig = sig
-            if ku >= 0 and (kd < 0 or ku <= kd):
-                x = _crossing(c, 0, w + reach, -1.0, 1.0, g_up, dtheta, ng, t)
-                if x > t and x < b:
-                    b = x
-                    new_sig = 1.0
-            if kd >= 0 and (ku < 0 or kd <= ku):
-                x = _crossing(c, 0, w - reach, 1.0, 1.0, g_dn, dtheta, ng, t)
-                if x > t and x < b:
-                    b = x
-                    new_sig = -1.0
-            _integrals(t, b, hh, v, pm, True)
-            for i in range(n):
-                s = 0.0
-                for j in range(n):
-                    s += pm[i, j] * c[j]
-                coef[i] += k * s - k * w * v[i]
-            if want_jac:
-                _phi(t_rev, hh, phi)
-                for i in range(n):
-                    for j in range(n):
-                        jac[i, j] += k * (pm[i, j] - v[i] * phi[j])
-            if math.isnan(w0) and t <= 2 * math.pi <= b:
+            b, new_sig = _jenkins_stuck(c, k, reach, w, sig, t, t_end, t_rev, u, dtheta, want_jac, coef, jac, phi,
+                                        v, pm, g_up, g_dn)
+            if _spans_start(w0, t, b):
                 w0 = w
             t = b
             stuck = False
             sig = new_sig
-        else:
+        else:  # slipping with u until u' changes sign
             x = _crossing(c, 1, 0.0, 1.0, sig, du, dtheta, ng, t)
             b = t_end if (x < 0 or x <= t) else min(x, t_end)
             _integrals(t, b, hh, v, pm, False)
             for i in range(n):
                 coef[i] += sig * f * v[i]
-            if math.isnan(w0) and t <= 2 * math.pi <= b:
+            if _spans_start(w0, t, b):
                 w0 = _value(c, 2 * math.pi, 0)[0] - sig * reach
             t = b
             stuck = True
@@ -288,12 +366,8 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
             t_rev = b
     if math.isnan(w0):
         w0 = w
-    inv_pi = 1.0 / math.pi
-    for i in range(n):
-        sc = 0.5 * inv_pi if i == 0 else inv_pi
-        coef[i] *= sc
-        for j in range(n):
-            jac[i, j] *= sc
+    _normalise(coef)
+    _normalise_rows(jac)
     return coef, jac, w0, True
 
 
@@ -307,22 +381,12 @@ def _first(x, y):
     return min(x, y)
 
 
-@_jit
-def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_table, sin_table):
-    """Steady loop of a Jenkins slider on a unilateral contact with a varying normal load, driven by
-    the tangential displacement ``s`` (coefficients ``cs``) and the normal one ``p`` (``cp``): the
-    algorithm of :func:`.hysteresis.flank_loop`. Returns ``(T, dT/dcs, dT/dcp, Rn, dRn/dcp,
-    open_matrix, w0, slips)`` with the Fourier normalisation applied (``open_matrix[i, j]`` the
-    normalised ``int_open psi_i phi_j``)."""
-    n = cs.size
-    hh = (n - 1) // 2
+@_jit(inline=True)
+def _flank_grid(cs, cp, a, cos_table, sin_table):
+    """``s``, ``p`` and the closed band's edges' slopes ``L' = s' + a p'``, ``U' = s' - a p'`` on the
+    grid of the tables (one pass: as :func:`_grid_values` twice, without its second sweep)."""
+    hh = (cs.size - 1) // 2
     ng = cos_table.shape[1]
-    dtheta = 2 * math.pi / ng
-    a = mu * kn / k  # the band's half-width r = a max(gap - p, 0)
-    gap = n0 / kn
-    b = a * gap
-    cl = cs + a * cp  # the band's edges while closed: L = cl - b, U = cu + b
-    cu = cs - a * cp
     s_g = np.empty(ng)
     p_g = np.empty(ng)
     dl_g = np.empty(ng)
@@ -342,6 +406,183 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
         p_g[j] = p0
         dl_g[j] = ds + a * dp
         du_g[j] = ds - a * dp
+    return s_g, p_g, dl_g, du_g
+
+
+@_jit(inline=True)
+def _derivative(c):
+    """The coefficients of ``du/dtheta``: ``(a_h, b_h) -> h (b_h, -a_h)``."""
+    d = np.zeros(c.size)
+    for h in range(1, (c.size - 1) // 2 + 1):
+        d[2 * h - 1] = h * c[2 * h]
+        d[2 * h] = -h * c[2 * h - 1]
+    return d
+
+
+@_jit(inline=True)
+def _band_extrema(cl, cu, s_g, p_g, a, b, dtheta):
+    """``(theta, max L)`` and ``(theta, min U)`` of the closed band's edges ``L = s + a p - b``,
+    ``U = s - a p + b``."""
+    ng = s_g.size
+    t_l = _extremum(cl, s_g + a * p_g, 1.0, dtheta, ng)
+    t_u = _extremum(cu, s_g - a * p_g, -1.0, dtheta, ng)
+    return t_l, _value(cl, t_l, 0)[0] - b, t_u, _value(cu, t_u, 0)[0] + b
+
+
+@_jit(inline=True)
+def _held_flank(cs, k, a, l_max, u_min, t_l, t_u, w_ref, want_jac, coef, jts, jtp, phi):
+    """:func:`_held_spring` of a flank slider that never slips; where ``w`` is clipped, it is held
+    by ``L`` (it moves with ``s + a p``) or by ``U`` (``s - a p``): its derivative by ``cp`` too."""
+    w = _held_spring(cs, k, l_max, u_min, t_l, t_u, w_ref, want_jac, coef, jts, phi)
+    if want_jac and w != w_ref:
+        sa = a if w == l_max else -a
+        for i in range(cs.size):
+            jtp[0, i] -= k * sa * phi[i]
+    return w
+
+
+@_jit(inline=True)
+def _band_edge(cs, cp, sig, a, gap, theta):
+    """The closed contact's slip-band edge that a slider slipping in direction ``sig`` moves with:
+    ``s - sig a (gap - p)`` at ``theta`` (``L`` for ``sig = 1``, ``U`` for -1)."""
+    return _value(cs, theta, 0)[0] - sig * a * (gap - _value(cp, theta, 0)[0])
+
+
+@_jit(inline=True)
+def _lift_off(cp, p_g, gap, dtheta, ng, g):
+    """The first lift-off on the grid: the root of ``p - gap`` where ``p`` rises through ``gap``
+    (``g`` overwritten with ``p - gap`` on the grid)."""
+    for j in range(ng):
+        g[j] = p_g[j] - gap
+    kk = 0
+    for j in range(ng):
+        if g[j] <= 0 and g[(j + 1) % ng] > 0:
+            kk = j
+            break
+    return _root(cp, 0, gap, kk * dtheta, (kk + 1) * dtheta)
+
+
+@_jit(inline=True)
+def _flank_stuck(cs, cl, cu, k, a, b, w, t, t_end, s_g, p_g, dtheta, want_jac, coef, jts, jtp, dws, dwp, v, pm,
+                 g_a, g_b):
+    """A stuck piece of the flank loop from ``t``: its end (where an edge of the band ``[L, U]``
+    reaches ``w``; ``t_end`` if none) and the state after it (1: ``L`` pushes forward, -1: ``U``
+    backward); the spring's force and its derivatives (``w`` moving by ``dws dcs + dwp dcp``) added
+    to ``coef``, ``jts``, ``jtp``."""
+    ng = s_g.size
+    n = cs.size
+    for j in range(ng):
+        g_a[j] = w + b - (s_g[j] + a * p_g[j])  # L reaches w
+        g_b[j] = (s_g[j] - a * p_g[j]) + b - w  # U reaches w
+    x_up = _crossing(cl, 0, w + b, -1.0, 1.0, g_a, dtheta, ng, t)
+    x_dn = _crossing(cu, 0, w - b, 1.0, 1.0, g_b, dtheta, ng, t)
+    x = _first(x_up if x_up > t else -1.0, x_dn if x_dn > t else -1.0)
+    e = t_end if (x < 0 or x > t_end) else x
+    new_state = 1 if (x >= 0 and x == x_up) else -1
+    _integrals(t, e, (n - 1) // 2, v, pm, True)
+    _add_stuck(coef, k, cs, w, v, pm)
+    if want_jac:
+        _add_stuck_jacobian(jts, k, pm, v, dws)
+        for i in range(n):
+            for j in range(n):
+                jtp[i, j] -= k * v[i] * dwp[j]
+    return e, new_state
+
+
+@_jit(inline=True)
+def _flank_open(cp, dcp, kn, cn, n0, omega, gap, t, t_end, p_g, dtheta, want_jac, rn, jnn, m_open, phi, v, pm, g_a):
+    """An open piece of the flank loop from ``t``: its end (the closure, a root of ``p - gap``;
+    ``t_end`` if none); the contact's closed-state spring, dashpot and preload, which are taken out
+    while it is open, into ``rn``, the open indicator into ``m_open``, and the dashpot's jumps at
+    the opening and closing into ``jnn``."""
+    ng = p_g.size
+    n = cp.size
+    hh = (n - 1) // 2
+    for j in range(ng):
+        g_a[j] = p_g[j] - gap
+    x = _crossing(cp, 0, gap, 1.0, 1.0, g_a, dtheta, ng, t)  # closure
+    e = t_end if (x < 0 or x <= t or x > t_end) else x
+    _integrals(t, e, hh, v, pm, True)
+    for i in range(n):
+        rn[i] += n0 * v[i] - kn * row_dot(pm, i, cp) - cn * omega * row_dot(pm, i, dcp)
+    if want_jac:
+        for i in range(n):
+            for j in range(n):
+                m_open[i, j] += pm[i, j]
+        # the dashpot's force jumps where the contact opens and closes: d(theta)/dcp =
+        # -phi/p', the jump -cn omega p': the boundary terms cn omega psi phi^T
+        _phi(t, hh, phi)
+        for i in range(n):
+            for j in range(n):
+                jnn[i, j] -= cn * omega * phi[i] * phi[j]
+        _phi(e, hh, phi)
+        for i in range(n):
+            for j in range(n):
+                jnn[i, j] += cn * omega * phi[i] * phi[j]
+    return e
+
+
+@_jit(inline=True)
+def _closure(cs, cp, a, t, dws, dwp):
+    """The slider's position and state where the contact closes at ``t``: the band opens from zero
+    width around ``w = s``; the slider sticks (``dws``, ``dwp``: how ``w`` moves with the
+    coefficients) unless an edge outruns it (state 1 or -1)."""
+    w = _value(cs, t, 0)[0]
+    ds_c = _value(cs, t, 1)[0]
+    dp_c = _value(cp, t, 1)[0]
+    if ds_c + a * dp_c > 0:
+        return w, 1
+    if ds_c - a * dp_c < 0:
+        return w, -1
+    _phi(t, (cs.size - 1) // 2, dws)
+    ratio = -ds_c / dp_c if dp_c != 0.0 else 0.0
+    for i in range(cs.size):
+        dwp[i] = ratio * dws[i]
+    return w, 0
+
+
+@_jit(inline=True)
+def _flank_slip(cp, cl, cu, mu, kn, n0, gap, sig, t, t_end, dl_g, du_g, p_g, dtheta, want_jac, coef, jtp, v, pm,
+                g_b):
+    """A slipping piece of the flank loop from ``t`` (direction ``sig``, with the edge ``L`` or
+    ``U``): its end (the edge's reversal or a lift-off; ``t_end`` if neither) and whether it ends
+    by lifting off; the friction force ``sig mu N`` and its derivative added to ``coef``, ``jtp``."""
+    ng = p_g.size
+    n = cp.size
+    for j in range(ng):
+        g_b[j] = gap - p_g[j]
+    x_rev = _crossing(cl if sig > 0 else cu, 1, 0.0, 1.0, sig, dl_g if sig > 0 else du_g, dtheta, ng, t)
+    x_lift = _crossing(cp, 0, gap, -1.0, 1.0, g_b, dtheta, ng, t)
+    x = _first(x_rev if x_rev > t else -1.0, x_lift if x_lift > t else -1.0)
+    e = t_end if (x < 0 or x > t_end) else x
+    lift = x >= 0 and x == x_lift and x_lift != x_rev
+    _integrals(t, e, (n - 1) // 2, v, pm, True)
+    for i in range(n):
+        coef[i] += sig * mu * (n0 * v[i] - kn * row_dot(pm, i, cp))
+    if want_jac:
+        for i in range(n):
+            for j in range(n):
+                jtp[i, j] -= sig * mu * kn * pm[i, j]
+    return e, lift
+
+
+@_jit
+def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_table, sin_table):
+    """Steady loop of a Jenkins slider on a unilateral contact with a varying normal load, driven by
+    the tangential displacement ``s`` (coefficients ``cs``) and the normal one ``p`` (``cp``): the
+    algorithm of :func:`.hysteresis.flank_loop`. Returns ``(T, dT/dcs, dT/dcp, Rn, dRn/dcp,
+    open_matrix, w0, slips)`` with the Fourier normalisation applied (``open_matrix[i, j]`` the
+    normalised ``int_open psi_i phi_j``)."""
+    n = cs.size
+    hh = (n - 1) // 2
+    ng = cos_table.shape[1]
+    dtheta = 2 * math.pi / ng
+    a = mu * kn / k  # the band's half-width r = a max(gap - p, 0)
+    gap = n0 / kn
+    b = a * gap
+    cl = cs + a * cp  # the band's edges while closed: L = cl - b, U = cu + b
+    cu = cs - a * cp
+    s_g, p_g, dl_g, du_g = _flank_grid(cs, cp, a, cos_table, sin_table)
     coef = np.zeros(n)
     jts = np.zeros((n, n))
     jtp = np.zeros((n, n))
@@ -353,11 +594,7 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
     pm = np.empty((n, n))
     dws = np.zeros(n)  # d w / d cs, d w / d cp of a stuck piece
     dwp = np.zeros(n)
-    # dcp: coefficients of p' = dp/dtheta (the dashpot's)
-    dcp = np.zeros(n)
-    for h in range(1, hh + 1):
-        dcp[2 * h - 1] = h * cp[2 * h]
-        dcp[2 * h] = -h * cp[2 * h - 1]
+    dcp = _derivative(cp)  # the dashpot's p' = dp/dtheta
     opens = False
     for j in range(ng):
         if p_g[j] > gap:
@@ -368,40 +605,13 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
     # state: 0 stuck, 1 slipping forward (w = L), -1 backward (w = U), 2 open (w = s)
     if opens:
         # start at a lift-off (p rising through gap): the slider has no memory there (w = s)
-        for j in range(ng):
-            g_a[j] = p_g[j] - gap
-        kk = 0
-        for j in range(ng):
-            if g_a[j] <= 0 and g_a[(j + 1) % ng] > 0:
-                kk = j
-                break
-        t0 = _root(cp, 0, gap, kk * dtheta, (kk + 1) * dtheta)
+        t0 = _lift_off(cp, p_g, gap, dtheta, ng, g_a)
         state = 2
         w = _value(cs, t0, 0)[0]
     else:
-        cl_g = np.empty(ng)
-        cu_g = np.empty(ng)
-        for j in range(ng):
-            cl_g[j] = s_g[j] + a * p_g[j]
-            cu_g[j] = s_g[j] - a * p_g[j]
-        t_l = _extremum(cl, cl_g, 1.0, dtheta, ng)
-        t_u = _extremum(cu, cu_g, -1.0, dtheta, ng)
-        l_max = _value(cl, t_l, 0)[0] - b
-        u_min = _value(cu, t_u, 0)[0] + b
+        t_l, l_max, t_u, u_min = _band_extrema(cl, cu, s_g, p_g, a, b, dtheta)
         if l_max <= u_min:  # never slips: w stays in [max L, min U]
-            w = min(max(w_ref, l_max), u_min)
-            for i in range(n):
-                coef[i] = k * cs[i]
-            coef[0] -= k * w
-            if want_jac:
-                for i in range(n):
-                    jts[i, i] = k
-                if w != w_ref:
-                    at_l = w == l_max
-                    _phi(t_l if at_l else t_u, hh, phi)
-                    for i in range(n):
-                        jts[0, i] -= k * phi[i]
-                        jtp[0, i] -= k * (a if at_l else -a) * phi[i]
+            w = _held_flank(cs, k, a, l_max, u_min, t_l, t_u, w_ref, want_jac, coef, jts, jtp, phi)
             return coef, jts, jtp, rn, jnn, m_open, w, False
         # start at the maximum of L: the slider has just slipped forward and sticks (Masing)
         t0 = t_l
@@ -422,118 +632,40 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
                 rn[i] = math.nan
             return coef, jts, jtp, rn, jnn, m_open, math.nan, True
         if state == 0:
-            for j in range(ng):
-                g_a[j] = w + b - (s_g[j] + a * p_g[j])  # L reaches w
-                g_b[j] = (s_g[j] - a * p_g[j]) + b - w  # U reaches w
-            x_up = _crossing(cl, 0, w + b, -1.0, 1.0, g_a, dtheta, ng, t)
-            x_dn = _crossing(cu, 0, w - b, 1.0, 1.0, g_b, dtheta, ng, t)
-            x = _first(x_up if x_up > t else -1.0, x_dn if x_dn > t else -1.0)
-            e = t_end if (x < 0 or x > t_end) else x
-            new_state = 1 if (x >= 0 and x == x_up) else -1
-            _integrals(t, e, hh, v, pm, True)
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += pm[i, j] * cs[j]
-                coef[i] += k * acc - k * w * v[i]
-            if want_jac:
-                for i in range(n):
-                    for j in range(n):
-                        jts[i, j] += k * (pm[i, j] - v[i] * dws[j])
-                        jtp[i, j] -= k * v[i] * dwp[j]
-            if math.isnan(w0) and t <= 2 * math.pi <= e:
+            e, new_state = _flank_stuck(cs, cl, cu, k, a, b, w, t, t_end, s_g, p_g, dtheta, want_jac, coef, jts, jtp,
+                                        dws, dwp, v, pm, g_a, g_b)
+            if _spans_start(w0, t, e):
                 w0 = w
             t = e
             state = new_state
         elif state == 2:
-            for j in range(ng):
-                g_a[j] = p_g[j] - gap
-            x = _crossing(cp, 0, gap, 1.0, 1.0, g_a, dtheta, ng, t)  # closure
-            e = t_end if (x < 0 or x <= t or x > t_end) else x
-            _integrals(t, e, hh, v, pm, True)
-            # the contact's closed-state spring, dashpot and preload are taken out while it is open
-            for i in range(n):
-                acc = 0.0
-                accd = 0.0
-                for j in range(n):
-                    acc += pm[i, j] * cp[j]
-                    accd += pm[i, j] * dcp[j]
-                rn[i] += n0 * v[i] - kn * acc - cn * omega * accd
-            if want_jac:
-                for i in range(n):
-                    for j in range(n):
-                        m_open[i, j] += pm[i, j]
-                # the dashpot's force jumps where the contact opens and closes: d(theta)/dcp =
-                # -phi/p', the jump -cn omega p': the boundary terms cn omega psi phi^T
-                _phi(t, hh, phi)
-                for i in range(n):
-                    for j in range(n):
-                        jnn[i, j] -= cn * omega * phi[i] * phi[j]
-                _phi(e, hh, phi)
-                for i in range(n):
-                    for j in range(n):
-                        jnn[i, j] += cn * omega * phi[i] * phi[j]
-            if math.isnan(w0) and t <= 2 * math.pi <= e:
+            e = _flank_open(cp, dcp, kn, cn, n0, omega, gap, t, t_end, p_g, dtheta, want_jac, rn, jnn, m_open, phi,
+                            v, pm, g_a)
+            if _spans_start(w0, t, e):
                 w0 = _value(cs, 2 * math.pi, 0)[0]
             t = e
             if t < t_end:
-                # closure: the band opens from zero width around w = s; the slider sticks unless
-                # an edge outruns it
-                w = _value(cs, t, 0)[0]
-                ds_c = _value(cs, t, 1)[0]
-                dp_c = _value(cp, t, 1)[0]
-                if ds_c + a * dp_c > 0:
-                    state = 1
-                elif ds_c - a * dp_c < 0:
-                    state = -1
-                else:
-                    state = 0
-                    _phi(t, hh, dws)
-                    ratio = -ds_c / dp_c if dp_c != 0.0 else 0.0
-                    for i in range(n):
-                        dwp[i] = ratio * dws[i]
+                w, state = _closure(cs, cp, a, t, dws, dwp)
         else:
             sig = float(state)
-            for j in range(ng):
-                g_a[j] = dl_g[j] if state == 1 else du_g[j]
-                g_b[j] = gap - p_g[j]
-            x_rev = _crossing(cl if state == 1 else cu, 1, 0.0, 1.0, sig, g_a, dtheta, ng, t)
-            x_lift = _crossing(cp, 0, gap, -1.0, 1.0, g_b, dtheta, ng, t)
-            x = _first(x_rev if x_rev > t else -1.0, x_lift if x_lift > t else -1.0)
-            e = t_end if (x < 0 or x > t_end) else x
-            lift = x >= 0 and x == x_lift and x_lift != x_rev
-            _integrals(t, e, hh, v, pm, True)
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += pm[i, j] * cp[j]
-                coef[i] += sig * mu * (n0 * v[i] - kn * acc)
-            if want_jac:
-                for i in range(n):
-                    for j in range(n):
-                        jtp[i, j] -= sig * mu * kn * pm[i, j]
-            if math.isnan(w0) and t <= 2 * math.pi <= e:
-                w0 = _value(cs, 2 * math.pi, 0)[0] - sig * a * (gap - _value(cp, 2 * math.pi, 0)[0])
+            e, lift = _flank_slip(cp, cl, cu, mu, kn, n0, gap, sig, t, t_end, dl_g, du_g, p_g, dtheta, want_jac, coef,
+                                  jtp, v, pm, g_b)
+            if _spans_start(w0, t, e):
+                w0 = _band_edge(cs, cp, sig, a, gap, 2 * math.pi)
             t = e
             if t < t_end:
                 if lift:
                     state = 2
                 else:  # reversal: the slider sticks where the edge turned
-                    w = _value(cs, t, 0)[0] - sig * a * (gap - _value(cp, t, 0)[0])
+                    w = _band_edge(cs, cp, sig, a, gap, t)
                     _phi(t, hh, dws)
                     for i in range(n):
                         dwp[i] = sig * a * dws[i]
                     state = 0
     if math.isnan(w0):
         w0 = w
-    inv_pi = 1.0 / math.pi
-    for i in range(n):
-        sc = 0.5 * inv_pi if i == 0 else inv_pi
-        coef[i] *= sc
-        rn[i] *= sc
-        for j in range(n):
-            jts[i, j] *= sc
-            jtp[i, j] *= sc
-            jnn[i, j] *= sc
-            m_open[i, j] *= sc
+    _normalise(coef)
+    _normalise(rn)
+    for m in (jts, jtp, jnn, m_open):
+        _normalise_rows(m)
     return coef, jts, jtp, rn, jnn, m_open, w0, True
