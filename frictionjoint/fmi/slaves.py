@@ -283,6 +283,17 @@ class _RunSlave(_Slave):
     #: seconds of work at the densest events measured (see the subclasses)
     max_cycles = 0.0
 
+    def _declare_run(self, parameters: dict, held_description: str, outputs: dict) -> None:
+        """Declares the run's variables in the FMU's order: its parameters (name -> (default,
+        description)), the held input :attr:`_held` (0 until set) and its outputs (name -> (kind,
+        description)); no run until initialisation."""
+        for name, (default, text) in parameters.items():
+            self._parameter(name, default, text, kind=type(default))
+        self._input(self._held, 0.0, held_description)
+        for name, (kind, text) in outputs.items():
+            self._output(name, text, kind=kind)
+        self._run = None
+
     def _idle(self, name):
         """An output before initialisation."""
         raise NotImplementedError
@@ -345,12 +356,9 @@ class CoulombOscillatorSlave(_RunSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        for name, (default, text) in OSCILLATOR_PARAMETERS.items():
-            self._parameter(name, default, text, kind=type(default))
-        self._input("force", 0.0, "external force on the mass, added to the harmonic one, held over a step [N]")
-        for name, (kind, text) in OSCILLATOR_OUTPUTS.items():
-            self._output(name, text, kind=kind)
-        self._run = None
+        self._declare_run(OSCILLATOR_PARAMETERS,
+                          "external force on the mass, added to the harmonic one, held over a step [N]",
+                          OSCILLATOR_OUTPUTS)
 
     def _initialise(self):
         params = {k: getattr(self, k) for k in OSCILLATOR_PARAMETERS}
@@ -839,12 +847,8 @@ class BladeDovetailSlave(_RunSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._model = load_blade_model(os.path.join(kwargs["resources"], BLADE_RESOURCE))
-        for name, (default, text) in blade_parameters(self._model).items():
-            self._parameter(name, default, text, kind=type(default))
-        self._input("tip_force", 0.0, "extra force at the tip, added to the harmonic one, held over a step [N]")
-        for name, (kind, text) in BLADE_OUTPUTS.items():
-            self._output(name, text, kind=kind)
-        self._run = None
+        self._declare_run(blade_parameters(self._model),
+                          "extra force at the tip, added to the harmonic one, held over a step [N]", BLADE_OUTPUTS)
 
     def _initialise(self):
         params = {k: getattr(self, k) for k in blade_parameters(self._model)}
