@@ -32,7 +32,7 @@ def _jit(fun=None, *, inline=False):
             else fun)
 
 
-@_jit(inline=True)
+@_jit
 def row_dot(a, i, x):
     """``a[i] @ x``, summed from the first column on, in a plain loop (inside a compiled kernel: no
     temporary and no call into BLAS for a few numbers; the same rounding wherever a kernel uses

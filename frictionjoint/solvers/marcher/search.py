@@ -545,6 +545,10 @@ def first_event(p, abs_p, a, b0, bp, bm, c0, lam, cc, cs, w, t0, tol, atzero, vr
                 nidx, nmu, nc, max_samples=MAX_SAMPLES):
     """First event of a modal piece in ``(0, horizon]``.
 
+    One piece on purpose: its sample loop is the marcher's hottest, and its steps as compiled
+    helpers (the start sample, the rows' crossings and dips per step; inlined or called) cost
+    3-8 % per call, measured on 400 real calls.
+
     Parameters
     ----------
     p : (rows, modes) complex ndarray
