@@ -73,22 +73,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     from tqdm import tqdm
 
     check_system("system", system, FrictionSystem)
-    ws_in = check_omegas("omega_range", omega_range)
-    if ws_in.size < 2:
-        raise ParameterError(f"omega_range must hold a start and an end angular frequency [rad/s] ('START:STOP:N', "
-                             f"(start, stop) or the frequencies of a sweep), got {omega_range!r}")
-    w_a, w_b = float(ws_in[0]), float(ws_in[-1])
-    if n_points is None:
-        n_points = ws_in.size if isinstance(omega_range, str) or ws_in.size > 2 else 200
-    if check is not True and check is not False:
-        try:
-            targets = np.asarray(check, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise ParameterError(f"check must be True, False or frequencies [rad/s], got {check!r}") from None
-        if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0):
-            raise ParameterError(f"check: frequencies must be finite and > 0 [rad/s], got {check!r}")
-    if w_a == w_b:
-        raise ParameterError("omega_range must have two different frequencies")
+    w_a, w_b, n_points, targets = _check_range(omega_range, n_points, check)
     hh = check_count("n_harmonics", n_harmonics, 1)
     n_points = check_count("n_points", n_points, 2)
     max_points = 20 * n_points if max_points is None else check_count("max_points", max_points, 1)
@@ -101,38 +86,14 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     ws = abs(w_b - w_a)
     sense = 1.0 if w_b > w_a else -1.0
     nz = z.size
-
-    def system_at(w):
-        return Condensed(_at(system, w), hh)
-
-    def equations(zz, w, c):
-        f = c.forces(zz)
-        res = zz - c.q_linear + c.Y @ f.r
-        jz = np.eye(nz) + c.Y @ f.jacobian
-        dy, dl = c.omega_derivative()
-        jw = -dl + dy @ f.r + c.Y @ f.d_omega
-        return res, jz, jw, f
-
-    def tangent(jz, jw, t_prev):
-        a = np.zeros((nz + 1, nz + 1))
-        a[:nz, :nz] = jz  # in scaled coordinates: d/d(z/zs) = jz zs, d/d(w/ws) = jw ws; rows / zs
-        a[:nz, nz] = jw * ws / zs
-        a[nz] = t_prev
-        rhs = np.zeros(nz + 1)
-        rhs[nz] = 1.0
-        t = np.linalg.solve(a, rhs)
-        t /= np.linalg.norm(t)
-        return t if t @ t_prev >= 0 else -t
-
     w = w_a
-    c = cond
-    res, jz, jw, jf = equations(z, w, c)
-    t = tangent(jz, jw, np.r_[np.zeros(nz), sense])
+    res, jz, jw, jf = _equations(z, cond)
+    t = _tangent(jz, jw, np.r_[np.zeros(nz), sense], ws, zs)
     y = np.r_[z / zs, w / ws]
     y_prev = None
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
-    rows = [(w, c.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions,
+    rows = [(w, cond.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions,
              jf.stuck)]
     message = ""
     if not first.converged:  # nothing to follow: say so rather than step from a wrong point
@@ -143,47 +104,20 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     try:
         while len(rows) < max_points:
             y_pred = y + ds * t
-            yk = y_pred.copy()
-            ok = False
-            for it in range(1, 16):
-                wk = yk[nz] * ws
-                if wk <= 0:
-                    break
-                ck = system_at(wk)
-                zk = yk[:nz] * zs
-                res, jz, jw, jf = equations(zk, wk, ck)
-                arc = t @ (yk - y_pred)
-                if float(np.max(np.abs(res))) <= tol * max(float(np.max(np.abs(zk))), 1e-6 * zs) and abs(arc) <= 1e-12:
-                    ok = True
-                    break
-                a = np.zeros((nz + 1, nz + 1))
-                a[:nz, :nz] = jz * zs
-                a[:nz, nz] = jw * ws
-                a[nz] = t
-                try:
-                    step = np.linalg.solve(a, -np.r_[res, arc])
-                except np.linalg.LinAlgError:
-                    break
-                yk = yk + step
-            if not ok:
-                ds *= 0.5
-                if ds < ds_min:
-                    message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
-                    break
-                continue
+            ok, yk, it, ck, jz, jw, jf = _correct(system, hh, y_pred, t, ws, zs, tol)
             # a corrector that lands behind the last point (nearer the one before it) retraces the
             # branch: at a kink of the loops' Jacobian (a slider's stick/slip boundary) the
             # hyperplane can cut the branch twice; a shorter step goes on past the kink
             # so does a corrector that moved farther than the step from its predictor (it jumped to
             # another stretch of a steep, lightly damped resonance)
-            if (np.linalg.norm(yk - y_pred) > ds
+            if (not ok or np.linalg.norm(yk - y_pred) > ds
                     or (y_prev is not None and np.linalg.norm(yk - y_prev) < np.linalg.norm(yk - y))):
                 ds *= 0.5
                 if ds < ds_min:
                     message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
                     break
                 continue
-            t_new = tangent(jz, jw, t)
+            t_new = _tangent(jz, jw, t, ws, zs)
             fold = (t_new[nz] * t[nz]) < 0
             y_prev = y
             y, t = yk, t_new
@@ -191,15 +125,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
             rows.append((w, ck.harmonics(jf.r), jf.dissipated, bool(fold), True,
                          f"converged in {it - 1} corrector iterations", jf.slider_positions, jf.stuck))
             ds = min(ds * 1.5, ds_max) if it <= 4 else ds
-            # z's scale follows the largest solution so far (a resonance many times the start's
-            # size would otherwise make the arclength, and the number of points, that many times longer)
-            zmax = float(np.max(np.abs(zk)))
-            if zmax > 2.0 * zs:
-                y[:nz] *= zs / zmax
-                y_prev[:nz] *= zs / zmax
-                t[:nz] *= zs / zmax
-                t /= np.linalg.norm(t)
-                zs = zmax
+            zs = _rescale(y, y_prev, t, yk[:nz] * zs, zs)
             done = (w - w_b) * sense >= 0
             bar.n = int(1000 * min(max((w - w_a) / (w_b - w_a), 0.0), 1.0))
             bar.refresh()
@@ -213,6 +139,106 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
             message = message or f"stopped after max_points = {max_points} points"
     finally:
         bar.close()
+    return _sweep_result(system, rows, hh, message, check, targets)
+
+
+def _check_range(omega_range, n_points, check):
+    """``(w_a, w_b, n_points, targets)`` of :func:`hbm_sweep`'s range and check arguments: the first
+    and last frequency, the default number of points, the check's frequencies (None for True or
+    False); refuses what they cannot be."""
+    ws_in = check_omegas("omega_range", omega_range)
+    if ws_in.size < 2:
+        raise ParameterError(f"omega_range must hold a start and an end angular frequency [rad/s] ('START:STOP:N', "
+                             f"(start, stop) or the frequencies of a sweep), got {omega_range!r}")
+    w_a, w_b = float(ws_in[0]), float(ws_in[-1])
+    if n_points is None:
+        n_points = ws_in.size if isinstance(omega_range, str) or ws_in.size > 2 else 200
+    targets = None
+    if check is not True and check is not False:
+        try:
+            targets = np.asarray(check, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError(f"check must be True, False or frequencies [rad/s], got {check!r}") from None
+        if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0):
+            raise ParameterError(f"check: frequencies must be finite and > 0 [rad/s], got {check!r}")
+    if w_a == w_b:
+        raise ParameterError("omega_range must have two different frequencies")
+    return w_a, w_b, n_points, targets
+
+
+def _equations(zz: np.ndarray, c: Condensed):
+    """The branch's residual ``r(z, omega)`` at the joint coordinates ``zz`` and the frequency of
+    ``c``, its derivatives ``dr/dz`` and ``dr/domega``, and the joints' forces."""
+    f = c.forces(zz)
+    res = zz - c.q_linear + c.Y @ f.r
+    jz = np.eye(zz.size) + c.Y @ f.jacobian
+    dy, dl = c.omega_derivative()
+    jw = -dl + dy @ f.r + c.Y @ f.d_omega
+    return res, jz, jw, f
+
+
+def _tangent(jz: np.ndarray, jw: np.ndarray, t_prev: np.ndarray, ws: float, zs: float) -> np.ndarray:
+    """The branch's unit tangent in scaled coordinates, on the side of ``t_prev``."""
+    nz = jz.shape[0]
+    a = np.zeros((nz + 1, nz + 1))
+    a[:nz, :nz] = jz  # in scaled coordinates: d/d(z/zs) = jz zs, d/d(w/ws) = jw ws; rows / zs
+    a[:nz, nz] = jw * ws / zs
+    a[nz] = t_prev
+    rhs = np.zeros(nz + 1)
+    rhs[nz] = 1.0
+    t = np.linalg.solve(a, rhs)
+    t /= np.linalg.norm(t)
+    return t if t @ t_prev >= 0 else -t
+
+
+def _correct(system: FrictionSystem, hh: int, y_pred: np.ndarray, t: np.ndarray, ws: float, zs: float, tol: float):
+    """Newton's corrector from the predicted ``y_pred`` on ``r = 0`` and ``t . (y - y_pred) = 0``:
+    ``(ok, y, iterations + 1, condensed system, dr/dz, dr/domega, joint forces)`` (``ok`` False:
+    no convergence in 15 iterations, a frequency <= 0 or a singular matrix)."""
+    nz = y_pred.size - 1
+    yk = y_pred.copy()
+    ck = jz = jw = jf = None
+    for it in range(1, 16):
+        wk = yk[nz] * ws
+        if wk <= 0:
+            break
+        ck = Condensed(_at(system, wk), hh)
+        zk = yk[:nz] * zs
+        res, jz, jw, jf = _equations(zk, ck)
+        arc = t @ (yk - y_pred)
+        if float(np.max(np.abs(res))) <= tol * max(float(np.max(np.abs(zk))), 1e-6 * zs) and abs(arc) <= 1e-12:
+            return True, yk, it, ck, jz, jw, jf
+        a = np.zeros((nz + 1, nz + 1))
+        a[:nz, :nz] = jz * zs
+        a[:nz, nz] = jw * ws
+        a[nz] = t
+        try:
+            step = np.linalg.solve(a, -np.r_[res, arc])
+        except np.linalg.LinAlgError:
+            break
+        yk = yk + step
+    return False, yk, 0, ck, jz, jw, jf
+
+
+def _rescale(y: np.ndarray, y_prev: np.ndarray, t: np.ndarray, z: np.ndarray, zs: float) -> float:
+    """z's scale follows the largest solution so far (a resonance many times the start's size would
+    otherwise make the arclength, and the number of points, that many times longer): ``y``,
+    ``y_prev`` and ``t`` rescaled in place where ``max |z|`` passed twice the scale ``zs``; returns
+    the scale."""
+    nz = z.size
+    zmax = float(np.max(np.abs(z)))
+    if zmax > 2.0 * zs:
+        y[:nz] *= zs / zmax
+        y_prev[:nz] *= zs / zmax
+        t[:nz] *= zs / zmax
+        t /= np.linalg.norm(t)
+        zs = zmax
+    return zs
+
+
+def _sweep_result(system: FrictionSystem, rows: list, hh: int, message: str, check, targets) -> HarmonicBalanceSweep:
+    """The branch's points as a :class:`HarmonicBalanceSweep`, the checked ones against the exact
+    time-domain steady state (truncation error, stability)."""
     omegas = np.array([row[0] for row in rows])
     harm = np.array([row[1] for row in rows])
     stable = trunc = None
