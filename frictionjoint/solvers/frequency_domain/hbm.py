@@ -319,20 +319,47 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
     max_iter = check_count("max_iter", max_iter, 1)
     cond = Condensed(system, hh)
+    z = _start(system, cond, guess, tol, max_iter)
+    z, res, jf, it, converged, message = _newton(cond, z, tol, max_iter)
+    rel = float(np.max(np.abs(res))) / max(float(np.max(np.abs(z))), 1e-300)
+    harm = cond.harmonics(jf.r)
+    if not message:
+        message = (f"harmonic balance converged in {it} Newton iterations (H = {hh}, residual {rel:.2e})"
+                   if converged else f"harmonic balance did not converge in {max_iter} iterations "
+                                     f"(residual {rel:.2e})")
+    out = HarmonicBalance(omega=system.omega, n_harmonics=hh, harmonics=harm,
+                          harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
+                          converged=bool(converged), message=message, iterations=it, residual=rel,
+                          dissipated_per_cycle=jf.dissipated,
+                          slider_positions=jf.slider_positions, stuck=jf.stuck)
+    if check:
+        _check_exact(system, out)
+    return out
+
+
+def _start(system: FrictionSystem, cond: Condensed, guess, tol: float, max_iter: int) -> np.ndarray:
+    """Newton's starting joint coordinates: from ``guess``; without one, from the balance with
+    fewer harmonics, ``H' = (H - 1) // 2`` down to 1 (the one-harmonic balance from the stuck linear
+    solution; from the linear start Newton may wander on the loops' kinks: a blade root at its
+    damper optimum), or the linear solution where that fails or ``H = 1``."""
+    hh = cond.n_harmonics
     if guess is None and hh > 1:
-        # start from the balance with fewer harmonics, H' = (H - 1) // 2 down to 1 (the one-harmonic
-        # balance from the stuck linear solution): from the linear start Newton may wander on the
-        # loops' kinks (a blade root at its damper optimum)
         first = harmonic_balance(system, n_harmonics=max(1, (hh - 1) // 2), tol=tol, max_iter=max_iter)
         if first.converged:
             guess = first.harmonics
     if guess is None:
-        z = cond.q_linear.copy()
-    else:
-        g = np.asarray(guess, dtype=complex)
-        if g.ndim != 2 or g.shape[1] != system.n_dof:
-            raise ParameterError(f"guess must have shape (H' + 1, n_dof = {system.n_dof}), got {g.shape}")
-        z = cond.joint_vector(g)
+        return cond.q_linear.copy()
+    g = np.asarray(guess, dtype=complex)
+    if g.ndim != 2 or g.shape[1] != system.n_dof:
+        raise ParameterError(f"guess must have shape (H' + 1, n_dof = {system.n_dof}), got {g.shape}")
+    return cond.joint_vector(g)
+
+
+def _newton(cond: Condensed, z: np.ndarray, tol: float, max_iter: int):
+    """Newton's method with a backtracking line search (the residual's max norm must fall) on
+    ``r(z) = z - G Z^-1 F + G Z^-1 G^T R(z)`` from ``z``: ``(z, r, joint forces, iterations,
+    converged, message)`` (the message only where it stopped on a failure: non-finite forces, a
+    singular Jacobian)."""
 
     def residual(zz, jac=True):
         f = cond.forces(zz, jac)
@@ -371,20 +398,7 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     else:
         scale = max(float(np.max(np.abs(z))), 1e-6 * scale_floor)
         converged = float(np.max(np.abs(res))) <= tol * scale
-    rel = float(np.max(np.abs(res))) / max(float(np.max(np.abs(z))), 1e-300)
-    harm = cond.harmonics(jf.r)
-    if not message:
-        message = (f"harmonic balance converged in {it} Newton iterations (H = {hh}, residual {rel:.2e})"
-                   if converged else f"harmonic balance did not converge in {max_iter} iterations "
-                                     f"(residual {rel:.2e})")
-    out = HarmonicBalance(omega=system.omega, n_harmonics=hh, harmonics=harm,
-                          harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
-                          converged=bool(converged), message=message, iterations=it, residual=rel,
-                          dissipated_per_cycle=jf.dissipated,
-                          slider_positions=jf.slider_positions, stuck=jf.stuck)
-    if check:
-        _check_exact(system, out)
-    return out
+    return z, res, jf, it, converged, message
 
 
 def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray, peaks: bool = True):
