@@ -42,116 +42,92 @@ class StatusPattern:
                  "has_rigid_stuck", "n_rows", "ax_abs", "modal_p", "modal_abs_p", "kern", "w_dir")
 
     def __init__(self, sysm, status: np.ndarray, cfg: ConfigData) -> None:
+        self.system = sysm
+        self.cfg = cfg
+        self.modal_p = self.modal_abs_p = None
+        self.kern = None
+        self._event_functions(status)
+        self._constant_force(status)
+        self._projection(status)
+
+    def _event_functions(self, status: np.ndarray) -> None:
+        """The event functions (:func:`_slider_rows` per slider), their reduced form on the
+        configuration's coordinates and what the search and the consistency test read of them."""
+        sysm, cfg = self.system, self.cfg
         n = sysm.n_dof
-        d = sysm.slider_direction
-        pat = self
-        pat.system = sysm
-        pat.cfg = cfg
-        pat.modal_p = pat.modal_abs_p = None
-        pat.kern = None
-        # event functions, as in the reference construction (one row per slipping slider, two per
-        # stuck slider); a0 = a0c + a0k * w[widx]
-        rows_x, rows_v, rows_f, a0c, a0k, widx, meta = [], [], [], [], [], [], []
+        rows_x, rows_v, rows_f, a0c, a0k, meta = [], [], [], [], [], []
         zero = np.zeros(n)
         rigid_row = {int(i): r for r, i in enumerate(cfg.rigid_stuck)}
-        grad = sysm.slip_gradient
         for i, s in enumerate(status):
-            fs = sysm.slip_force[i]
-            if sysm.varying[i]:
-                # slip limit mu N(x) = fs + g.x; normal load N(x) = N0 - kn n.x (the contact's row)
-                c = sysm.slider_contact[i]
-                nrow = -sysm.contact_stiffness[c] * sysm.contact_normal[c]
-                n0 = sysm.contact_preload[c]
-                k = sysm.slider_stiffness[i]
-                if s == 2:  # open: closes when N(x) reaches 0 from below
-                    rows_x.append(-nrow); rows_v.append(zero); rows_f.append(zero)
-                    a0c.append(-n0); a0k.append(0.0); widx.append(i)
-                    meta.append((i, "c"))
-                elif s != 0:  # slipping: s w' = (s d - g/k).v >= 0, and N(x) >= 0 (lift-off)
-                    rows_x += [zero, nrow]; rows_v += [s * d[i] - grad[i] / k, zero]; rows_f += [zero, zero]
-                    a0c += [0.0, n0]; a0k += [0.0, 0.0]; widx += [i, i]
-                    meta += [(i, "v"), (i, "o")]
-                else:  # stuck: fs + g.x -+ k (d.x - w) >= 0
-                    rows_x += [grad[i] - k * d[i], grad[i] + k * d[i]]; rows_v += [zero, zero]
-                    rows_f += [zero, zero]
-                    a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
-                    meta += [(i, "+"), (i, "-")]
-            elif s != 0:
-                rows_x.append(zero); rows_v.append(s * d[i]); rows_f.append(zero)
-                a0c.append(0.0); a0k.append(0.0); widx.append(i)
-                meta.append((i, "v"))
-            elif not sysm.rigid[i]:
-                k = sysm.slider_stiffness[i]
-                rows_x += [-k * d[i], k * d[i]]; rows_v += [zero, zero]; rows_f += [zero, zero]
-                a0c += [fs, fs]; a0k += [k, -k]; widx += [i, i]
-                meta += [(i, "+"), (i, "-")]
-            else:
-                lr = cfg.L[rigid_row[i]]
-                hx = lr @ cfg.stiffness
-                hv = lr @ cfg.damping
-                # holding force T = -lr F + lr C v + lr Kc x
-                rows_x += [-hx, hx]; rows_v += [-hv, hv]; rows_f += [lr, -lr]
-                a0c += [fs, fs]; a0k += [0.0, 0.0]; widx += [i, i]
-                meta += [(i, "+"), (i, "-")]
-        pat.meta = meta
-        pat.n_rows = len(meta)
+            rx, rv, rf, c0, ck, kinds = _slider_rows(sysm, cfg, rigid_row, zero, i, s)
+            rows_x += rx; rows_v += rv; rows_f += rf; a0c += c0; a0k += ck
+            meta += [(i, kind) for kind in kinds]
+        self.meta = meta
+        self.n_rows = len(meta)
         if meta:
             obs = Observables(rows_x, rows_v, rows_f, a0c)
-            pat.obs = obs
+            self.obs = obs
             # |coefficients| of x in the event rows: their rounding scale (|ax| |x| >> |ax x| when
             # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses)
-            pat.ax_abs = np.abs(obs.ax)
+            self.ax_abs = np.abs(obs.ax)
             nb = cfg.N
-            pat.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
-            pat.red_cc = obs.af @ sysm.force_cos
-            pat.red_cs = obs.af @ sysm.force_sin
-            pat.has_af = bool(np.any(obs.af != 0))
-            pat.a0c = obs.a0
-            pat.a0k = np.array(a0k, dtype=float)
-            pat.widx = np.array(widx, dtype=np.intp)
-            pat.has_w = bool(np.any(pat.a0k != 0))
-            pat.row_slider = [i for i, _ in meta]
-            pat.row_v_list = [k == "v" for _, k in meta]
-            pat.row_fs = [float(sysm.slip_force[i]) for i, _ in meta]
+            self.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
+            self.red_cc = obs.af @ sysm.force_cos
+            self.red_cs = obs.af @ sysm.force_sin
+            self.has_af = bool(np.any(obs.af != 0))
+            self.a0c = obs.a0
+            self.a0k = np.array(a0k, dtype=float)
+            self.widx = np.array([i for i, _ in meta], dtype=np.intp)
+            self.has_w = bool(np.any(self.a0k != 0))
+            self.row_slider = [i for i, _ in meta]
+            self.row_v_list = [k == "v" for _, k in meta]
+            self.row_fs = [float(sysm.slip_force[i]) for i, _ in meta]
         else:
-            pat.obs = None
-            pat.ax_abs = None
-            pat.row_slider, pat.row_v_list, pat.row_fs = [], [], []
-        pat.vrows = np.array(pat.row_v_list, dtype=bool)
-        pat.any_v = bool(pat.vrows.any())
-        # constant force of the status: slipping sliders' friction (on contacts its constant part;
-        # the part g.x is in the configuration's stiffness); open contacts take their preload off;
-        # stuck Jenkins springs' k w d
-        slip = status != 0
-        sliding = slip & (status != 2)
+            self.obs = None
+            self.ax_abs = None
+            self.row_slider, self.row_v_list, self.row_fs = [], [], []
+        self.vrows = np.array(self.row_v_list, dtype=bool)
+        self.any_v = bool(self.vrows.any())
+
+    def _constant_force(self, status: np.ndarray) -> None:
+        """The constant force of the status: slipping sliders' friction (on contacts its constant
+        part; the part g.x is in the configuration's stiffness); open contacts take their preload
+        off; stuck Jenkins springs' ``k w d`` (``jst_dt``, ``jst_k``)."""
+        sysm = self.system
+        d = sysm.slider_direction
+        sliding = (status != 0) & (status != 2)
         opened = status == 2
-        pat.f_slip = None
+        self.f_slip = None
         if np.any(sliding):
-            pat.f_slip = d[sliding].T @ (status[sliding] * sysm.slip_force[sliding])
+            self.f_slip = d[sliding].T @ (status[sliding] * sysm.slip_force[sliding])
         if np.any(opened):
             cs = sysm.slider_contact[opened]
             f_open = sysm.contact_normal[cs].T @ sysm.contact_preload[cs]
-            pat.f_slip = f_open if pat.f_slip is None else pat.f_slip + f_open
+            self.f_slip = f_open if self.f_slip is None else self.f_slip + f_open
         jst = (status == 0) & ~sysm.rigid
-        pat.has_jst = bool(np.any(jst))
-        pat.jst = jst
-        pat.jst_dt = d[jst].T
-        pat.jst_k = sysm.slider_stiffness[jst]
-        # projection onto the status
-        pat.has_rigid_stuck = bool(cfg.rigid_stuck.size)
-        slip_j = slip & ~sysm.rigid
-        pat.has_slip_j = bool(np.any(slip_j))
-        pat.slip_j = slip_j
-        # moving Jenkins sliders: w = dir . x - off; on a contact dir = d - sig g/k (the spring
-        # force follows mu N(x)), on an open contact w = d . x
+        self.has_jst = bool(np.any(jst))
+        self.jst = jst
+        self.jst_dt = d[jst].T
+        self.jst_k = sysm.slider_stiffness[jst]
+
+    def _projection(self, status: np.ndarray) -> None:
+        """The projection of a state onto the status: moving Jenkins sliders ``w = dir . x - off``
+        (on a contact ``dir = d - sig g/k``: the spring force follows ``mu N(x)``; on an open contact
+        ``w = d . x``), and ``w' = w_dir . v``."""
+        sysm = self.system
+        d = sysm.slider_direction
+        self.has_rigid_stuck = bool(self.cfg.rigid_stuck.size)
+        slip_j = (status != 0) & ~sysm.rigid
+        self.has_slip_j = bool(np.any(slip_j))
+        self.slip_j = slip_j
         sig = np.where(status == 2, 0, status).astype(float)
         kj = sysm.slider_stiffness[slip_j]
-        pat.slip_j_dir = d[slip_j] - (sig[slip_j] / kj)[:, None] * sysm.slip_gradient[slip_j]
-        pat.slip_j_off = sig[slip_j] * sysm.slip_force[slip_j] / kj
+        self.slip_j_dir = d[slip_j] - (sig[slip_j] / kj)[:, None] * sysm.slip_gradient[slip_j]
+        self.slip_j_off = sig[slip_j] * sysm.slip_force[slip_j] / kj
         #: rows of w' = w_dir . v of every slider not stuck (stuck Jenkins sliders: zero rows)
-        pat.w_dir = d.copy()
-        pat.w_dir[slip_j] = pat.slip_j_dir
-        pat.w_dir[jst] = 0.0
+        self.w_dir = d.copy()
+        self.w_dir[slip_j] = self.slip_j_dir
+        self.w_dir[self.jst] = 0.0
 
     def pack(self, fscale_fixed: float, mass_scale: float) -> tuple:
         """The constant arrays of :func:`.consistency.check` for this status, packed
@@ -189,3 +165,35 @@ class StatusPattern:
               bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], np.flatnonzero(pat.slip_j),
              rigid_idx))
         return pat.kern
+
+
+def _slider_rows(sysm, cfg: ConfigData, rigid_row: dict, zero: np.ndarray, i: int, s: int) -> tuple:
+    """The event rows of slider ``i`` in status ``s``, as in the reference construction: ``(rows_x,
+    rows_v, rows_f, a0c, a0k, kinds)``, a list each, one entry a row (``a0 = a0c + a0k w_i``; kinds
+    ``v`` a slipping slider's velocity, ``+``/``-`` a stuck one's force against +limit/-limit,
+    ``o`` a contact's normal load (lift-off), ``c`` an open contact's closure)."""
+    d = sysm.slider_direction
+    fs = sysm.slip_force[i]
+    grad = sysm.slip_gradient
+    if sysm.varying[i]:
+        # slip limit mu N(x) = fs + g.x; normal load N(x) = N0 - kn n.x (the contact's row)
+        c = sysm.slider_contact[i]
+        nrow = -sysm.contact_stiffness[c] * sysm.contact_normal[c]
+        n0 = sysm.contact_preload[c]
+        k = sysm.slider_stiffness[i]
+        if s == 2:  # open: closes when N(x) reaches 0 from below
+            return [-nrow], [zero], [zero], [-n0], [0.0], "c"
+        if s != 0:  # slipping: s w' = (s d - g/k).v >= 0, and N(x) >= 0 (lift-off)
+            return [zero, nrow], [s * d[i] - grad[i] / k, zero], [zero, zero], [0.0, n0], [0.0, 0.0], "vo"
+        # stuck: fs + g.x -+ k (d.x - w) >= 0
+        return [grad[i] - k * d[i], grad[i] + k * d[i]], [zero, zero], [zero, zero], [fs, fs], [k, -k], "+-"
+    if s != 0:
+        return [zero], [s * d[i]], [zero], [0.0], [0.0], "v"
+    if not sysm.rigid[i]:
+        k = sysm.slider_stiffness[i]
+        return [-k * d[i], k * d[i]], [zero, zero], [zero, zero], [fs, fs], [k, -k], "+-"
+    lr = cfg.L[rigid_row[i]]
+    hx = lr @ cfg.stiffness
+    hv = lr @ cfg.damping
+    # holding force T = -lr F + lr C v + lr Kc x
+    return [-hx, hx], [-hv, hv], [lr, -lr], [fs, fs], [0.0, 0.0], "+-"
