@@ -45,8 +45,14 @@ def row_dot(a, i, x):
 
 @_jit
 def matvec(a, x):
-    """``a @ x`` of a real ``(r, c)`` matrix and a ``(c,)`` vector, row by row (:func:`row_dot`)."""
-    out = np.zeros(a.shape[0])
-    for i in range(a.shape[0]):
-        out[i] = row_dot(a, i, x)
+    """``a @ x`` of a real ``(r, c)`` matrix and a ``(c,)`` vector, each row summed as by
+    :func:`row_dot` (its loop written out: the consistency test's piece start, a dozen products per
+    call, is 1-2 % faster so)."""
+    r, c = a.shape
+    out = np.zeros(r)
+    for i in range(r):
+        s = 0.0
+        for k in range(c):
+            s += a[i, k] * x[k]
+        out[i] = s
     return out
