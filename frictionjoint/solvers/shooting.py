@@ -21,7 +21,7 @@ The period map is any object with
   down into permanent stick: one member of the family of stuck orbits). Marching tries it after
   every period, so that a lightly damped transient need not decay to the tolerance.
 
-The library's exact period map (:func:`frictionjoint.solvers.steady.periodic_response`) and the
+The library's exact period map (:func:`frictionjoint.solvers.marcher.steady.periodic_response`) and the
 period map of a stepping driver (the library's or an FMU's, :func:`frictionjoint.drivers.shoot`)
 are its two inputs.
 """
@@ -275,7 +275,7 @@ def find_periodic_orbit(pmap, z, pz, *, tol: float, max_newton: int, max_periods
 
     def newton(z, pz, iterations):
         return fixed_point_newton(pmap, lambda z, pz: pmap.jacobian(z, pz, scale0), z, pz, scale0, tol,
-                                  iterations, chord=not getattr(pmap, "exact_jacobian", False))
+                                  iterations, chord=getattr(pmap, "chord", not getattr(pmap, "exact_jacobian", False)))
 
     converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
     growth = slow = None

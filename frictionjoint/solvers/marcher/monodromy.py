@@ -3,7 +3,7 @@
 A march is a chain of pieces in fixed configurations joined by events. In full coordinates
 ``Z = [x, v, w]`` (displacements, velocities, all slider positions) each piece is an affine flow,
 so a variation ``dZ`` of its start state is carried to its end by a matrix built from the piece's
-closed form (:class:`~frictionjoint.solvers.propagator.Interval`):
+closed form (:class:`~frictionjoint.solvers.marcher.propagator.Interval`):
 
     dy(tau) = e^{A tau} dy0 + (int_0^tau e^{A s} ds) db0,
     dy0 = [0, N^T dv0],   db0 = [0, Mr^-1 N^T (-K_c dx0 + sum_stuck Jenkins k_i d_i dw_i)],
@@ -44,10 +44,17 @@ __all__ = ["march_jacobian"]
 
 
 class _ConfigSensitivity:
-    """Per-configuration parts of the piece matrices: ``W B_y`` and ``W B_b`` (or ``B_y``, ``B_b``
-    for the defective case), cached on the configuration."""
+    """Per-configuration parts of the piece maps, cached on the marcher.
 
-    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb")
+    Modal configurations: ``W B_y`` and ``W B_b`` restricted to their nonzero columns (the
+    velocity block ``v`` and the displacement and stuck-``w`` blocks ``x``, ``w``). Classically
+    damped ones (:attr:`~.propagator.ConfigData.shapes`): real mode shapes instead, ``U = N Phi``,
+    ``P = Phi^T Mr N^T`` (velocity to modal velocity) and ``S = U^T K_c`` (displacement to modal
+    force), so that a piece costs four real products with the ``n x m`` shapes instead of complex
+    ones with the ``2m x 2m`` eigenvectors. Defective ones: ``B_y``, ``B_b`` for the exponential.
+    """
+
+    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols")
 
     def __init__(self, system, itv):
         cfg = itv.config
@@ -57,20 +64,39 @@ class _ConfigSensitivity:
         nz = 2 * n + ns
         m = cfg.m
         nb = cfg.N
-        by = np.zeros((2 * m, nz))
-        bb = np.zeros((2 * m, nz))
-        by[m:, n:2 * n] = nb.T
-        bb[m:, :n] = -cfg.mr_inv_nt @ cfg.stiffness
-        if pat.has_jst:
-            jcols = 2 * n + np.flatnonzero(pat.jst)
-            bb[m:, jcols] = cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k)
         self.n, self.nz = n, nz
-        self.by, self.bb = by, bb
-        if cfg.modal and m:
-            self.wby = cfg.W @ by
-            self.wbb = cfg.W @ bb
+        self.by = self.bb = self.wby = self.wbb = self.u = self.p = self.s = self.sj = None
+        self.jcols = 2 * n + np.flatnonzero(pat.jst) if pat.has_jst else None
+        if not m:
+            return
+        if cfg.shapes is not None:
+            if cfg.rigid_stuck.size:
+                u = nb @ cfg.shapes
+                self.p = cfg.shapes_mass @ nb.T
+                self.s = u.T @ cfg.stiffness
+            else:  # N = I: Phi^T K_c = w^2 Phi^T M (to the eigensolver's residual)
+                u = cfg.shapes
+                self.p = cfg.shapes_mass
+                self.s = cfg.shapes_w2[:, None] * cfg.shapes_mass
+            self.u = u
+            self.sj = u.T @ (pat.jst_dt * pat.jst_k) if pat.has_jst else None
+            return
+        # the forcing rows of a variation: Mr^-1 N^T (-K_c dx + sum_stuck k d dw)
+        fx = -cfg.mr_inv_nt @ cfg.stiffness
+        fj = cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k) if pat.has_jst else None
+        if cfg.modal:
+            w2 = cfg.W[:, m:]
+            self.wby = w2 @ nb.T                       # acts on dv
+            self.wbb = w2 @ fx                         # acts on dx
+            self.sj = w2 @ fj if fj is not None else None  # acts on the stuck Jenkins sliders' dw
         else:
-            self.wby = self.wbb = None
+            by = np.zeros((2 * m, nz))
+            bb = np.zeros((2 * m, nz))
+            by[m:, n:2 * n] = nb.T
+            bb[m:, :n] = fx
+            if fj is not None:
+                bb[m:, self.jcols] = fj
+            self.by, self.bb = by, bb
 
 
 def _sensitivity(marcher, itv) -> _ConfigSensitivity:
@@ -82,39 +108,73 @@ def _sensitivity(marcher, itv) -> _ConfigSensitivity:
     return s
 
 
+def _mode_responses(lam: np.ndarray, tau: float):
+    """Per classically damped mode ``eta'' + alpha eta' + w^2 eta = f``, with ``lam`` the pairs
+    ``[lam+, lam-]``: the impulse response ``h1``, its rate ``h1'`` and the step response ``h0``
+    at ``tau`` (``h0' = h1``), real.
+
+    ``h1 = (e^{lam+ tau} - e^{lam- tau}) / (lam+ - lam-) = tau e^{lam+ tau} phi1(-(lam+ - lam-) tau)``
+    (``Re lam+ >= Re lam-``: bounded, and no cancellation as the pair approaches), ``h1' = lam+ h1
+    + e^{lam- tau}``, ``h0 = (g+ - g-) / (lam+ - lam-)`` with ``g = tau phi1(lam tau)``."""
+    m = lam.size // 2
+    lp, lm = lam[:m], lam[m:]
+    dl = lp - lm
+    h1 = tau * np.exp(lp * tau) * _phi1(-dl * tau)
+    h1d = lp * h1 + np.exp(lm * tau)
+    h0 = tau * (_phi1(lp * tau) - _phi1(lm * tau)) / dl
+    return h1.real, h1d.real, h0.real
+
+
+def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
+    """``piece_matrix(marcher, itv, tau) @ jac`` without forming the piece matrix: the rows of
+    ``jac`` (variations of ``[x, v, w]``) carried to the piece's local time ``tau``."""
+    sens = _sensitivity(marcher, itv)
+    n = sens.n
+    cfg = itv.config
+    m = cfg.m
+    dx, dv, dw = jac[:n], jac[n:2 * n], jac[2 * n:]
+    out = np.empty_like(jac)
+    if m == 0:
+        out[:n] = dx
+        out[n:2 * n] = 0.0
+    elif sens.u is not None:
+        h1, h1d, h0 = _mode_responses(cfg.lam, tau)
+        qd0 = sens.p @ dv
+        f = -(sens.s @ dx)
+        if sens.sj is not None:
+            f += sens.sj @ jac[sens.jcols]
+        out[:n] = dx + sens.u @ (h1[:, None] * qd0 + h0[:, None] * f)
+        out[n:2 * n] = sens.u @ (h1d[:, None] * qd0 + h1[:, None] * f)
+    else:
+        if sens.wby is not None:
+            lt = cfg.lam * tau
+            e = np.exp(lt)
+            g = tau * _phi1(lt)
+            c = e[:, None] * (sens.wby @ dv) + g[:, None] * (sens.wbb @ dx)
+            if sens.sj is not None:
+                c += g[:, None] * (sens.sj @ jac[sens.jcols])
+            y = (cfg.V @ c).real
+        else:
+            aug = np.zeros((4 * m, 4 * m))
+            aug[:2 * m, :2 * m] = cfg.A
+            aug[:2 * m, 2 * m:] = np.eye(2 * m)
+            big = scipy.linalg.expm(aug * tau)
+            y = (big[:2 * m, :2 * m] @ sens.by + big[:2 * m, 2 * m:] @ sens.bb) @ jac
+        out[:n] = dx + cfg.N @ y[:m]
+        out[n:2 * n] = cfg.N @ y[m:]
+    jst = itv.pattern.jst
+    moving = np.flatnonzero(~jst)
+    out[2 * n:] = dw
+    if moving.size:
+        out[2 * n + moving] = itv.pattern.w_dir[moving] @ out[:n]
+    return out
+
+
 def piece_matrix(marcher, itv, tau: float) -> np.ndarray:
     """``(nZ, nZ)`` matrix carrying a variation of the full state ``[x, v, w]`` at the start of
     the piece ``itv`` to its local time ``tau``."""
     sens = _sensitivity(marcher, itv)
-    n, nz = sens.n, sens.nz
-    cfg = itv.config
-    m = cfg.m
-    if m == 0:
-        ymap = np.zeros((0, nz))
-    elif sens.wby is not None:
-        lt = cfg.lam * tau
-        e = np.exp(lt)
-        g = tau * _phi1(lt)
-        ymap = (cfg.V @ (e[:, None] * sens.wby + g[:, None] * sens.wbb)).real
-    else:
-        aug = np.zeros((4 * m, 4 * m))
-        aug[:2 * m, :2 * m] = cfg.A
-        aug[:2 * m, 2 * m:] = np.eye(2 * m)
-        big = scipy.linalg.expm(aug * tau)
-        ymap = big[:2 * m, :2 * m] @ sens.by + big[:2 * m, 2 * m:] @ sens.bb
-    phi = np.zeros((nz, nz))
-    phi[:n, :n] = np.eye(n)
-    if m:
-        phi[:n] += cfg.N @ ymap[:m]
-        phi[n:2 * n] = cfg.N @ ymap[m:]
-    jst = itv.pattern.jst
-    wd = itv.pattern.w_dir  # moving sliders: w = w_dir . x - offset
-    for i in range(nz - 2 * n):
-        if jst[i]:
-            phi[2 * n + i, 2 * n + i] = 1.0
-        else:
-            phi[2 * n + i] = wd[i] @ phi[:n]
-    return phi
+    return apply_piece(marcher, itv, tau, np.eye(sens.nz))
 
 
 def _event_gradient(marcher, itv, j: int) -> np.ndarray:
@@ -160,11 +220,11 @@ def _field(system, itv, tau: float, row: int | None = None):
     return out, float(rate)
 
 
-def saltation(marcher, before, tau: float, row: int, after) -> np.ndarray | None:
-    """Saltation matrix ``(nZ, nZ)`` of event ``row`` of piece ``before`` at its local time
-    ``tau``, the march going on in piece ``after``; None when it is the identity."""
+def saltation(marcher, before, tau: float, row: int, after):
+    """Saltation of event ``row`` of piece ``before`` at its local time ``tau``, the march going on
+    in piece ``after``: ``S = I + e_[v,w] jump (grad / rate)^T``, returned as ``(jump, grad / rate)``
+    (the rows ``n:`` of the state get ``jump`` times the row vector); None when it is the identity."""
     system = marcher.system
-    n = system.n_dof
     if np.array_equal(before.status, after.status):
         return None  # abnormal stop: the configuration is kept, the flow is continuous
     f_before, rate = _field(system, before, tau, row)
@@ -172,9 +232,7 @@ def saltation(marcher, before, tau: float, row: int, after) -> np.ndarray | None
     grad = _event_gradient(marcher, before, row)
     if rate == 0.0 or not np.any(jump):
         return None
-    s = np.eye(2 * n + system.n_sliders)
-    s[n:] += np.outer(jump, grad / rate)
-    return s
+    return jump, grad / rate
 
 
 def march_jacobian(marcher, pieces) -> np.ndarray:
@@ -187,17 +245,19 @@ def march_jacobian(marcher, pieces) -> np.ndarray:
         The marcher that made the pieces.
     pieces : sequence of (Interval, float)
         The march's pieces and their durations, in order, as passed to ``on_interval`` of
-        :meth:`~frictionjoint.solvers.events.Marcher.march` (each piece ended by an event carries
+        :meth:`~frictionjoint.solvers.marcher.events.Marcher.march` (each piece ended by an event carries
         the event's row as ``end_row``).
     """
     system = marcher.system
     nz = 2 * system.n_dof + system.n_sliders
+    n = system.n_dof
     jac = np.eye(nz)
     for k, (itv, tau) in enumerate(pieces):
-        jac = piece_matrix(marcher, itv, tau) @ jac
+        jac = apply_piece(marcher, itv, tau, jac)
         row = getattr(itv, "end_row", None)
         if row is not None and k + 1 < len(pieces):
             s = saltation(marcher, itv, tau, row, pieces[k + 1][0])
             if s is not None:
-                jac = s @ jac
+                jump, dg = s
+                jac[n:] += np.outer(jump, dg @ jac)
     return jac

@@ -104,6 +104,139 @@ def _refine_modes(lam, v, mr, cr, kr, dr, kt, iterations: int = 3):
     return lam, v
 
 
+#: condition number of the (balanced) eigenvector matrix beyond which a configuration is treated
+#: as defective (matrix exponential instead of modes)
+DEFECTIVE_COND = 1e8
+#: classically damped mode pairs closer than this fraction of their rate (near critical damping)
+#: are left to the general path (:func:`_classical_modes`)
+CLASSICAL_SEPARATION = 1e4
+
+
+def _mass_proportional(system) -> float | None:
+    """``alpha`` if the system's damping is ``alpha M`` to rounding (undamped: 0), else None.
+
+    Then every configuration without contacts is classically damped: its modes are those of the
+    symmetric pencil ``(K_c, M)`` (reduced by the stuck rigid sliders' null space), whatever the
+    stuck springs, and :func:`_classical_modes` gives them from ``eigh``. Cached on the system."""
+    cached = system.__dict__.get("_mass_proportional")
+    if cached is not None:
+        return cached[0]
+    c, mass = system.damping, system.mass
+    alpha = float(np.sum(c * mass) / np.sum(mass * mass))
+    # the entries of alpha M, rounded, differ from C by at most a few eps of C's largest entry
+    exact = bool(np.max(np.abs(c - alpha * mass), initial=0.0) <= 8 * np.finfo(float).eps * np.max(np.abs(c), initial=0.0))
+    system.__dict__["_mass_proportional"] = (alpha if exact and alpha >= 0 else None,)
+    return system.__dict__["_mass_proportional"][0]
+
+
+def _mass_inverse(system) -> np.ndarray:
+    """``M^-1`` of the system, cached on it (the reduced mass of every configuration without stuck
+    rigid sliders)."""
+    inv = system.__dict__.get("_mass_inverse")
+    if inv is None:
+        inv = system.__dict__["_mass_inverse"] = np.linalg.inv(system.mass)
+    return inv
+
+
+def _mass_factor(system) -> np.ndarray | None:
+    """Cholesky factor of the system's mass matrix (``M = L L^T``), cached on it: ``L`` (n, n), or
+    its diagonal ``sqrt(m_i)`` (n,) where ``M`` is diagonal (lumped masses: the reductions below
+    are scalings, exact as the triangular solves they replace); None where ``M`` is not positive
+    definite (the general path decides then)."""
+    cached = system.__dict__.get("_mass_factor")
+    if cached is None:
+        mass = system.mass
+        diag = np.diag(mass)
+        try:
+            if np.count_nonzero(mass) == np.count_nonzero(diag) and np.all(diag > 0):
+                factor = np.sqrt(diag)
+            else:
+                factor = np.linalg.cholesky(mass)
+        except np.linalg.LinAlgError:
+            factor = None
+        cached = system.__dict__["_mass_factor"] = (factor,)
+    return cached[0]
+
+
+def _classical_modes(mr, kr, alpha: float, factor: np.ndarray | None = None):
+    """Eigenpairs of ``A = [[0, I], [-Mr^-1 Kr, -alpha I]]`` from the symmetric pencil ``Kr phi =
+    w^2 Mr phi`` (``Phi^T Mr Phi = I``): per mode ``lam = -alpha/2 +- sqrt(alpha^2/4 - w^2)``,
+    ``V = [[Phi, Phi], [Phi lam+, Phi lam-]]`` and ``V^-1`` in closed form from ``Phi^T Mr``.
+
+    Returns ``(lam, V, V^-1, (Phi, Phi^T Mr, w^2))``. ``eigh`` of an ``m x m`` symmetric matrix instead of ``eig``
+    of the ``2m x 2m`` first-order matrix, an SVD for its condition and an inverse: a fortieth of
+    the work at m = 200. ``factor``: the Cholesky factor ``L`` of ``Mr`` where it is the same for
+    every configuration (the system's mass), so that the pencil is reduced to ``L^-1 Kr L^-T`` by
+    two triangular solves (LAPACK's ``sygv`` does the same, but factors ``Mr`` again each time).
+    None where a mode pair is (nearly) defective (``lam+ ~ lam-``: critical damping, an undamped
+    rigid-body mode), where the caller's general path decides, or where ``Kr`` is not symmetric."""
+    # K_c is symmetric by construction without contacts; reduced by a null space, to rounding
+    if np.max(np.abs(kr - kr.T)) > 16 * np.finfo(float).eps * np.max(np.abs(kr)):
+        return None
+    try:
+        if factor is None:
+            w2, phi = scipy.linalg.eigh(kr, mr, check_finite=False)
+            pt = phi.T @ mr
+        elif factor.ndim == 1:  # diagonal mass: L = diag(sqrt(m))
+            ks = kr / factor[:, None] / factor[None, :]
+            w2, psi = scipy.linalg.eigh(ks, check_finite=False, driver="evd")
+            phi = psi / factor[:, None]
+            pt = psi.T * factor[None, :]  # Phi^T M = Psi^T L^T
+        else:
+            half = scipy.linalg.solve_triangular(factor, kr, lower=True, check_finite=False)
+            ks = scipy.linalg.solve_triangular(factor, half.T, lower=True, check_finite=False)
+            w2, psi = scipy.linalg.eigh(ks, check_finite=False, driver="evd")
+            phi = scipy.linalg.solve_triangular(factor.T, psi, lower=False, check_finite=False)
+            pt = (factor @ psi).T  # Phi^T M = Psi^T L^T
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    root = np.sqrt((0.25 * alpha * alpha - w2).astype(complex))
+    lp, lm = -0.5 * alpha + root, -0.5 * alpha - root
+    diff = lm - lp
+    scale = np.maximum(np.abs(lp), np.abs(lm))
+    # the closed-form inverse divides by lam- - lam+: its rounding grows as eps |lam| / |lam- -
+    # lam+|; beyond CLASSICAL_SEPARATION (1e-12 of the motion) the general path decides
+    if np.any(np.abs(diff) * CLASSICAL_SEPARATION <= scale) or not np.all(np.isfinite(root)):
+        return None
+    m = w2.size
+    v = np.empty((2 * m, 2 * m), complex)
+    v[:m, :m] = phi
+    v[:m, m:] = phi
+    np.multiply(phi, lp, out=v[m:, :m])
+    np.multiply(phi, lm, out=v[m:, m:])
+    inv_d = 1.0 / diff
+    w = np.empty((2 * m, 2 * m), complex)
+    np.multiply((lm * inv_d)[:, None], pt, out=w[:m, :m])
+    np.multiply(-inv_d[:, None], pt, out=w[:m, m:])
+    np.multiply((-lp * inv_d)[:, None], pt, out=w[m:, :m])
+    np.multiply(inv_d[:, None], pt, out=w[m:, m:])
+    return np.concatenate([lp, lm]), v, w, (phi, pt, w2)
+
+
+def _general_modes(a):
+    """Eigenpairs of the first-order matrix ``a``: ``(lam, (T, V), V^-1)``, or ``(lam, None, None)``
+    where ``a`` is (nearly) defective.
+
+    Eigenvectors of the balanced matrix ``B = T^-1 A T`` (``T`` diagonal: powers of 2, no
+    rounding), ``V = T V_B``: the conditioning of ``V_B`` says whether the configuration is
+    (near-)defective; that of ``V`` also carries the scales of the coordinates (a root rotation
+    [rad] and translations [m] beside modal coordinates, masses of 1e-5 and 1 kg: cond(V) ~ 2e8
+    for cond(V_B) ~ 1e2), which would flag well-conditioned configurations as defective and send
+    them to the matrix exponential. The condition number is the 1-norm one, ``|V_B|_1 |V_B^-1|_1``,
+    from the inverse the modal form needs anyway (no SVD)."""
+    ab, (tsc, _) = scipy.linalg.matrix_balance(a, permute=False, separate=True)
+    lam, vb = np.linalg.eig(ab)
+    try:
+        wb = np.linalg.inv(vb)
+    except np.linalg.LinAlgError:
+        return lam, None, None
+    cond = np.linalg.norm(vb, 1) * np.linalg.norm(wb, 1)
+    if not np.isfinite(cond) or cond > DEFECTIVE_COND:
+        return lam, None, None
+    v = (tsc[:, None] * vb).astype(complex)
+    return lam, (tsc, v), (wb / tsc[None, :]).astype(complex)  # V^-1 = V_B^-1 T^-1
+
+
 class ConfigData:
     """Decomposition of one stuck/slipping pattern, built once and cached.
 
@@ -161,13 +294,28 @@ class ConfigData:
         m = nb.shape[1]
         self.m = m
         mass = system.mass
-        mr = nb.T @ mass @ nb
-        kr = nb.T @ kc @ nb
-        cr = nb.T @ cb @ nb
+        if self.rigid_stuck.size:
+            mr = nb.T @ mass @ nb
+            kr = nb.T @ kc @ nb
+            cr = nb.T @ cb @ nb
+        else:  # N = I: the products would copy (at n^3 each)
+            mr, kr, cr = mass, kc, cb
         if m:
-            mr_inv = np.linalg.inv(mr)
-            self.mr_inv_nt = mr_inv @ nb.T
-            a = np.block([[np.zeros((m, m)), np.eye(m)], [-mr_inv @ kr, -mr_inv @ cr]])
+            if self.rigid_stuck.size:
+                mr_inv = np.linalg.inv(mr)
+                self.mr_inv_nt = mr_inv @ nb.T
+            else:
+                mr_inv = self.mr_inv_nt = _mass_inverse(system)
+            a = np.zeros((2 * m, 2 * m))
+            a[:m, m:] = np.eye(m)
+            factor = None if self.rigid_stuck.size else _mass_factor(system)
+            if factor is not None and factor.ndim == 1:  # diagonal M^-1: row scalings, the same numbers
+                inv_m = np.diag(mr_inv)[:, None]
+                np.multiply(-inv_m, kr, out=a[m:, :m])
+                np.multiply(-inv_m, cr, out=a[m:, m:])
+            else:
+                np.matmul(-mr_inv, kr, out=a[m:, :m])
+                np.matmul(-mr_inv, cr, out=a[m:, m:])
         else:
             self.mr_inv_nt = np.zeros((0, n))
             a = np.zeros((0, 0))
@@ -179,31 +327,36 @@ class ConfigData:
         else:
             self.L = np.zeros((0, n))
         self.modal = True
+        #: mass-normalised mode shapes ``Phi`` (reduced coordinates) where the configuration is
+        #: classically damped (:func:`_classical_modes`; ``lam`` is then ``[lam+, lam-]`` per
+        #: mode), else None
+        self.shapes = self.shapes_mass = self.shapes_w2 = None
         if m:
-            # eigenvectors of the balanced matrix B = T^-1 A T (T diagonal: powers of 2, no
-            # rounding), V = T V_B: the conditioning of V_B says whether the configuration is
-            # (near-)defective; that of V also carries the scales of the coordinates (a root
-            # rotation [rad] and translations [m] beside modal coordinates, masses of 1e-5 and 1
-            # kg: cond(V) ~ 2e8 for cond(V_B) ~ 1e2), which would flag well-conditioned
-            # configurations as defective and send them to the matrix exponential
-            ab, (tsc, _) = scipy.linalg.matrix_balance(a, permute=False, separate=True)
-            lam, vb = np.linalg.eig(ab)
-            cond = np.linalg.cond(vb)
-            if not np.isfinite(cond) or cond > 1e8:
-                self.modal = False
-                lam = np.linalg.eigvals(a)
-                v = w = None
+            kt = system.slider_stiffness[jen_stuck]
+            k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
+            # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
+            # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
+            # it restores digits
+            refine = bool(kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref)
+            modes = None
+            alpha = _mass_proportional(system)
+            if alpha is not None and not refine and not system.n_contacts:
+                modes = _classical_modes(mr, kr, alpha, None if self.rigid_stuck.size else _mass_factor(system))
+            if modes is not None:
+                lam, v, w, (self.shapes, self.shapes_mass, self.shapes_w2) = modes
             else:
-                v = (tsc[:, None] * vb).astype(complex)
-                kt = system.slider_stiffness[jen_stuck]
-                k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
-                # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
-                # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
-                # it restores digits
-                if kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref:
+                lam, v, w = _general_modes(a)
+                if v is None:
+                    self.modal = False
+                    lam = np.linalg.eigvals(a)
+                elif refine:
+                    tsc = v[0]
+                    v, w = v[1], None
                     lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ kb @ nb,
                                            nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
-                w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
+                    w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
+                else:
+                    v = v[1]
         else:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
@@ -220,6 +373,13 @@ class ConfigData:
         self.bc_zero = not self.bc.any()
         self.bs_zero = not self.bs.any()
         self._modal_omega = None
+
+    def displacement_modes(self) -> np.ndarray:
+        """``N V[:m]`` (n_dof, 2m): the displacements' modal coefficients, built on first use."""
+        modes = getattr(self, "_xv", None)
+        if modes is None:
+            modes = self._xv = self.N @ self.V[:self.m]
+        return modes
 
     def modal_forcing(self, w: float):
         """Per-configuration parts of :meth:`Interval._prepare` at forcing frequency ``w``:

@@ -23,7 +23,7 @@ from .events import EventLog, Marcher
 from .propagator import Observables, _phi1
 
 __all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
-           "displacement_observables", "varying_friction", "piece_slip"]
+           "displacement_observables", "displacement_fourier", "varying_friction", "piece_slip"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
 #: Newton iterations at most of :func:`piece_peaks` (each halves the bracket at worst)
@@ -146,12 +146,13 @@ def _resonant_integral(a: complex, b: complex, big_t: float) -> complex:
     return complex(scipy.linalg.expm(m)[0, 2])
 
 
-def interval_fourier(itv, red, nu: float, tau_end: float):
+def interval_fourier(itv, red, nu: float, tau_end: float, modes=None):
     """``int Q(t) e^{i nu t} dt`` over the piece ``[0, tau_end]`` of ``itv`` (absolute time
     ``t = t0 + tau``) of the observables ``red`` (:meth:`Interval.reduce`), (n_obs,) complex, in
     closed form: each term of the modal solution is an exponential, ``int_0^T e^{mu tau} d tau =
     T phi1(mu T)``. None where the closed form is not available (defective or near-resonant
-    configuration)."""
+    configuration). ``modes``: ``Cy V`` where the caller has it (the displacements' is cached on
+    the configuration, :meth:`~.propagator.ConfigData.displacement_modes`)."""
     cfg = itv.config
     if not itv._ready:
         itv._prepare()
@@ -172,7 +173,7 @@ def interval_fourier(itv, red, nu: float, tau_end: float):
         em = cmath.exp(1j * (nu - w) * t0) * ints([1j * (nu - w)])[0]
         out = out + cc * (0.5 * (ep + em)) + cs * ((ep - em) / 2j)
     if cfg.m:
-        p = cy @ cfg.V
+        p = cy @ cfg.V if modes is None else modes
         b0, bp, bm = itv._b
         lam = cfg.lam
 
@@ -191,12 +192,13 @@ def interval_fourier(itv, red, nu: float, tau_end: float):
     return out
 
 
-def piece_fourier(itv, tau_end: float, omega: float, red):
+def piece_fourier(itv, tau_end: float, omega: float, red, modes=None):
     """``int Q(t) cos(omega t) dt`` and ``int Q(t) sin(omega t) dt`` over the piece ``[0, tau_end]``
     of ``itv`` for the observables ``red`` (:meth:`Interval.reduce`): in closed form
     (:func:`interval_fourier`), or by Gauss-Legendre per piece at the active rate where the
-    configuration has no plain modal form (exact to rounding for its exponentials times harmonics)."""
-    exact = interval_fourier(itv, red, omega, tau_end)
+    configuration has no plain modal form (exact to rounding for its exponentials times harmonics).
+    ``modes``: ``Cy V`` if the caller has it (:func:`interval_fourier`)."""
+    exact = interval_fourier(itv, red, omega, tau_end, modes)
     if exact is not None:
         return exact.real, exact.imag
     nodes, wts = gauss_pieces(itv, 0.0, tau_end, itv.active_rate())
@@ -209,6 +211,20 @@ def displacement_observables(n: int) -> Observables:
     """The displacements ``x`` (n rows) as :class:`Observables` (for :func:`piece_fourier`)."""
     z = np.zeros((n, n))
     return Observables(np.eye(n), z, z, np.zeros(n))
+
+
+def displacement_fourier(itv, tau_end: float, omega: float):
+    """:func:`piece_fourier` of the displacements ``x`` (every DOF): their reduced form is ``N``
+    and ``x0``, their modal one cached on the configuration, so that a piece costs no product
+    with the ``n x n`` identity of :func:`displacement_observables` (``n^2 m`` each) nor with the
+    eigenvectors (``n m^2``)."""
+    cfg = itv.config
+    n = itv.system.n_dof
+    cy = np.zeros((n, 2 * cfg.m))
+    cy[:, :cfg.m] = cfg.N
+    zero = np.zeros(n)
+    red = (cy, itv.x0.copy(), zero, zero)
+    return piece_fourier(itv, tau_end, omega, red, cfg.displacement_modes() if cfg.modal and cfg.m else None)
 
 
 def check_run(omega: float, t0, t_end, t_eval, record):

@@ -1,7 +1,7 @@
 """Periodic steady state of a FrictionSystem by shooting on its exact period map.
 
 The period map ``P`` takes the state ``z = [x, v, w]`` at a section time ``t_s`` to the state one
-excitation period later, marched exactly (:class:`~frictionjoint.solvers.events.Marcher`); its
+excitation period later, marched exactly (:class:`~frictionjoint.solvers.marcher.events.Marcher`); its
 Jacobian is the exact monodromy matrix of the march (:mod:`.monodromy`; finite differences on
 request). The section time is put in the middle of the longest slipping piece of the first
 period, where the map is smooth. The fixed point is found by the one shooting algorithm of
@@ -24,7 +24,7 @@ from ...system import FrictionSystem
 from ...results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
-from .response import displacement_observables, piece_fourier, piece_peaks, piece_slip
+from .response import displacement_fourier, piece_peaks, piece_slip
 from ..shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT",
@@ -44,6 +44,8 @@ NONMODAL_COND = 1e6
 #: a Jacobian taken where the residual was above this is retaken at the orbit for the
 #: uniqueness test and the Floquet multipliers
 JACOBIAN_AT_ORBIT = 1e-6
+#: state size (``2 n + sliders``) above which the exact Jacobian is kept over chord iterations
+CHORD_SIZE = 64
 
 
 class _PeriodMap:
@@ -59,6 +61,10 @@ class _PeriodMap:
         self.last = None
         self._embedding = None
         self.exact_jacobian = jacobian == "exact"
+        # chord iterations (a Jacobian kept while the residual falls fast) where the exact Jacobian
+        # costs more than the periods they add: it grows as pieces x n^2 x (2n + sliders), a period
+        # as pieces x n x modes; full Newton on small systems
+        self.chord = not self.exact_jacobian or 2 * n + system.n_sliders > CHORD_SIZE
         if jacobian == "fd":
             self.jacobian = self.fd_jacobian
         excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
@@ -340,7 +346,6 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit, peaks: bool = 
     slipped = np.zeros(system.n_sliders)  # |slip| of each slider over the period [m]
     w = system.omega
     z0 = [None]
-    x_obs = displacement_observables(ndof)
 
     def on_interval(itv, tau_end):
         t_zero = period if t_s > 0 else t_s
@@ -355,7 +360,7 @@ def _orbit_period(system, m: Marcher, pmap: _PeriodMap, z, orbit, peaks: bool = 
             x_end = piece_peaks(itv, tau_end, amp)
         else:  # the piece's ends only (evaluated as piece_peaks does: the same numbers)
             x_end = itv.state(np.array([0.0, tau_end]))[0]
-        ca, sa = piece_fourier(itv, tau_end, w, itv.reduce(x_obs))
+        ca, sa = displacement_fourier(itv, tau_end, w)
         a1[:] += ca
         b1[:] += sa
         ds, energy = piece_slip(system, itv, tau_end, x_end[:, 1] - x_end[:, 0])
