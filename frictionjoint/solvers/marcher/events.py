@@ -16,6 +16,7 @@ stop) without any small step, and zero-duration stops cannot chatter.
 """
 from __future__ import annotations
 
+import collections
 import math
 from collections.abc import Callable
 
@@ -33,6 +34,10 @@ from . import search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
+#: memory of decomposed configurations one marcher keeps [bytes]: beyond, the least recently used
+#: are forgotten (:meth:`Marcher._evict`); at 200 DOFs a configuration holds about 7 MB, a chain
+#: of 200 DOFs and 40 joints visits about 160 per period
+CONFIG_CACHE_BYTES = 2 * 2 ** 30
 _SAMPLES_PER_PERIOD = 16
 #: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
 #: it stops with a ConvergenceError (a scene whose events come faster than the march can take
@@ -98,7 +103,8 @@ class Marcher:
 
     def __init__(self, system: FrictionSystem) -> None:
         self.system = check_system("system", system, FrictionSystem)
-        self._configs: dict[bytes, ConfigData] = {}
+        self._configs: collections.OrderedDict[bytes, ConfigData] = collections.OrderedDict()
+        self._config_bytes = 0
         self._patterns: dict[bytes, StatusPattern] = {}
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
@@ -151,7 +157,27 @@ class Marcher:
         cfg = self._configs.get(key)
         if cfg is None:
             cfg = self._configs[key] = ConfigData(self.system, status)
+            self._config_bytes += cfg.nbytes
+            if self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
+                self._evict()
+        else:
+            self._configs.move_to_end(key)
         return cfg
+
+    def _evict(self) -> None:
+        """Forget the least recently used configurations (and their patterns and Jacobian parts)
+        until the cache holds :data:`CONFIG_CACHE_BYTES` at most: a structure of hundreds of DOFs
+        with tens of joints visits hundreds of configurations of megabytes each; the evicted ones
+        are decomposed again if the march comes back to them."""
+        sens = self.__dict__.get("_sensitivities", {})
+        gone = set()
+        while self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
+            key, cfg = self._configs.popitem(last=False)
+            self._config_bytes -= cfg.nbytes
+            gone.add(key)
+        for cache in (self._patterns, sens):
+            for k in [k for k in cache if self.system.config_key(np.frombuffer(k, np.int8)) in gone]:
+                del cache[k]
 
     def _pattern(self, status: np.ndarray) -> StatusPattern:
         if status.dtype != np.int8:

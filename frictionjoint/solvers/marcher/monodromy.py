@@ -101,7 +101,7 @@ class _ConfigSensitivity:
 
 def _sensitivity(marcher, itv) -> _ConfigSensitivity:
     cache = marcher.__dict__.setdefault("_sensitivities", {})
-    key = itv.status.tobytes()
+    key = itv.status.astype(np.int8, copy=False).tobytes()  # as the marcher's patterns (eviction)
     s = cache.get(key)
     if s is None:
         s = cache[key] = _ConfigSensitivity(marcher.system, itv)

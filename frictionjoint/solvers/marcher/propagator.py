@@ -129,6 +129,16 @@ def _mass_proportional(system) -> float | None:
     return system.__dict__["_mass_proportional"][0]
 
 
+def _identity(system) -> np.ndarray:
+    """The ``n x n`` identity, ``N`` of every configuration without stuck rigid sliders: one
+    read-only array per system instead of one per configuration."""
+    eye = system.__dict__.get("_identity")
+    if eye is None:
+        eye = system.__dict__["_identity"] = np.eye(system.n_dof)
+        eye.flags.writeable = False
+    return eye
+
+
 def _mass_inverse(system) -> np.ndarray:
     """``M^-1`` of the system, cached on it (the reduced mass of every configuration without stuck
     rigid sliders)."""
@@ -289,7 +299,7 @@ class ConfigData:
             nb = scipy.linalg.null_space(g)
         else:
             g = np.zeros((0, n))
-            nb = np.eye(n)
+            nb = _identity(system)
         self.N = nb
         m = nb.shape[1]
         self.m = m
@@ -377,9 +387,14 @@ class ConfigData:
     def displacement_modes(self) -> np.ndarray:
         """``N V[:m]`` (n_dof, 2m): the displacements' modal coefficients, built on first use."""
         modes = getattr(self, "_xv", None)
-        if modes is None:
-            modes = self._xv = self.N @ self.V[:self.m]
+        if modes is None:  # N = I: a view, no copy
+            modes = self._xv = self.V[:self.m] if self.rigid_stuck.size == 0 else self.N @ self.V[:self.m]
         return modes
+
+    @property
+    def nbytes(self) -> int:
+        """Memory held by the configuration's arrays [bytes] (what its cache entry costs)."""
+        return sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray) and a.base is None)
 
     def modal_forcing(self, w: float):
         """Per-configuration parts of :meth:`Interval._prepare` at forcing frequency ``w``:
@@ -615,8 +630,8 @@ class Interval:
             return [cfg.N @ y[cfg.m:] for y in self.y(tau, order + 1)[1:]] if cfg.m else \
                 [np.zeros((self.system.n_dof, tau.size))] * (order + 1)
         nv = getattr(cfg, "_nv", None)
-        if nv is None:
-            nv = cfg._nv = cfg.N @ cfg.V[cfg.m:]
+        if nv is None:  # N = I: a view, no copy
+            nv = cfg._nv = cfg.V[cfg.m:] if cfg.rigid_stuck.size == 0 else cfg.N @ cfg.V[cfg.m:]
         return [(nv @ e).real for e in self._eta(tau, order)]
 
     def state(self, tau):

@@ -1,0 +1,93 @@
+"""What a configuration of the marcher costs (issue 26): classically damped configurations from the
+symmetric pencil (no first-order eig), no SVD for any condition number, and a memory-bounded
+cache whose evicted configurations come back as the same numbers."""
+import math
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.solvers.marcher import events, propagator
+from frictionjoint.solvers.marcher.propagator import ConfigData
+
+
+def _chain(n=12, joints=3, rayleigh=0.0, lumped=True):
+    """A chain with Jenkins joints to the ground (benchmarks/chains.py's kind, small): damping
+    2 % of critical in the first mode, mass-proportional, plus ``rayleigh`` x K (not classical
+    once a joint sticks); ``lumped`` False gives a consistent (non-diagonal) mass matrix."""
+    w1 = 2 * math.sin(math.pi / (2 * (2 * n + 1)))
+    base = fj.LinearStructure.chain(n, damping=0.02 * w1)
+    mass = base.mass.copy()
+    if not lumped:
+        mass = mass + 0.1 * (np.diag(np.ones(n - 1), 1) + np.diag(np.ones(n - 1), -1)) + 0.2 * np.eye(n)
+    structure = fj.LinearStructure(mass, base.stiffness, 0.02 * w1 * mass + rayleigh * base.stiffness)
+    dofs = sorted({int(d) for d in np.linspace(n - 1, n // 2, joints).round()})
+    kt = 0.5 * w1 ** 2
+    elements = [fj.Jenkins(kt, 2e-4, dof=d) for d in dofs]
+    return fj.FrictionSystem(structure, elements, omega=0.9 * w1, excitation=[fj.HarmonicForce(n - 1, 0.01)])
+
+
+@pytest.mark.parametrize("lumped", [True, False])
+def test_classical_modes_are_the_first_order_ones(lumped):
+    """Mass-proportional damping: the pencil's modes (eigh, V^-1 in closed form) diagonalise the
+    first-order matrix A of every configuration: A V = V diag(lam) and V^-1 V = I to 1e-12 of
+    their scales (rounding of eigh and of the products, not an approximation)."""
+    system = _chain(lumped=lumped)
+    rng = np.random.default_rng(3)
+    for _ in range(4):
+        cfg = ConfigData(system, rng.integers(-1, 2, system.n_sliders).astype(np.int8))
+        assert cfg.shapes is not None  # the classical path was taken
+        a, v, w, lam = cfg.A, cfg.V, cfg.W, cfg.lam
+        assert np.max(np.abs(a @ v - v * lam)) <= 1e-12 * np.max(np.abs(a)) * np.max(np.abs(v))
+        assert np.max(np.abs(w @ v - np.eye(lam.size))) <= 1e-12 * np.max(np.abs(w)) * np.max(np.abs(v))
+
+
+def test_no_svd_for_a_configuration(monkeypatch):
+    """Neither path asks for a condition number by SVD (np.linalg.cond, svd): the general path's
+    is the 1-norm one from the inverse it needs anyway."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("an SVD per configuration")
+    monkeypatch.setattr(np.linalg, "svd", refuse)
+    monkeypatch.setattr(np.linalg, "cond", refuse)
+    for system in (_chain(), _chain(rayleigh=0.01)):
+        cfg = ConfigData(system, np.zeros(system.n_sliders, np.int8))
+        assert cfg.modal
+
+
+def test_general_and_classical_paths_find_the_same_orbit(monkeypatch):
+    """The steady state through the classical path and through the general one (first-order eig,
+    forced by calling the damping non-classical) agree to 1e-10 of the amplitude, as do their
+    largest Floquet multipliers: two exact decompositions of the same configurations."""
+    system = _chain()
+    fast = fj.periodic_response(system)
+    monkeypatch.setattr(propagator, "_mass_proportional", lambda system: None)
+    slow = fj.periodic_response(_chain())
+    assert fast.converged and slow.converged and len(fast.events) > 0
+    assert np.max(np.abs(fast.amplitude - slow.amplitude)) <= 1e-10 * np.max(fast.amplitude)
+    assert abs(np.max(np.abs(fast.floquet_multipliers)) - np.max(np.abs(slow.floquet_multipliers))) <= 1e-9
+
+
+def test_rayleigh_damping_takes_the_general_path():
+    """C = alpha M + beta K is not classical once a joint sticks (K_c is not K): the general path."""
+    system = _chain(rayleigh=0.01)
+    assert ConfigData(system, np.zeros(system.n_sliders, np.int8)).shapes is None
+    assert ConfigData(_chain(), np.zeros(system.n_sliders, np.int8)).shapes is not None
+
+
+def test_evicted_configurations_come_back_the_same(monkeypatch):
+    """A cache budget of a few configurations: the marcher forgets and decomposes again, and the
+    steady state is the same bit for bit (the same operations on the same inputs in one process
+    with the library's single BLAS thread: nothing for rounding to change), its cache below the
+    budget."""
+    full = fj.periodic_response(_chain())
+    one = ConfigData(_chain(), np.zeros(3, np.int8)).nbytes
+    monkeypatch.setattr(events, "CONFIG_CACHE_BYTES", 3 * one)
+    system = _chain()
+    marcher = fj.Marcher(system)
+    small = fj.periodic_response(system, marcher=marcher)
+    assert np.array_equal(full.amplitude, small.amplitude)
+    built = []
+    monkeypatch.setattr(events, "ConfigData", lambda *a: built.append(1) or ConfigData(*a))
+    again = _chain()
+    fj.periodic_response(again, marcher=fj.Marcher(again))
+    assert marcher._config_bytes <= 3 * one + one and len(marcher._configs) <= 4 < len(built)
