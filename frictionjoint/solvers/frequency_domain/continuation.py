@@ -70,8 +70,6 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     -------
     HarmonicBalanceSweep
     """
-    from tqdm import tqdm
-
     check_system("system", system, FrictionSystem)
     w_a, w_b, n_points, targets = _check_range(omega_range, n_points, check)
     hh = check_count("n_harmonics", n_harmonics, 1)
@@ -80,6 +78,17 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     if not (isinstance(tol, float) and 0 < tol < 1):
         raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
     first = harmonic_balance(_at(system, w_a), n_harmonics=hh, tol=tol)
+    rows, message = _follow(system, hh, tol, first, w_a, w_b, n_points, max_points, progress)
+    return _sweep_result(system, rows, hh, message, check, targets)
+
+
+def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b: float, n_points: int,
+            max_points: int, progress: bool) -> tuple:
+    """The branch from the balance ``first`` at ``w_a`` towards ``w_b`` (module docstring): its
+    points as rows ``(omega, harmonics, dissipated, fold, converged, message, slider positions,
+    stuck)`` and the message that says where and why it ended."""
+    from tqdm import tqdm
+
     cond = Condensed(_at(system, w_a), hh)
     z = cond.joint_vector(first.harmonics)
     zs = max(float(np.max(np.abs(z))), 1e-300)
@@ -139,7 +148,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
             message = message or f"stopped after max_points = {max_points} points"
     finally:
         bar.close()
-    return _sweep_result(system, rows, hh, message, check, targets)
+    return rows, message
 
 
 def _check_range(omega_range, n_points, check):
