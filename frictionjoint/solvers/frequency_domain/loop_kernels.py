@@ -572,7 +572,12 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
     the tangential displacement ``s`` (coefficients ``cs``) and the normal one ``p`` (``cp``): the
     algorithm of :func:`.hysteresis.flank_loop`. Returns ``(T, dT/dcs, dT/dcp, Rn, dRn/dcp,
     open_matrix, w0, slips)`` with the Fourier normalisation applied (``open_matrix[i, j]`` the
-    normalised ``int_open psi_i phi_j``)."""
+    normalised ``int_open psi_i phi_j``).
+
+    Over 80 lines on purpose: each piece (stuck, slipping, open, the closure) is a compiled step;
+    what stays is the workspace, the three starts (a lift-off, a slider that never slips, the
+    maximum of ``L``) and the march that dispatches the pieces, which a further split would hand
+    some thirty arrays and numbers per call."""
     n = cs.size
     hh = (n - 1) // 2
     ng = cos_table.shape[1]
