@@ -31,15 +31,23 @@ def _chain(n=12, joints=3, rayleigh=0.0, lumped=True):
 def test_classical_modes_are_the_first_order_ones(lumped):
     """Mass-proportional damping: the pencil's modes (eigh, V^-1 in closed form) diagonalise the
     first-order matrix A of every configuration: A V = V diag(lam) and V^-1 V = I to 1e-12 of
-    their scales (rounding of eigh and of the products, not an approximation)."""
+    their scales (rounding of eigh and of the products, not an approximation); the halved set the
+    marcher keeps reproduces a real state."""
     system = _chain(lumped=lumped)
     rng = np.random.default_rng(3)
     for _ in range(4):
         cfg = ConfigData(system, rng.integers(-1, 2, system.n_sliders).astype(np.int8))
         assert cfg.shapes is not None  # the classical path was taken
-        a, v, w, lam = cfg.A, cfg.V, cfg.W, cfg.lam
+        a = cfg.A
+        lam, v, w = cfg.full_modes()
         assert np.max(np.abs(a @ v - v * lam)) <= 1e-12 * np.max(np.abs(a)) * np.max(np.abs(v))
         assert np.max(np.abs(w @ v - np.eye(lam.size))) <= 1e-12 * np.max(np.abs(w)) * np.max(np.abs(v))
+        # the halved modes (one of each conjugate pair, doubled): eigenpairs still, and
+        # Re(V (V^-1 y)) = y for a real state y
+        assert cfg.lam.size == system.n_dof  # under-damped: every pair halved
+        assert np.max(np.abs(a @ cfg.V - cfg.V * cfg.lam)) <= 1e-12 * np.max(np.abs(a)) * np.max(np.abs(cfg.V))
+        y = rng.standard_normal((2 * system.n_dof, 3))
+        assert np.max(np.abs((cfg.V @ (cfg.W @ y)).real - y)) <= 1e-12 * np.max(np.abs(y))
 
 
 def test_no_svd_for_a_configuration(monkeypatch):

@@ -85,7 +85,13 @@ def test_closed_form_is_compared_only_where_it_is_the_motion():
     assert list(fr.regime) == ["stop-free"] * 3 + ["stops"] and fr.stops_per_cycle[3] == 1
     assert abs(fr.amplitude[0] - 4.0 / 3.0) <= 1e-12 and abs(fr.amplitude[3] - 4.0 / 3.0) >= 1e-2
     assert list(fr.applicable) == [True, True, True, False]
-    assert list(fr.analytic_regime) == ["stop-free"] * 3 + ["other orbit"]
+    # the down branch's orbit with stops is left out as another orbit, unique or not: the general
+    # marcher's exact monodromy there has the multiplier 1 - 1.6e-7 (1 - 1.1e-7 before issue 26's
+    # classical modes: within UNIT_EIGENVALUE_TOL of 1 both times, a family member), but the sweep's
+    # start check takes uniqueness from the kernel's Jacobian where it has one and defaults to unique
+    # at a grazing start, which rounding decides here
+    assert list(fr.analytic_regime[:3]) == ["stop-free"] * 3
+    assert fr.analytic_regime[3] in ("other orbit", "not unique")
     for name in ("analytic_amplitude", "analytic_phase", "amplitude_error", "phase_error"):
         assert list(np.ma.getmaskarray(getattr(fr, name))) == [False, False, False, True]
     assert fr.max_error()[0] <= 1e-9

@@ -108,16 +108,15 @@ def _sensitivity(marcher, itv) -> _ConfigSensitivity:
     return s
 
 
-def _mode_responses(lam: np.ndarray, tau: float):
+def _mode_responses(pairs, tau: float):
     """Per classically damped mode ``eta'' + alpha eta' + w^2 eta = f``, with ``lam`` the pairs
     ``[lam+, lam-]``: the impulse response ``h1``, its rate ``h1'`` and the step response ``h0``
-    at ``tau`` (``h0' = h1``), real.
+    at ``tau`` (``h0' = h1``), real; ``pairs``: ``(lam+, lam-)`` of the configuration.
 
     ``h1 = (e^{lam+ tau} - e^{lam- tau}) / (lam+ - lam-) = tau e^{lam+ tau} phi1(-(lam+ - lam-) tau)``
     (``Re lam+ >= Re lam-``: bounded, and no cancellation as the pair approaches), ``h1' = lam+ h1
     + e^{lam- tau}``, ``h0 = (g+ - g-) / (lam+ - lam-)`` with ``g = tau phi1(lam tau)``."""
-    m = lam.size // 2
-    lp, lm = lam[:m], lam[m:]
+    lp, lm = pairs
     dl = lp - lm
     h1 = tau * np.exp(lp * tau) * _phi1(-dl * tau)
     h1d = lp * h1 + np.exp(lm * tau)
@@ -138,7 +137,7 @@ def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
         out[:n] = dx
         out[n:2 * n] = 0.0
     elif sens.u is not None:
-        h1, h1d, h0 = _mode_responses(cfg.lam, tau)
+        h1, h1d, h0 = _mode_responses(cfg.pairs, tau)
         qd0 = sens.p @ dv
         f = -(sens.s @ dx)
         if sens.sj is not None:

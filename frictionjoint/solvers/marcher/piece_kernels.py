@@ -27,8 +27,8 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
 
     Parameters
     ----------
-    wi : (modes, modes) complex ndarray
-        Inverse of the eigenvector matrix.
+    wi : (modes, 2m) complex ndarray
+        Inverse of the eigenvector matrix (its rows for the modes kept).
     lam : (modes,) complex ndarray
         Eigenvalues.
     y0, b0 : (modes,) ndarray
@@ -45,7 +45,7 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
     for i in range(p):
         e = 0j
         b = 0j
-        for k in range(p):
+        for k in range(y0.size):  # the reduced state's 2m; p modes (fewer where pairs are halved)
             e += wi[i, k] * y0[k]
             b += wi[i, k] * b0[k]
         gp = hp[i] * ph
@@ -70,7 +70,7 @@ def state(v, nb, x0, lam, a, b0, bp, bm, w, tau, nidx, nmu, nc):
     ``x = x0 + N Re(V eta)[:m]``, ``v = N Re(V eta)[m:]``, with the resonant terms ``nc_q
     E(lam_q, mu_q, tau)`` of the modes ``nidx`` (:attr:`.Interval.near`; none for a plain piece)."""
     p = lam.size
-    m = p // 2
+    m = v.shape[0] // 2  # the reduced state's 2m rows; p modes (fewer where pairs are halved)
     eta = np.empty(p, np.complex128)
     eip = cmath.exp(1j * w * tau)
     eim = eip.conjugate()
@@ -79,8 +79,8 @@ def state(v, nb, x0, lam, a, b0, bp, bm, w, tau, nidx, nmu, nc):
     for q in range(nidx.size):
         i = nidx[q]
         eta[i] += nc[q] * _resonant(lam[i], nmu[q], tau)
-    y = np.empty(p)
-    for r in range(p):
+    y = np.empty(2 * m)
+    for r in range(2 * m):
         s = 0j
         for i in range(p):
             s += v[r, i] * eta[i]

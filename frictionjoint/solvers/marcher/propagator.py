@@ -173,7 +173,9 @@ def _classical_modes(mr, kr, alpha: float, factor: np.ndarray | None = None):
     w^2 Mr phi`` (``Phi^T Mr Phi = I``): per mode ``lam = -alpha/2 +- sqrt(alpha^2/4 - w^2)``,
     ``V = [[Phi, Phi], [Phi lam+, Phi lam-]]`` and ``V^-1`` in closed form from ``Phi^T Mr``.
 
-    Returns ``(lam, V, V^-1, (Phi, Phi^T Mr, w^2))``. ``eigh`` of an ``m x m`` symmetric matrix instead of ``eig``
+    Returns ``(lam, V, V^-1, (Phi, Phi^T Mr, w^2, lam+, lam-))``, the modes halved
+    (:func:`_half_modes`): ``V`` is ``2m x p``, ``V^-1`` (its left inverse on real states)
+    ``p x 2m``. ``eigh`` of an ``m x m`` symmetric matrix instead of ``eig``
     of the ``2m x 2m`` first-order matrix, an SVD for its condition and an inverse: a fortieth of
     the work at m = 200. ``factor``: the Cholesky factor ``L`` of ``Mr`` where it is the same for
     every configuration (the system's mass), so that the pencil is reduced to ``L^-1 Kr L^-T`` by
@@ -208,19 +210,54 @@ def _classical_modes(mr, kr, alpha: float, factor: np.ndarray | None = None):
     # lam+|; beyond CLASSICAL_SEPARATION (1e-12 of the motion) the general path decides
     if np.any(np.abs(diff) * CLASSICAL_SEPARATION <= scale) or not np.all(np.isfinite(root)):
         return None
-    m = w2.size
+    lam, v, w = _half_modes(phi, pt, lp, lm)
+    return lam, v, w, (phi, pt, w2, lp, lm)
+
+
+def _half_modes(phi, pt, lp, lm):
+    """``(lam, V, V^-1)`` of the classical modes, a conjugate pair as one mode: the state is real,
+    so the pair's two terms are complex conjugates and their sum is twice the real part of the
+    first's; every consumer takes the real part of its modal sums (the state ``Re(V eta)``, the
+    event functions, the Fourier integrals), so the ``lam-`` half of each pair is left out and its
+    ``lam+`` column of ``V`` doubled. Pairs with real roots (over-damped, or a rigid-body mode
+    under damping) keep both. Half the modes: half the work of every search, state and integral,
+    half the memory."""
+    m = lp.size
+    # a conjugate pair exactly: the complex square root of a negative real is purely imaginary
+    pair = (lp.real == lm.real) & (lp.imag > 0) & (lp.imag == -lm.imag)
+    single = np.flatnonzero(~pair)
+    idx = np.concatenate([np.flatnonzero(pair), single])
+    lam = np.concatenate([lp[idx], lm[single]])
+    shape = np.concatenate([phi[:, idx], phi[:, single]], axis=1)
+    weight = np.concatenate([np.where(pair[idx], 2.0, 1.0), np.ones(single.size)])
+    v = np.empty((2 * m, lam.size), complex)
+    np.multiply(shape, weight, out=v[:m])
+    np.multiply(v[:m], lam, out=v[m:])
+    other = np.concatenate([lm[idx], lp[single]])  # the pair's other root, per kept mode
+    inv_d = 1.0 / (other - lam)
+    rows = np.concatenate([pt[idx], pt[single]])
+    w = np.empty((lam.size, 2 * m), complex)
+    np.multiply((other * inv_d)[:, None], rows, out=w[:, :m])
+    np.multiply(-inv_d[:, None], rows, out=w[:, m:])
+    return lam, v, w
+
+
+def _full_modes(phi, pt, lp, lm):
+    """``(lam, V, V^-1)`` of the classical modes with both roots of every pair (square ``V``)."""
+    m = lp.size
+    lam = np.concatenate([lp, lm])
     v = np.empty((2 * m, 2 * m), complex)
     v[:m, :m] = phi
     v[:m, m:] = phi
     np.multiply(phi, lp, out=v[m:, :m])
     np.multiply(phi, lm, out=v[m:, m:])
-    inv_d = 1.0 / diff
+    inv_d = 1.0 / (lm - lp)
     w = np.empty((2 * m, 2 * m), complex)
     np.multiply((lm * inv_d)[:, None], pt, out=w[:m, :m])
     np.multiply(-inv_d[:, None], pt, out=w[:m, m:])
     np.multiply((-lp * inv_d)[:, None], pt, out=w[m:, :m])
     np.multiply(inv_d[:, None], pt, out=w[m:, m:])
-    return np.concatenate([lp, lm]), v, w, (phi, pt, w2)
+    return lam, v, w
 
 
 def _general_modes(a):
@@ -340,7 +377,7 @@ class ConfigData:
         #: mass-normalised mode shapes ``Phi`` (reduced coordinates) where the configuration is
         #: classically damped (:func:`_classical_modes`; ``lam`` is then ``[lam+, lam-]`` per
         #: mode), else None
-        self.shapes = self.shapes_mass = self.shapes_w2 = None
+        self.shapes = self.shapes_mass = self.shapes_w2 = self.pairs = None
         if m:
             kt = system.slider_stiffness[jen_stuck]
             k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
@@ -353,7 +390,8 @@ class ConfigData:
             if alpha is not None and not refine and not system.n_contacts:
                 modes = _classical_modes(mr, kr, alpha, None if self.rigid_stuck.size else _mass_factor(system))
             if modes is not None:
-                lam, v, w, (self.shapes, self.shapes_mass, self.shapes_w2) = modes
+                lam, v, w, (self.shapes, self.shapes_mass, self.shapes_w2, lp, lm) = modes
+                self.pairs = (lp, lm)
             else:
                 lam, v, w = _general_modes(a)
                 if v is None:
@@ -383,6 +421,14 @@ class ConfigData:
         self.bc_zero = not self.bc.any()
         self.bs_zero = not self.bs.any()
         self._modal_omega = None
+
+    def full_modes(self):
+        """``(lam, V, V^-1)`` with both roots of every conjugate pair (square ``V``): for a
+        complex response (the stuck orbit's harmonic solve), where the halved modes' real-part
+        rule does not apply."""
+        if self.pairs is None:
+            return self.lam, self.V, self.W
+        return _full_modes(self.shapes, self.shapes_mass, *self.pairs)
 
     def displacement_modes(self) -> np.ndarray:
         """``N V[:m]`` (n_dof, 2m): the displacements' modal coefficients, built on first use."""

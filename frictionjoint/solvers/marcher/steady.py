@@ -194,9 +194,9 @@ def _stuck_orbit(system, marcher: Marcher, st: MarchState, pmap_tol: float, n_sa
     period = 2 * math.pi / w
     b0, bc, bs = itv0._bvec
     if cfg.modal:
-        wi, v = cfg.W, cfg.V
-        y_static = -(v @ ((wi @ b0) / cfg.lam)).real
-        y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - cfg.lam))
+        lam, v, wi = cfg.full_modes()
+        y_static = -(v @ ((wi @ b0) / lam)).real
+        y_harm = v @ ((wi @ (bc - 1j * bs)) / (1j * w - lam))
     else:
         # no modal form (a defective configuration): the orbit is the same linear solve in state
         # space, where it is well conditioned (a stiffness 1e10 times the structure's is rounded
