@@ -33,7 +33,7 @@ import numpy as np
 
 from ..jit import ENABLED, _jit, matvec, row_dot
 
-__all__ = ["check", "pack", "unpack", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS",
+__all__ = ["check", "pack", "unpack", "most_violated", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS",
            "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
@@ -297,6 +297,10 @@ def _most_violated(g, dg, ddg, tol, rate, row_kind, row_slider, forced, event_ro
             best = score
             j = q
     return j, atzero
+
+
+#: :func:`_most_violated` for the marcher's NumPy settling loop (the same rule, one code)
+most_violated = _most_violated
 
 
 def unpack(buf: np.ndarray, rows: int, n: int) -> tuple:

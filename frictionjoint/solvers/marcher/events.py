@@ -47,9 +47,37 @@ MAX_PIECES_PER_PERIOD = 200_000
 #: the status a slider takes when its event row of kind ``v`` (stop), ``o`` (lift-off) or ``c``
 #: (closure) is violated
 _AFTER = {"v": 0, "o": 2, "c": 0}
+#: the compiled consistency test's row kinds (:mod:`.consistency`) of the kinds of a status's rows
+_ROW_KIND = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS,
+             "o": consistency.KIND_OPEN, "c": consistency.KIND_CLOSE}
 
 
 _NO_ROWS = np.zeros(0, np.intp)
+
+
+def _change_status(status: np.ndarray, row: tuple, in_band: bool, visited: set, forced: np.ndarray) -> bool:
+    """Hong & Liu's change of ``status`` for its most violated row ``(slider, kind)`` (in place);
+    False where the status stays as it is.
+
+    A slipping slider stops, a contact opens or closes. A stuck slider slips, unless that closes a
+    cycle stick -> slip -> stick at one instant: every function is within its zero band
+    (``in_band``) and only the curvatures disagree (the holding force is within rounding of the
+    slip limit, and the slip acceleration within rounding of 0). It stays stuck then: the sticking
+    force is within the limit now, and the event search finds when it leaves it, at a later time
+    (never a zero-length chatter)."""
+    i, kind = row
+    if kind in "voc":
+        status[i] = _AFTER[kind]
+        forced[i] = False
+        return True
+    new = 1 if kind == "+" else -1
+    trial = status.copy()
+    trial[i] = new
+    if trial.tobytes() in visited and in_band:
+        return False
+    status[i] = new
+    forced[i] = True
+    return True
 
 
 def _zero_rows(meta, trigger) -> np.ndarray:
@@ -455,7 +483,7 @@ class Marcher:
         # has the slip direction (Hong & Liu), so their velocity event is judged by the sign of
         # its derivative alone (a tolerance band on it could send them back to stick, forever,
         # when the motion is far below the velocity scale seen earlier in the run)
-        forced = [False] * sysm.n_sliders
+        forced = np.zeros(sysm.n_sliders, dtype=bool)
         omega = sysm.omega
         visited = set()
         for _ in range(max_iter):
@@ -464,65 +492,26 @@ class Marcher:
             red, meta = itv.events
             if red is None:
                 break
-            g, dg, ddg = (a.tolist() for a in itv.start_values(red))
-            tol = self._tolerances(itv)
-            if trigger is not None:
-                # the event's row is at zero, and so are the rows that vanish with it
-                # (consistency.EVENT_ROW_SLACK)
-                r = meta.index(trigger) if trigger in meta and np.array_equal(state.status, old) else -1
-                if r >= 0 and 0.0 < g[r] <= consistency.EVENT_ROW_SLACK * tol[r]:
-                    g[r] = 0.0
-                for r in _zero_rows(meta, trigger).tolist():
-                    if abs(g[r]) <= consistency.EVENT_ROW_SLACK * tol[r]:
-                        g[r] = 0.0
-            rate = max(omega, itv.config.max_rate, 1e-300)
-            atzero = []
-            best, j = math.inf, -1
-            for r, (i, kind) in enumerate(meta):
-                gr, dgr, tr = g[r], dg[r], tol[r]
-                tr_ = max(tr, 1e-300)
-                if abs(gr) <= tr:
-                    atzero.append(True)
-                    dtol = 10.0 * tr_ * rate
-                    # within the band |dg| <= dtol the curvature decides, except that a forced
-                    # slider whose velocity already grows (dg > 0) stays slipping
-                    if dgr < -dtol:
-                        score = dgr / dtol
-                    elif (abs(dgr) <= dtol and ddg[r] < 0
-                          and not (kind == "v" and forced[i] and dgr > 0)):
-                        score = -1.0
-                    elif dgr < 0 and ddg[r] > 0 and gr - dgr * dgr / (2.0 * ddg[r]) < -tr:
-                        # turning up, but below the band first (the dip rule of .consistency)
-                        score = -1.0
-                    else:
-                        continue
-                else:
-                    atzero.append(False)
-                    if not gr < 0:
-                        continue
-                    score = gr / tr_
-                # most violated first, normalised by its tolerance scale (first of equals)
-                if j < 0 or score < best:
-                    best, j = score, r
-            itv.atzero = np.array(atzero, dtype=bool)
+            g, dg, ddg = itv.start_values(red)
+            g = np.array(g, dtype=float)
+            tol = np.asarray(self._tolerances(itv), dtype=float)
+            # the event's row is at zero, and so are the rows that vanish with it
+            # (consistency.EVENT_ROW_SLACK); Hong & Liu's choice as the compiled test makes it
+            event_row = meta.index(trigger) if (trigger is not None and trigger in meta
+                                                and np.array_equal(state.status, old)) else -1
+            kinds = np.array([_ROW_KIND[k] for _, k in meta], dtype=np.int64)
+            sliders = np.array([i for i, _ in meta], dtype=np.int64)
+            j, atzero = consistency.most_violated(g, np.asarray(dg, float), np.asarray(ddg, float), tol,
+                                                  max(omega, itv.config.max_rate, 1e-300), kinds, sliders,
+                                                  forced, event_row, _zero_rows(meta, trigger).astype(np.int64))
+            j = int(j)
+            g = g.tolist()
+            tol = tol.tolist()
+            itv.atzero = np.asarray(atzero, dtype=bool)
             if j < 0:
                 break
-            i, kind = meta[j]
-            if kind in "voc":  # a slipping slider stops, a contact opens or closes
-                state.status[i] = _AFTER[kind]
-                forced[i] = False
-            else:
-                # a cycle stick -> slip -> stick at one instant: every function is within its
-                # zero band and only the curvatures disagree (the holding force is within
-                # rounding of the slip limit, and the slip acceleration within rounding of 0).
-                # Stay stuck: the sticking force is within the limit now, and the event search
-                # finds when it leaves it, at a later time (never a zero-length chatter)
-                new_status = state.status.copy()
-                new_status[i] = 1 if kind == "+" else -1
-                if new_status.tobytes() in visited and g[j] >= -tol[j]:
-                    break
-                state.status[i] = new_status[i]
-                forced[i] = True
+            if not _change_status(state.status, meta[j], g[j] >= -tol[j], visited, forced):
+                break
             self._project(state)
         else:
             raise ConvergenceError(

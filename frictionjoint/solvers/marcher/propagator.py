@@ -307,12 +307,40 @@ class ConfigData:
     """
 
     def __init__(self, system, status: np.ndarray):
-        n = system.n_dof
-        d = system.slider_direction
         status = np.asarray(status)
         stuck = status == 0
-        rigid_stuck = stuck & system.rigid
         jen_stuck = stuck & ~system.rigid
+        self._stiffness(system, status, jen_stuck)
+        self.rigid_stuck = np.flatnonzero(stuck & system.rigid)
+        mr, kr, cr = self._reduce(system)
+        self.modal = True
+        #: mass-normalised mode shapes ``Phi`` (reduced coordinates), ``Phi^T Mr``, ``w^2`` and the
+        #: roots ``(lam+, lam-)`` of each pair where the configuration is classically damped
+        #: (:func:`_classical_modes`), else None
+        self.shapes = self.shapes_mass = self.shapes_w2 = self.pairs = None
+        if self.m:
+            lam, v, w = self._modes(system, jen_stuck, mr, kr, cr)
+        else:
+            lam = np.zeros(0, complex)
+            v = np.zeros((0, 0), complex)
+            w = np.zeros((0, 0), complex)
+        self.lam = lam.astype(complex)
+        self.V = v
+        self.W = w
+        rates = np.abs(self.lam)
+        self.max_rate = float(rates.max()) if rates.size else 0.0
+        # forcing terms that depend on the configuration only (reused by every interval)
+        zm = np.zeros(self.m)
+        self.bc = np.concatenate([zm, self.mr_inv_nt @ system.force_cos])
+        self.bs = np.concatenate([zm, self.mr_inv_nt @ system.force_sin])
+        self.bc_zero = not self.bc.any()
+        self.bs_zero = not self.bs.any()
+        self._modal_omega = None
+
+    def _stiffness(self, system, status: np.ndarray, jen_stuck: np.ndarray) -> None:
+        """``base_stiffness`` and ``damping`` (contacts: open ones' spring and dashpot off, slipping
+        sliders' slip-force gradients on) and ``stiffness`` ``K_c`` (plus the stuck Jenkins springs)."""
+        d = system.slider_direction
         kb, cb = system.stiffness, system.damping
         if system.n_contacts:
             kb, cb = kb.copy(), cb.copy()
@@ -330,21 +358,22 @@ class ConfigData:
         for i in np.flatnonzero(jen_stuck):
             kc += system.slider_stiffness[i] * np.outer(d[i], d[i])
         self.stiffness = kc
-        self.rigid_stuck = np.flatnonzero(rigid_stuck)
+
+    def _reduce(self, system):
+        """The reduced coordinates ``x = x0 + N q`` of the stuck rigid sliders' null space: ``N``,
+        ``m``, ``Mr^-1 N^T``, the first-order matrix ``A``, the holding-force map ``L``; returns the
+        reduced ``(Mr, Kr, Cr)``."""
+        n = system.n_dof
+        mass, kc, cb = system.mass, self.stiffness, self.damping
         if self.rigid_stuck.size:
-            g = d[self.rigid_stuck]
+            g = system.slider_direction[self.rigid_stuck]
             nb = scipy.linalg.null_space(g)
         else:
-            g = np.zeros((0, n))
             nb = _identity(system)
         self.N = nb
-        m = nb.shape[1]
-        self.m = m
-        mass = system.mass
+        m = self.m = nb.shape[1]
         if self.rigid_stuck.size:
-            mr = nb.T @ mass @ nb
-            kr = nb.T @ kc @ nb
-            cr = nb.T @ cb @ nb
+            mr, kr, cr = nb.T @ mass @ nb, nb.T @ kc @ nb, nb.T @ cb @ nb
         else:  # N = I: the products would copy (at n^3 each)
             mr, kr, cr = mass, kc, cb
         if m:
@@ -373,54 +402,36 @@ class ConfigData:
             self.L = -np.linalg.solve(g @ g.T, g @ proj)
         else:
             self.L = np.zeros((0, n))
-        self.modal = True
-        #: mass-normalised mode shapes ``Phi`` (reduced coordinates) where the configuration is
-        #: classically damped (:func:`_classical_modes`; ``lam`` is then ``[lam+, lam-]`` per
-        #: mode), else None
-        self.shapes = self.shapes_mass = self.shapes_w2 = self.pairs = None
-        if m:
-            kt = system.slider_stiffness[jen_stuck]
-            k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
-            # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
-            # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
-            # it restores digits
-            refine = bool(kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref)
-            modes = None
-            alpha = _mass_proportional(system)
-            if alpha is not None and not refine and not system.n_contacts:
-                modes = _classical_modes(mr, kr, alpha, None if self.rigid_stuck.size else _mass_factor(system))
+        return mr, kr, cr
+
+    def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr):
+        """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
+        the first-order matrix's (:func:`_general_modes`), refined where a stuck spring is far
+        stiffer than the structure (:func:`_refine_modes`); ``modal`` False where defective."""
+        kt = system.slider_stiffness[jen_stuck]
+        k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
+        # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
+        # the slow modes in eig: refinement (3 Newton solves per mode) is only paid where
+        # it restores digits
+        refine = bool(kt.size and float(np.max(kt)) > REFINE_RATIO * k_ref)
+        alpha = _mass_proportional(system)
+        if alpha is not None and not refine and not system.n_contacts:
+            modes = _classical_modes(mr, kr, alpha, None if self.rigid_stuck.size else _mass_factor(system))
             if modes is not None:
                 lam, v, w, (self.shapes, self.shapes_mass, self.shapes_w2, lp, lm) = modes
                 self.pairs = (lp, lm)
-            else:
-                lam, v, w = _general_modes(a)
-                if v is None:
-                    self.modal = False
-                    lam = np.linalg.eigvals(a)
-                elif refine:
-                    tsc = v[0]
-                    v, w = v[1], None
-                    lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ kb @ nb,
-                                           nb.T @ d[jen_stuck].T, system.slider_stiffness[jen_stuck])
-                    w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
-                else:
-                    v = v[1]
-        else:
-            lam = np.zeros(0, complex)
-            v = np.zeros((0, 0), complex)
-            w = np.zeros((0, 0), complex)
-        self.lam = lam.astype(complex)
-        self.V = v
-        self.W = w
-        rates = np.abs(self.lam)
-        self.max_rate = float(rates.max()) if rates.size else 0.0
-        # forcing terms that depend on the configuration only (reused by every interval)
-        zm = np.zeros(m)
-        self.bc = np.concatenate([zm, self.mr_inv_nt @ system.force_cos])
-        self.bs = np.concatenate([zm, self.mr_inv_nt @ system.force_sin])
-        self.bc_zero = not self.bc.any()
-        self.bs_zero = not self.bs.any()
-        self._modal_omega = None
+                return lam, v, w
+        lam, v, w = _general_modes(self.A)
+        if v is None:
+            self.modal = False
+            return np.linalg.eigvals(self.A), None, None
+        tsc, v = v
+        if refine:
+            nb = self.N
+            lam, v = _refine_modes(lam.astype(complex), v, mr, cr, nb.T @ self.base_stiffness @ nb,
+                                   nb.T @ system.slider_direction[jen_stuck].T, kt)
+            w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
+        return lam, v, w
 
     def full_modes(self):
         """``(lam, V, V^-1)`` with both roots of every conjugate pair (square ``V``): for a

@@ -403,31 +403,50 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
     m = marcher if marcher is not None else Marcher(system)
     log = EventLog()
     state = m.initial_state(x0, v0, w0, t0=t0, log=log)
-    n_t = t_eval.size
-    ndof = system.n_dof
-    n_el = len(system.elements)
-    out = {}
-    if "x" in record:
-        out["x"] = np.empty((ndof, n_t))
-    if "v" in record:
-        out["v"] = np.empty((ndof, n_t))
-    if "friction_force" in record:
-        out["friction_force"] = np.empty((n_el, n_t))
-        owner = np.zeros((n_el, system.n_sliders))
-        owner[system.slider_owner, np.arange(system.n_sliders)] = 1.0
-    energy = _EnergyRecord(system, out, n_t) if "energy" in record else None
-    pos = [0]
-    t_close = 8.0 * np.finfo(float).eps * max(1.0, abs(t_end))
+    rec = _Recorder(system, m, t_eval, t_end, record)
+    success, message = True, "ok"
+    try:
+        m.march(state, t_end, log, on_interval=rec.on_interval)
+    except ConvergenceError as exc:
+        # a failed march is a status of the result: the outputs after the failure are NaN
+        success, message = False, f"the march failed at t = {state.t!r}: {exc}"
+        rec.fail()
+    return rec.result(log, state, success, message)
 
-    def on_interval(itv, tau_end):
+
+class _Recorder:
+    """The outputs of :func:`simulate` at ``t_eval``, filled piece by piece (``on_interval``)."""
+
+    def __init__(self, system, marcher, t_eval: np.ndarray, t_end: float, record):
+        self.marcher = marcher
+        self.t_eval = t_eval
+        self.t_end = t_end
+        n_t = t_eval.size
+        ndof = system.n_dof
+        n_el = len(system.elements)
+        out = self.out = {}
+        if "x" in record:
+            out["x"] = np.empty((ndof, n_t))
+        if "v" in record:
+            out["v"] = np.empty((ndof, n_t))
+        if "friction_force" in record:
+            out["friction_force"] = np.empty((n_el, n_t))
+            self.owner = np.zeros((n_el, system.n_sliders))
+            self.owner[system.slider_owner, np.arange(system.n_sliders)] = 1.0
+        self.energy = _EnergyRecord(system, out, n_t) if "energy" in record else None
+        self.pos = 0
+        self.t_close = 8.0 * np.finfo(float).eps * max(1.0, abs(t_end))
+
+    def on_interval(self, itv, tau_end: float) -> None:
+        """Store the outputs at the times of ``t_eval`` in the piece ``[itv.t0, itv.t0 + tau_end]``."""
+        t_eval, out = self.t_eval, self.out
         t1 = itv.t0 + tau_end
-        if t_end - t1 <= t_close:  # the last interval: t0 + tau may fall an ulp short of t_end
-            t1 = max(t1, t_end)
-        k0 = pos[0]
-        k1 = k0
-        while k1 < n_t and t_eval[k1] <= t1:
+        if self.t_end - t1 <= self.t_close:  # the last interval: t0 + tau may fall an ulp short of t_end
+            t1 = max(t1, self.t_end)
+        k0 = k1 = self.pos
+        while k1 < t_eval.size and t_eval[k1] <= t1:
             k1 += 1
-        if k1 == k0 and energy is None:
+        if k1 == k0 and self.energy is None:
             return
         taus = t_eval[k0:k1] - itv.t0
         if k1 > k0:
@@ -437,25 +456,24 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
             if "v" in out:
                 out["v"][:, k0:k1] = v
             if "friction_force" in out:
-                red = itv.reduce(m.force_observables(itv))
-                out["friction_force"][:, k0:k1] = owner @ itv.evaluate(red, taus)[0]
-        if energy is not None:
-            energy.piece(itv, k0, taus, tau_end)
-        pos[0] = k1
+                red = itv.reduce(self.marcher.force_observables(itv))
+                out["friction_force"][:, k0:k1] = self.owner @ itv.evaluate(red, taus)[0]
+        if self.energy is not None:
+            self.energy.piece(itv, k0, taus, tau_end)
+        self.pos = k1
 
-    success, message = True, "ok"
-    try:
-        m.march(state, t_end, log, on_interval=on_interval)
-    except ConvergenceError as exc:
-        # a failed march is a status of the result: the outputs after the failure are NaN
-        success, message = False, f"the march failed at t = {state.t!r}: {exc}"
-        for key in out:
-            out[key][..., pos[0]:] = np.nan
-    res = TimeResponse(t=t_eval, x=out.get("x"), v=out.get("v"), friction_force=out.get("friction_force"),
-                       events=log, final_state=state, success=success, message=message)
-    if energy is not None:
-        res.work = out["work"]
-        res.stored_energy = out["stored"]
-        res.dissipated_friction = out["fric"]
-        res.dissipated_viscous = out["visc"]
-    return res
+    def fail(self) -> None:
+        """The outputs after a failed march are NaN."""
+        for key in self.out:
+            self.out[key][..., self.pos:] = np.nan
+
+    def result(self, log, state, success: bool, message: str) -> TimeResponse:
+        out = self.out
+        res = TimeResponse(t=self.t_eval, x=out.get("x"), v=out.get("v"), friction_force=out.get("friction_force"),
+                           events=log, final_state=state, success=success, message=message)
+        if self.energy is not None:
+            res.work = out["work"]
+            res.stored_energy = out["stored"]
+            res.dissipated_friction = out["fric"]
+            res.dissipated_viscous = out["visc"]
+        return res
