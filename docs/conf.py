@@ -54,10 +54,6 @@ myst_heading_anchors = 3
 # dropped by ``_api_references`` below, nowhere else.
 nitpicky = True
 
-# Three docstrings write an absolute value as |P0|, |x|, |q_i|, which reST reads as substitutions
-# (an error): these definitions print them as written. Only the API pages are reST, so only they
-# see this prolog.
-rst_prolog = "\n".join(rf".. |{s}| replace:: \|{s}\|" for s in ("P0", "x", "q_i")) + "\n"
 
 # autodoc: the docstrings (numpydoc) state the types with shapes and units; the signatures'
 # annotations would only repeat them as unresolvable references (ArrayLike, os.PathLike, ...)

@@ -81,7 +81,7 @@ class CoulombOscillator:
 
     @property
     def friction_ratio(self) -> float:
-        """f = F / |P0| (inf without excitation)."""
+        """``f = F / |P0|`` (inf without excitation)."""
         p0 = abs(self.equivalent_force_amplitude)
         return self.slip_force / p0 if p0 > 0 else math.inf
 
@@ -196,7 +196,7 @@ class CoulombOscillator:
         Returns
         -------
         PeriodicResponse
-            ``amplitude`` (max |x|) [m], ``phase`` (first-harmonic lag behind the force) [rad],
+            ``amplitude`` (``max |x|``) [m], ``phase`` (first-harmonic lag behind the force) [rad],
             ``stops_per_cycle``, ``converged`` and ``message`` (also on unbounded growth and
             non-unique orbits).
 

@@ -3,7 +3,7 @@
 Model (Barber, Klarbring, Ciavarella et al.; seed ``frictional_contacts_periodic_loading_shakedown``,
 eq. 4 with ``B = 0``): ``n`` contact nodes with tangential slips ``w`` [m], a symmetric positive
 definite tangential contact stiffness ``K`` (n x n) [N/m] that couples the nodes elastically, and
-the tangential nodal forces
+the tangential nodal forces::
 
     q(t) = q_ext(t) - K w,        |q_i| <= g_i(t) = f_i N_i(t),
 

@@ -61,7 +61,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
         Show a progress bar (fraction of the range covered).
     check : bool or sequence of float
         Check points against the exact time-domain steady state started from them
-        (:func:`~frictionjoint.solvers.hbm.exact_orbit`; one shooting each, usually a few Newton
+        (:func:`~frictionjoint.solvers.frequency_domain.hbm.exact_orbit`; one shooting each, usually a few Newton
         steps from the balanced state): their truncation error and their stability from the exact
         orbit's Floquet multipliers. True: every point; frequencies [rad/s]: the branch point
         nearest each.

@@ -301,7 +301,7 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
         Newton iterations at most.
     check : bool
         Also find the exact time-domain steady state from the balanced orbit
-        (:func:`~frictionjoint.solvers.steady.periodic_response`) and report the truncation error.
+        (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`) and report the truncation error.
 
     Returns
     -------
@@ -402,7 +402,7 @@ def _newton(cond: Condensed, z: np.ndarray, tol: float, max_iter: int):
 
 
 def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray, peaks: bool = True):
-    """The exact time-domain steady state (:func:`~frictionjoint.solvers.steady.periodic_response`)
+    """The exact time-domain steady state (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`)
     started from a balanced orbit: its state at ``t = 0`` and its sliders' positions (within
     their slip bands there: the balance holds the joint coordinates to its tolerance only)."""
     from ..marcher import periodic_response
