@@ -19,16 +19,20 @@ is set in the environment, BLAS threads are the library's and NumPy's defaults):
 - ``HBM7``, ``HBM15``: ``fj.harmonic_balance(system, n_harmonics=7)`` and ``15``, one point each,
   each on a freshly built system.
 
-Each size has ``--limit`` seconds; a column that has not finished by then reads ``> limit`` and the
-next size starts. Under the table: the growth exponent of each column, the least-squares slope of
-``log(time)`` against ``log(n)`` over the sizes that finished. ``--check`` asserts issue 26's
+Each size has ``--limit`` seconds and ``--memory`` GB resident (default half the machine's: the
+cold steady state of (400, 80) grew to 24 GB and was killed by the kernel); a column that has not
+finished by then reads ``> limit`` (``> memory``) and the next size starts; ``GB`` is the worker's
+peak resident memory as last seen. Under the table: the growth exponent of each column, the
+least-squares slope of ``log(time)`` against ``log(n)`` over the sizes that finished, and the same
+between the two largest (where fixed costs weigh less). ``--check`` asserts issue 26's
 ratios for the sizes run: cold ``periodic_response`` at (100, 20) and (200, 40) at most 0.5 x the
 baseline, ``harmonic_balance`` at ``H = 7`` at (200, 40) at most 0.05 x. ``--amplitudes FILE``
 keeps the steady states' amplitudes: written when the file does not exist, otherwise compared
 (column ``amp diff``, the largest relative difference of a DOF's amplitude; ``--check`` asserts it
 is at most 1e-12), so that a faster marcher can show it finds the same orbits. Usage::
 
-    python benchmarks/scaling.py [--quick] [--limit SECONDS] [--out FILE] [--check] [--amplitudes FILE]
+    python benchmarks/scaling.py [--quick] [--sizes n:j,...] [--limit SECONDS] [--memory GB] [--out FILE]
+                                 [--check] [--amplitudes FILE]
 """
 from __future__ import annotations
 
@@ -141,8 +145,20 @@ def _worker(n, joints, conn):
         conn.close()
 
 
-def run_size(n: int, joints: int, limit: float) -> dict:
-    """``measure(n, joints)`` in a spawned worker for at most ``limit`` seconds: what it finished."""
+def _rss(pid: int) -> tuple[float, float]:
+    """Resident and peak resident memory [GB] of process ``pid`` (Linux ``/proc``; 0 elsewhere)."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return 0.0, 0.0
+    kb = {ln.split(":")[0]: float(ln.split()[1]) for ln in text.splitlines() if ln.startswith(("VmRSS", "VmHWM"))}
+    return kb.get("VmRSS", 0.0) / 1e6, kb.get("VmHWM", 0.0) / 1e6
+
+
+def run_size(n: int, joints: int, limit: float, memory: float = math.inf) -> dict:
+    """``measure(n, joints)`` in a spawned worker for at most ``limit`` seconds and ``memory`` GB
+    resident (the worker is ended beyond: (400, 80) took 24 GB and the whole machine's memory): what
+    it finished, and its peak memory ``rss`` [GB] as last seen."""
     ctx = multiprocessing.get_context("spawn")
     receive, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_worker, args=(n, joints, send), daemon=True)
@@ -152,12 +168,17 @@ def run_size(n: int, joints: int, limit: float) -> dict:
     deadline = time.perf_counter() + limit  # from the spawn: the worker's imports count, they are small
     try:
         while (left := deadline - time.perf_counter()) > 0:
-            if receive.poll(left):
+            if receive.poll(min(left, 0.2)):
                 try:
                     key, value = receive.recv()
                 except EOFError:  # the worker is done (or died: its columns stay empty)
                     break
                 row[key] = value
+            rss, peak = _rss(proc.pid)
+            row["rss"] = max(row.get("rss", 0.0), peak)
+            if rss > memory:
+                row["memory"] = True
+                break
         else:
             row["limit"] = True
     finally:
@@ -166,15 +187,15 @@ def run_size(n: int, joints: int, limit: float) -> dict:
             proc.terminate()
             proc.join()
         receive.close()
-    if proc.exitcode not in (0, None) and "error" not in row and not row.get("limit"):
+    if proc.exitcode not in (0, None) and not ({"error", "limit", "memory"} & row.keys()):
         row["error"] = f"worker exit code {proc.exitcode}"
     return row
 
 
-def growth(rows: list[dict], key: str) -> tuple[float, int]:
-    """Least-squares slope of log(time) against log(n) over the rows where ``key`` finished, and
-    their count (NaN below two sizes)."""
-    pts = [(r["n"], r[key]) for r in rows if isinstance(r.get(key), float)]
+def growth(rows: list[dict], key: str, last: int | None = None) -> tuple[float, int]:
+    """Least-squares slope of log(time) against log(n) over the rows where ``key`` finished (the
+    ``last`` largest of them only, if given), and their count (NaN below two sizes)."""
+    pts = sorted((r["n"], r[key]) for r in rows if isinstance(r.get(key), float))[-(last or 0):]
     if len(pts) < 2:
         return math.nan, len(pts)
     x, y = np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
@@ -193,6 +214,13 @@ def _commit() -> str:
     return (head or "unknown") + (" with uncommitted changes in frictionjoint/" if dirty else "")
 
 
+def _half_memory() -> float:
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2e9
+    except (ValueError, OSError, AttributeError):
+        return 8.0
+
+
 def _load() -> str:
     try:
         return " ".join(f"{v:.1f}" for v in os.getloadavg())
@@ -207,7 +235,8 @@ def header(args) -> list[str]:
         f"{os.cpu_count()} cores, Python {platform.python_version()}, NumPy {np.__version__}, SciPy "
         f"{scipy.__version__}, frictionjoint at {_commit()}, {time.strftime('%Y-%m-%d %H:%M')}",
         f"# environment: {', '.join(env) if env else 'no thread settings (library and NumPy defaults)'}; "
-        f"one spawned worker per size, limit {args.limit:g} s; load average {_load()} at the start",
+        f"one spawned worker per size, limit {args.limit:g} s and {args.memory:.3g} GB resident (GB: the "
+        f"worker's peak); load average {_load()} at the start",
         f"# chains.chain(n, joints); baseline DOP853 (ratios' denominator): {PERIODS} periods from rest of the "
         f"stuck linear chain, rtol={TOLERANCES[0]:g}, atol={TOLERANCES[1]:g}; tight: rtol={TIGHT[0]:g}, "
         f"atol={TIGHT[1]:g}, and 1 thread: the baseline with one BLAS thread (threadpoolctl), as the library "
@@ -223,12 +252,14 @@ def _time(row, key, base=None):
     if isinstance(v, float):
         ratio = f" ({v / base:.3f})" if isinstance(base, float) and base > 0 else ""
         return f"{v:.3g}{ratio}"
-    return "> limit" if row.get("limit") else ("error" if "error" in row else "-")
+    if row.get("limit") or row.get("memory"):
+        return "> limit" if row.get("limit") else "> memory"
+    return "error" if "error" in row else "-"
 
 
-WIDTHS = (4, 6, 6, 8, 8, 8, 15, 15, 15, 15, 7, 9, 10, 9)
+WIDTHS = (4, 6, 6, 8, 8, 8, 15, 15, 15, 15, 7, 9, 10, 9, 7)
 NAMES = ("n", "joints", "jit", "DOP853", "1 thread", "tight", "cold", "warm", "HBM7", "HBM15", "periods",
-         "ev/period", "status", "amp diff")
+         "ev/period", "status", "amp diff", "GB")
 
 
 def _line(cells) -> str:
@@ -243,12 +274,14 @@ def row_lines(r: dict, reference: dict | None) -> list[str]:
     lines = [_line((str(r["n"]), str(r.get("sliders", r["joints"])), _time(r, "jit"), _time(r, "dop853"),
                     _time(r, "dop853_1"), _time(r, "tight"), _time(r, "cold", base), _time(r, "warm", base),
                     _time(r, "hbm7", base), _time(r, "hbm15", base), periods, events, r.get("status", "-"),
-                    _amp_diff(r, reference)))]
+                    _amp_diff(r, reference), f"{r['rss']:.2f}" if r.get("rss") else "-"))]
     notes = [f"HBM{h} not converged" for h in (7, 15) if r.get(f"hbm{h}_converged") is False]
     if r.get("warm_same") is False:
         notes.append("warm amplitudes differ from cold")
     if "error" in r:
         notes.append(r["error"])
+    if r.get("memory"):
+        notes.append(f"the worker passed the memory limit ({r['rss']:.1f} GB resident at its peak)")
     if notes:
         lines.append(f"{'':>12}note: " + "; ".join(notes))
     return lines
@@ -256,13 +289,16 @@ def row_lines(r: dict, reference: dict | None) -> list[str]:
 
 def exponents(rows: list[dict]) -> list[str]:
     """The growth exponents' lines, under the table."""
-    exps = []
-    for key, name in (("cold", "cold"), ("warm", "warm"), ("hbm7", "HBM7"), ("hbm15", "HBM15"),
-                      ("dop853", "DOP853"), ("dop853_1", "DOP853 1 thread"), ("tight", "DOP853 tight")):
-        p, count = growth(rows, key)
-        exps.append(f"{name} {p:.2f}" if count >= 2 else f"{name} -")
-    return ["growth exponents (least squares of log time on log n over the sizes that finished):",
-            "  " + ", ".join(exps)]
+    lines = []
+    for last, title in ((None, "least squares of log time on log n over the sizes that finished"),
+                        (2, "between the two largest sizes that finished (fixed costs weigh less)")):
+        exps = []
+        for key, name in (("cold", "cold"), ("warm", "warm"), ("hbm7", "HBM7"), ("hbm15", "HBM15"),
+                          ("dop853", "DOP853"), ("dop853_1", "DOP853 1 thread"), ("tight", "DOP853 tight")):
+            p, count = growth(rows, key, last)
+            exps.append(f"{name} {p:.2f}" if count >= 2 else f"{name} -")
+        lines += [f"growth exponents ({title}):", "  " + ", ".join(exps)]
+    return lines
 
 
 def _amp_diff(row, reference):
@@ -304,6 +340,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sizes", type=str, default=None,
                         help="sizes as n:joints,n:joints (default the n / joints = 5 family to 400)")
     parser.add_argument("--limit", type=float, default=600.0, help="seconds per size (default 600)")
+    parser.add_argument("--memory", type=float, default=_half_memory(),
+                        help="GB resident per size (default half of this machine's memory)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this file")
     parser.add_argument("--check", action="store_true", help="exit 1 unless issue 26's ratios are met")
     parser.add_argument("--amplitudes", type=Path, default=None,
@@ -311,6 +349,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.limit <= 0:
         parser.error(f"--limit must be > 0 seconds, got {args.limit}")
+    if args.memory <= 0:
+        parser.error(f"--memory must be > 0 GB, got {args.memory}")
     if args.sizes:
         try:
             sizes = tuple(tuple(int(v) for v in s.split(":")) for s in args.sizes.split(","))
@@ -328,15 +368,14 @@ def main(argv=None) -> int:
     print("\n".join(lines), flush=True)
     rows = []
     for n, joints in sizes:
-        rows.append(run_size(n, joints, args.limit))
+        rows.append(run_size(n, joints, args.limit, args.memory))
         lines += row_lines(rows[-1], reference)
         print("\n".join(row_lines(rows[-1], reference)), flush=True)  # the row as soon as it is known
     lines += exponents(rows) + [f"load average {_load()} at the end"]
-    print("\n".join(lines[-3:]))
+    print("\n".join(lines[-5:]))
     if args.amplitudes is not None and reference is None:
         np.savez(args.amplitudes, **{f"{r['n']}_{r['joints']}": r["amplitude"] for r in rows if "amplitude" in r})
-        lines.append(f"amplitudes written to {args.amplitudes}")
-        print(lines[-1])
+        print(f"amplitudes written to {args.amplitudes}")
     if args.out is not None:
         args.out.write_text("\n".join(lines) + "\n")
         print(f"wrote {args.out}")

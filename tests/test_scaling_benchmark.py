@@ -46,6 +46,9 @@ def test_growth_is_the_slope_over_the_finished_rows():
     p, count = scaling.growth(rows, "cold")
     assert count == 3 and p == pytest.approx(2.0, rel=1e-12)
     assert math.isnan(scaling.growth(rows[:1], "cold")[0])
+    rows[0]["cold"] *= 10  # a fixed cost at the smallest size: the last two sizes do not see it
+    p, count = scaling.growth(rows, "cold", last=2)
+    assert count == 2 and p == pytest.approx(2.0, rel=1e-12)
 
 
 def test_check_names_each_missed_target():
@@ -68,3 +71,11 @@ def test_a_size_past_its_limit_reads_limit():
     row = scaling.run_size(20, 5, 0.05)  # the worker has not even imported the library
     assert row["limit"] and "cold" not in row
     assert "> limit" in scaling.row_lines(row, None)[0]
+
+
+@pytest.mark.slow
+def test_a_size_past_its_memory_reads_memory():
+    row = scaling.run_size(20, 5, 120, memory=0.02)  # NumPy alone takes more
+    assert row["memory"] and row["rss"] > 0.02 and "cold" not in row
+    lines = scaling.row_lines(row, None)
+    assert "> memory" in lines[0] and "memory limit" in lines[1]
