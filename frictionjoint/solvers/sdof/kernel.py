@@ -247,6 +247,10 @@ class SdofCoulomb:
         self._rate_slip = max(w, lam)
         self._rate_stick = w
         self._fscale_fixed = max(abs(p0), f)
+        # a slip piece's force scale (|P0| + F, the larger of |k x|) and m times its rate (a force
+        # over it is the velocity scale of the event tolerances)
+        self._fscale_slip = max(abs(p0) + f, self._fscale_fixed)
+        self._m_rate = m * self._rate_slip
         # stuck pieces: P0 cos(wt) = |P0| cos(wt + phi)
         self._p0abs = abs(p0)
         self._phi = math.pi if p0 < 0 else 0.0
@@ -441,12 +445,6 @@ class SdofCoulomb:
         xe, ve = self._at(self._start(t, x, vq, s), t_stop - t)[:2]
         return t_stop, xe, ve, vq, t_turn <= t_end
 
-    # ---------------------------------------------------------------- tolerances
-    def _fscale(self, t: float, x: float, s: int) -> float:
-        """Force scale of the general marcher's tolerances at a state."""
-        f_const = self.force_amplitude * math.cos(self.omega * t) - s * self.slip_force
-        return max(abs(f_const), self._fscale_fixed, abs(self.stiffness * x))
-
     # ------------------------------------------------------------------ settling
     def settle(self, t: float, x: float, status: int, v_scale: float = 0.0, trigger: int = 0) -> int:
         """Stick/slip status at a state with ``v = 0`` (Hong & Liu's rules).
@@ -493,9 +491,10 @@ class SdofCoulomb:
         h_round = 8.0 * _EPS * abs(w * t) * abs(p0) if trigger else 0.0
         s, forced = int(status), False
         visited = set()
+        kx = abs(self.stiffness * x)
         for _ in range(8):
             visited.add(s)
-            fscale = self._fscale(t, x, s)
+            fscale = max(abs(p0 * cw - s * f), self._fscale_fixed, kx)  # the general marcher's force scale
             if s != 0:
                 if self._slip_holds(s, h, hd, fscale, v_scale, trigger, h_round, forced):
                     return s
@@ -519,9 +518,8 @@ class SdofCoulomb:
         acceleration ``s v'`` below its band, or in it with ``s v'' < 0``; a slip just started from
         a stick (``forced``) keeps a positive ``s v'``)."""
         m, f = self.mass, self.slip_force
-        rate = self._rate_slip
-        v_ref = max(v_scale, fscale / (m * rate))
-        dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * rate
+        v_ref = max(v_scale, fscale / self._m_rate)
+        dtol = 10.0 * max(1e-11 * v_ref, 1e-300) * self._rate_slip
         net = h - s * f
         if s == trigger and abs(net) <= 1e-12 * max(f, fscale) + h_round:
             net = 0.0  # the onset at the located limit: zero net force
@@ -603,8 +601,7 @@ class SdofCoulomb:
         near = co[3] is not None
         xh, vh = (x0 - co[4], v0) if near else co[1:3]
         bounds = self._near_bounds if near else self._far_bounds
-        fscale = max(abs(p0) + f, self._fscale_fixed, abs(k * x0))
-        v_ref = max(v_scale, fscale / (m * self._rate_slip))
+        v_ref = max(v_scale, max(self._fscale_slip, abs(k * x0)) / self._m_rate)
         tol_v = 1e-11 * v_ref
         tau = 0.0
         x, v = x0, v0
