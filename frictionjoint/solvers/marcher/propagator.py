@@ -225,17 +225,20 @@ def _half_modes(phi, pt, lp, lm):
     m = lp.size
     # a conjugate pair exactly: the complex square root of a negative real is purely imaginary
     pair = (lp.real == lm.real) & (lp.imag > 0) & (lp.imag == -lm.imag)
-    single = np.flatnonzero(~pair)
-    idx = np.concatenate([np.flatnonzero(pair), single])
-    lam = np.concatenate([lp[idx], lm[single]])
-    shape = np.concatenate([phi[:, idx], phi[:, single]], axis=1)
-    weight = np.concatenate([np.where(pair[idx], 2.0, 1.0), np.ones(single.size)])
+    if pair.all():  # every mode under-damped: no reordering, no copies
+        lam, other, shape, rows, weight = lp, lm, phi, pt, 2.0
+    else:
+        single = np.flatnonzero(~pair)
+        idx = np.concatenate([np.flatnonzero(pair), single])
+        lam = np.concatenate([lp[idx], lm[single]])
+        other = np.concatenate([lm[idx], lp[single]])  # the pair's other root, per kept mode
+        shape = np.concatenate([phi[:, idx], phi[:, single]], axis=1)
+        rows = np.concatenate([pt[idx], pt[single]])
+        weight = np.concatenate([np.where(pair[idx], 2.0, 1.0), np.ones(single.size)])
     v = np.empty((2 * m, lam.size), complex)
     np.multiply(shape, weight, out=v[:m])
     np.multiply(v[:m], lam, out=v[m:])
-    other = np.concatenate([lm[idx], lp[single]])  # the pair's other root, per kept mode
     inv_d = 1.0 / (other - lam)
-    rows = np.concatenate([pt[idx], pt[single]])
     w = np.empty((lam.size, 2 * m), complex)
     np.multiply((other * inv_d)[:, None], rows, out=w[:, :m])
     np.multiply(-inv_d[:, None], rows, out=w[:, m:])
@@ -355,8 +358,9 @@ class ConfigData:
         self.base_stiffness = kb
         self.damping = cb
         kc = kb.copy()
-        for i in np.flatnonzero(jen_stuck):
-            kc += system.slider_stiffness[i] * np.outer(d[i], d[i])
+        stuck = np.flatnonzero(jen_stuck)
+        if stuck.size:  # sum_i k_i d_i d_i^T as one product (one term per entry for DOF directions)
+            kc += (d[stuck].T * system.slider_stiffness[stuck]) @ d[stuck]
         self.stiffness = kc
 
     def _reduce(self, system):
