@@ -80,6 +80,17 @@ def _change_status(status: np.ndarray, row: tuple, in_band: bool, visited: set, 
     return True
 
 
+def _nbytes(obj) -> int:
+    """Memory held by the arrays of a slotted object (a :class:`StatusPattern`) [bytes]."""
+    total = 0
+    for name in type(obj).__slots__:
+        a = getattr(obj, name, None)
+        for b in (a if isinstance(a, tuple) else (a,)):
+            if isinstance(b, np.ndarray) and b.base is None:
+                total += b.nbytes
+    return total
+
+
 def _zero_rows(meta, trigger) -> np.ndarray:
     """Rows of a status (``meta``) that vanish at the event ``trigger`` by construction: where a
     contact closed (kind ``c``), its slider's force and slip limit (rows ``+``, ``-``) and its
@@ -194,18 +205,18 @@ class Marcher:
 
     def _evict(self) -> None:
         """Forget the least recently used configurations (and their patterns and Jacobian parts)
-        until the cache holds :data:`CONFIG_CACHE_BYTES` at most: a structure of hundreds of DOFs
+        until the cache (configurations and patterns) holds :data:`CONFIG_CACHE_BYTES` at most: a structure of hundreds of DOFs
         with tens of joints visits hundreds of configurations of megabytes each; the evicted ones
         are decomposed again if the march comes back to them."""
         sens = self.__dict__.get("_sensitivities", {})
-        gone = set()
+        key_of = self.system.config_key
         while self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
             key, cfg = self._configs.popitem(last=False)
             self._config_bytes -= cfg.nbytes
-            gone.add(key)
-        for cache in (self._patterns, sens):
-            for k in [k for k in cache if self.system.config_key(np.frombuffer(k, np.int8)) in gone]:
-                del cache[k]
+            for k in [k for k in self._patterns if key_of(np.frombuffer(k, np.int8)) == key]:
+                self._config_bytes -= _nbytes(self._patterns.pop(k))
+            for k in [k for k in sens if key_of(np.frombuffer(k, np.int8)) == key]:
+                del sens[k]
 
     def _pattern(self, status: np.ndarray) -> StatusPattern:
         if status.dtype != np.int8:
@@ -215,6 +226,9 @@ class Marcher:
         if pat is None:
             status = status.copy()
             pat = self._patterns[key] = StatusPattern(self.system, status, self.config(status))
+            self._config_bytes += _nbytes(pat)
+            if self._config_bytes > CONFIG_CACHE_BYTES:
+                self._evict()
         return pat
 
     @property
