@@ -34,9 +34,11 @@ from . import search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
-#: memory of decomposed configurations one marcher keeps [bytes]: beyond, the least recently used
-#: are forgotten (:meth:`Marcher._evict`); at 200 DOFs a configuration holds about 7 MB, a chain
-#: of 200 DOFs and 40 joints visits about 160 per period
+#: memory of decomposed configurations and their status patterns one marcher keeps [bytes], as
+#: counted when they are built (arrays added on first use later, about half as much again, are
+#: not all counted): beyond, the least recently used are forgotten (:meth:`Marcher._evict`); at 200
+#: DOFs a configuration holds about 6 MB, its patterns 3 MB, and a chain of 200 DOFs and 40
+#: joints visits about 160 per period
 CONFIG_CACHE_BYTES = 2 * 2 ** 30
 _SAMPLES_PER_PERIOD = 16
 #: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
@@ -634,6 +636,8 @@ class Marcher:
             if pat.modal_p is None:
                 pat.modal_p = cy @ cfg.V
                 pat.modal_abs_p = search.magnitudes(pat.modal_p)
+                if self._patterns.get(itv.status.astype(np.int8, copy=False).tobytes()) is pat:  # cached
+                    self._config_bytes += pat.modal_p.nbytes + pat.modal_abs_p.nbytes
             b0, bp, bm = itv._b
             found, tau, row, vmax = search.first_event(pat.modal_p, pat.modal_abs_p, itv._a, b0, bp, bm, c0,
                                                        cfg.lam, cc, cs, self.system.omega, itv.t0,
