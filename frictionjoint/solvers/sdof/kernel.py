@@ -45,7 +45,7 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   force tolerance (a graze) does not start a slip (the general marcher's stated rule; at
   ``F = |P0|`` it does start one there, see tests/stress/test_stress_sdof.py).
 - **Rules at v = 0** (:meth:`SdofCoulomb.settle`) follow
-  :meth:`frictionjoint.solvers.events.Marcher.settle` with the same tolerances: a slipping
+  :meth:`frictionjoint.solvers.marcher.events.Marcher.settle` with the same tolerances: a slipping
   slider whose velocity would change sign sticks; a stuck slider whose holding force would exceed
   ``F`` slips in the direction of that force; at zero the first derivative decides, within its
   tolerance band the second. So a stop is a stick of finite duration, a normal stop (reversal)
@@ -67,7 +67,7 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   period: bounded time and a message that says why, never hours.
 
 Everything in the inner loop is ``math`` on floats: no arrays, no per-event set-up. For the
-n-DOF systems (Jenkins elements, several sliders) use :class:`~frictionjoint.solvers.events.Marcher`.
+n-DOF systems (Jenkins elements, several sliders) use :class:`~frictionjoint.solvers.marcher.events.Marcher`.
 """
 from __future__ import annotations
 
@@ -177,7 +177,7 @@ class SdofCoulomb:
     """Exact stick/slip dynamics of ``m x'' + c x' + k x + T = P0 cos(w t)``, ``|T| <= F``.
 
     A dedicated closed-form kernel for the single-DOF Coulomb oscillator: the same motion and the
-    same events as :class:`frictionjoint.solvers.events.Marcher` on
+    same events as :class:`frictionjoint.solvers.marcher.events.Marcher` on
     :class:`frictionjoint.CoulombOscillator`, some 20-40 times faster (pure-Python scalar maths;
     see the module docstring for the method).
 
@@ -449,7 +449,7 @@ class SdofCoulomb:
     def settle(self, t: float, x: float, status: int, v_scale: float = 0.0, trigger: int = 0) -> int:
         """Stick/slip status at a state with ``v = 0`` (Hong & Liu's rules).
 
-        The rules and tolerances of :meth:`frictionjoint.solvers.events.Marcher.settle`: the
+        The rules and tolerances of :meth:`frictionjoint.solvers.marcher.events.Marcher.settle`: the
         velocity of a slipping slider must not change sign (else it sticks); the holding force
         of a stuck one must stay within ``F`` (else it slips in the direction of that force);
         at the limit the first derivative decides and, within its tolerance band, the second.

@@ -5,7 +5,7 @@ floats; each piece is kept (start state, status, end) and the requested outputs 
 of the piece that holds each output time: ``x``, ``v``, and the friction force (``s F`` while
 slipping, the holding force ``P0 cos(wt) - k x`` while stuck). The event log is read off the chain
 of pieces: a change of status between two pieces is an event of that kind at their junction.
-The general marcher (:func:`frictionjoint.solvers.response.simulate`) stays the reference; the
+The general marcher (:func:`frictionjoint.solvers.marcher.response.simulate`) stays the reference; the
 energy accounting is computed there.
 """
 from __future__ import annotations

@@ -4,7 +4,7 @@ The period map is :meth:`SdofCoulomb.monodromy`: one period of the exact scalar 
 it, the exact Jacobian (transition matrices of the slip pieces times the saltation matrices of
 the events), so Newton needs no finite differences. The fixed point is found by the one shooting
 algorithm (:mod:`frictionjoint.solvers.shooting`) from a section inside the longest slip piece of
-the first period (the rule of :func:`frictionjoint.solvers.steady.periodic_response`), and the
+the first period (the rule of :func:`frictionjoint.solvers.marcher.steady.periodic_response`), and the
 final period is evaluated on the kernel's pieces: peak ``|x|`` at the piece ends (every extreme
 of ``x`` is where ``v = 0``), first harmonic by Gauss quadrature per piece, events, stops and
 dissipation.
@@ -137,7 +137,7 @@ def sdof_periodic_response(kernel: SdofCoulomb, x0: float, v0: float, *, tol: fl
     x0, v0 : float
         Initial guess at ``t = 0`` [m, m/s].
     tol, max_newton, max_periods, n_samples :
-        As :func:`frictionjoint.solvers.steady.periodic_response`.
+        As :func:`frictionjoint.solvers.marcher.steady.periodic_response`.
 
     Returns
     -------
