@@ -102,3 +102,15 @@ def test_evicted_configurations_come_back_the_same(monkeypatch):
     fj.periodic_response(again, marcher=counted)
     # configurations were decomposed again (more built than kept), the cache stays near the budget
     assert len(counted._configs) < len(built) and counted._config_bytes <= 2 * budget
+
+
+def test_an_edited_mass_is_not_met_by_a_stale_inverse():
+    """The mass inverse, its factor and the damping's proportionality are shared by the
+    configurations of a system; a user's in-place edit of its mass matrix is seen by the next
+    configuration (the mass no longer proportional to the damping: the general path)."""
+    system = _chain()
+    first = ConfigData(system, np.zeros(system.n_sliders, np.int8))
+    system.mass[0, 0] *= 2.0
+    second = ConfigData(system, np.zeros(system.n_sliders, np.int8))
+    assert first.shapes is not None and second.shapes is None
+    assert np.allclose(second.mr_inv_nt @ system.mass, np.eye(system.n_dof), rtol=0, atol=1e-12)

@@ -109,9 +109,9 @@ def _sensitivity(marcher, itv) -> _ConfigSensitivity:
 
 
 def _mode_responses(pairs, tau: float):
-    """Per classically damped mode ``eta'' + alpha eta' + w^2 eta = f``, with ``lam`` the pairs
-    ``[lam+, lam-]``: the impulse response ``h1``, its rate ``h1'`` and the step response ``h0``
-    at ``tau`` (``h0' = h1``), real; ``pairs``: ``(lam+, lam-)`` of the configuration.
+    """Per classically damped mode ``eta'' + alpha eta' + w^2 eta = f`` of a configuration whose
+    roots are ``pairs = (lam+, lam-)``: the impulse response ``h1``, its rate ``h1'`` and the step
+    response ``h0`` at ``tau`` (``h0' = h1``), real.
 
     ``h1 = (e^{lam+ tau} - e^{lam- tau}) / (lam+ - lam-) = tau e^{lam+ tau} phi1(-(lam+ - lam-) tau)``
     (``Re lam+ >= Re lam-``: bounded, and no cancellation as the pair approaches), ``h1' = lam+ h1

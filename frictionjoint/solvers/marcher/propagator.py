@@ -112,21 +112,33 @@ DEFECTIVE_COND = 1e8
 CLASSICAL_SEPARATION = 1e4
 
 
+def _system_cached(system, name: str, build, *inputs):
+    """``build()`` cached on the system under ``name``, computed again where one of ``inputs`` (the
+    system's arrays it is made of) changed since (a user's in-place edit of the mass matrix must
+    not meet a stale inverse): an ``n^2`` comparison per configuration, against its ``n^3``."""
+    cached = system.__dict__.get(name)
+    if cached is not None and all(np.array_equal(a, b) for a, b in zip(cached[0], inputs)):
+        return cached[1]
+    value = build()
+    system.__dict__[name] = (tuple(np.array(a, copy=True) for a in inputs), value)
+    return value
+
+
 def _mass_proportional(system) -> float | None:
     """``alpha`` if the system's damping is ``alpha M`` to rounding (undamped: 0), else None.
 
     Then every configuration without contacts is classically damped: its modes are those of the
     symmetric pencil ``(K_c, M)`` (reduced by the stuck rigid sliders' null space), whatever the
-    stuck springs, and :func:`_classical_modes` gives them from ``eigh``. Cached on the system."""
-    cached = system.__dict__.get("_mass_proportional")
-    if cached is not None:
-        return cached[0]
+    stuck springs, and :func:`_classical_modes` gives them from ``eigh``."""
     c, mass = system.damping, system.mass
-    alpha = float(np.sum(c * mass) / np.sum(mass * mass))
-    # the entries of alpha M, rounded, differ from C by at most a few eps of C's largest entry
-    exact = bool(np.max(np.abs(c - alpha * mass), initial=0.0) <= 8 * np.finfo(float).eps * np.max(np.abs(c), initial=0.0))
-    system.__dict__["_mass_proportional"] = (alpha if exact and alpha >= 0 else None,)
-    return system.__dict__["_mass_proportional"][0]
+
+    def build():
+        alpha = float(np.sum(c * mass) / np.sum(mass * mass))
+        # the entries of alpha M, rounded, differ from C by at most a few eps of C's largest entry
+        tol = 8 * np.finfo(float).eps * np.max(np.abs(c), initial=0.0)
+        exact = bool(np.max(np.abs(c - alpha * mass), initial=0.0) <= tol)
+        return alpha if exact and alpha >= 0 else None
+    return _system_cached(system, "_mass_proportional", build, c, mass)
 
 
 def _identity(system) -> np.ndarray:
@@ -140,32 +152,26 @@ def _identity(system) -> np.ndarray:
 
 
 def _mass_inverse(system) -> np.ndarray:
-    """``M^-1`` of the system, cached on it (the reduced mass of every configuration without stuck
-    rigid sliders)."""
-    inv = system.__dict__.get("_mass_inverse")
-    if inv is None:
-        inv = system.__dict__["_mass_inverse"] = np.linalg.inv(system.mass)
-    return inv
+    """``M^-1`` of the system (the reduced mass of every configuration without stuck rigid sliders)."""
+    return _system_cached(system, "_mass_inverse", lambda: np.linalg.inv(system.mass), system.mass)
 
 
 def _mass_factor(system) -> np.ndarray | None:
-    """Cholesky factor of the system's mass matrix (``M = L L^T``), cached on it: ``L`` (n, n), or
-    its diagonal ``sqrt(m_i)`` (n,) where ``M`` is diagonal (lumped masses: the reductions below
-    are scalings, exact as the triangular solves they replace); None where ``M`` is not positive
-    definite (the general path decides then)."""
-    cached = system.__dict__.get("_mass_factor")
-    if cached is None:
-        mass = system.mass
+    """Cholesky factor of the system's mass matrix (``M = L L^T``): ``L`` (n, n), or its diagonal
+    ``sqrt(m_i)`` (n,) where ``M`` is diagonal (lumped masses: the reductions below are scalings,
+    exact as the triangular solves they replace); None where ``M`` is not positive definite (the
+    general path decides then)."""
+    mass = system.mass
+
+    def build():
         diag = np.diag(mass)
         try:
             if np.count_nonzero(mass) == np.count_nonzero(diag) and np.all(diag > 0):
-                factor = np.sqrt(diag)
-            else:
-                factor = np.linalg.cholesky(mass)
+                return np.sqrt(diag)
+            return np.linalg.cholesky(mass)
         except np.linalg.LinAlgError:
-            factor = None
-        cached = system.__dict__["_mass_factor"] = (factor,)
-    return cached[0]
+            return None
+    return _system_cached(system, "_mass_factor", build, mass)
 
 
 def _classical_modes(mr, kr, alpha: float, factor: np.ndarray | None = None):
