@@ -83,7 +83,15 @@ def test_blade_fmu_in_libcosim_equals_fmpy(fmus):
     assert proc.returncode == 0, proc.stderr[-3000:]
     cosim = np.array(json.loads(proc.stdout.strip().splitlines()[-1])["rows"])
     ref = np.array(run("blade_steps", fmus["BladeDovetail"], step_ns * 1e-9, 24, 1)["rows"])[:, :len(BLADE_OUT)]
-    assert np.max(np.abs(cosim - ref) / (np.max(np.abs(ref), axis=0) + 1e-300)) <= 1e-12
+    # each output against its own largest value, but the tip's Fourier integrals int x cos, int x
+    # sin against what they integrate, max |x| times the time run: they cancel over each period
+    # (their largest value is 1e-4 of that), and the two hosts' step times differ in the last bit
+    # (libcosim's integer nanoseconds, fmpy's floats), which moves their sums by rounding
+    scale = np.max(np.abs(ref), axis=0)
+    t_end = 24 * step_ns * 1e-9
+    for name in ("tip_cos_integral", "tip_sin_integral"):
+        scale[BLADE_OUT.index(name)] = np.max(np.abs(ref[:, BLADE_OUT.index("tip_displacement")])) * t_end
+    assert np.max(np.abs(cosim - ref) / (scale + 1e-300)) <= 1e-12
 
 
 def test_two_blade_instances_in_ecos_equal_this_master(fmus):

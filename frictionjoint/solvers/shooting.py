@@ -124,18 +124,26 @@ def has_unit_eigenvalue(jac, scale) -> bool:
     return bool(sv[-1] <= UNIT_EIGENVALUE_TOL * max(sv[0], 1.0))
 
 
-def _newton_step(a, rhs):
-    """Least-squares solution of ``a s = rhs`` without the directions in which ``a = J - I`` is
-    singular to :data:`NEWTON_RCOND` *of the identity* (not of its largest singular value): where
-    ``J = I`` up to rounding (undamped exact resonance, ``P(z) = z + c``), no step is taken along
-    the neutral directions, where a relative cut-off would step to ``|z| ~ 1e16`` and call the
-    rounding of ``P`` there a fixed point."""
+def _newton_factors(a):
+    """The parts of ``a = J - I`` (scaled) that :func:`_newton_step` solves with: its SVD without
+    the directions in which it is singular to :data:`NEWTON_RCOND` *of the identity* (not of its
+    largest singular value). Computed once per Jacobian (chord steps reuse them)."""
     u, sv, vt = np.linalg.svd(a)
     keep = sv > NEWTON_RCOND * max(1.0, sv[0])
-    return vt[keep].T @ ((u[:, keep].T @ rhs) / sv[keep])
+    return u[:, keep], sv[keep], vt[keep]
 
 
-def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: bool = True):
+def _newton_step(factors, rhs):
+    """Least-squares solution of ``a s = rhs`` on the directions :func:`_newton_factors` keeps:
+    where ``J = I`` up to rounding (undamped exact resonance, ``P(z) = z + c``), no step is taken
+    along the neutral directions, where a relative cut-off would step to ``|z| ~ 1e16`` and call
+    the rounding of ``P`` there a fixed point."""
+    u, sv, vt = factors
+    return vt.T @ ((u.T @ rhs) / sv)
+
+
+def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: bool = True,
+                       refresh_below: float = 0.0):
     """Chord/Newton iterations on ``P(z) - z = 0`` with backtracking.
 
     Parameters
@@ -156,6 +164,10 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: boo
         Keep a Jacobian while the residual falls fast (chord iterations: for a Jacobian that costs
         periods, e.g. finite differences); False takes a fresh one at every step (full Newton: for
         an exact Jacobian that the last period's pieces give at no marching cost).
+    refresh_below : float
+        Chord iterations take a fresh Jacobian once the residual falls below this (0: never), so
+        that the last Jacobian is one near the orbit (the caller's monodromy) and the last steps
+        converge quadratically.
 
     Returns
     -------
@@ -174,8 +186,8 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: boo
         if fresh:
             jac = jacobian(z, pz)
             jac_rnorm = rnorm
-        a = (jac - np.eye(z.size)) / scale[:, None] * scale[None, :]
-        step = _newton_step(a, -(pz - z) / scale) * scale
+            factors = _newton_factors((jac - np.eye(z.size)) / scale[:, None] * scale[None, :])
+        step = _newton_step(factors, -(pz - z) / scale) * scale
         lam = 1.0
         trial = None
         while lam >= MIN_STEP:
@@ -200,7 +212,7 @@ def fixed_point_newton(pmap, jacobian, z, pz, scale, tol, iterations, chord: boo
             escapes += 1
             zn, pzn, rn = trial
         # chord method: keep the Jacobian while the residual falls fast
-        if not chord or rn > CHORD_RATE * rnorm or rn >= rnorm:
+        if not chord or rn > CHORD_RATE * rnorm or rn >= rnorm or rn <= refresh_below < jac_rnorm:
             jac = None
         z, pz, rnorm = zn, pzn, rn
         if rnorm < best[2]:
@@ -275,7 +287,8 @@ def find_periodic_orbit(pmap, z, pz, *, tol: float, max_newton: int, max_periods
 
     def newton(z, pz, iterations):
         return fixed_point_newton(pmap, lambda z, pz: pmap.jacobian(z, pz, scale0), z, pz, scale0, tol,
-                                  iterations, chord=getattr(pmap, "chord", not getattr(pmap, "exact_jacobian", False)))
+                                  iterations, chord=getattr(pmap, "chord", not getattr(pmap, "exact_jacobian", False)),
+                                  refresh_below=getattr(pmap, "refresh_below", 0.0))
 
     converged, z, pz, rnorm, jac, jac_rnorm = newton(z, pz, max_newton)
     growth = slow = None

@@ -65,6 +65,8 @@ class _PeriodMap:
         # costs more than the periods they add: it grows as pieces x n^2 x (2n + sliders), a period
         # as pieces x n x modes; full Newton on small systems
         self.chord = not self.exact_jacobian or 2 * n + system.n_sliders > CHORD_SIZE
+        # the exact Jacobian taken again near the orbit serves as its monodromy (no extra one after)
+        self.refresh_below = JACOBIAN_AT_ORBIT if self.exact_jacobian and self.chord else 0.0
         if jacobian == "fd":
             self.jacobian = self.fd_jacobian
         excitation = max(float(np.max(np.abs(system.force_cos), initial=0)),
