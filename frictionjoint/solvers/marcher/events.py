@@ -207,9 +207,9 @@ class Marcher:
 
     def _evict(self) -> None:
         """Forget the least recently used configurations (and their patterns and Jacobian parts)
-        until the cache (configurations and patterns) holds :data:`CONFIG_CACHE_BYTES` at most: a structure of hundreds of DOFs
-        with tens of joints visits hundreds of configurations of megabytes each; the evicted ones
-        are decomposed again if the march comes back to them."""
+        until the cache (configurations and patterns) holds :data:`CONFIG_CACHE_BYTES` at most:
+        a structure of hundreds of DOFs with tens of joints visits hundreds of configurations of
+        megabytes each; the evicted ones are decomposed again if the march comes back to them."""
         sens = self.__dict__.get("_sensitivities", {})
         key_of = self.system.config_key
         while self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:

@@ -22,8 +22,8 @@ from ...results import TimeResponse
 from .events import EventLog, Marcher
 from .propagator import Observables, _phi1
 
-__all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks", "piece_fourier",
-           "displacement_observables", "displacement_fourier", "varying_friction", "piece_slip"]
+__all__ = ["simulate", "check_run", "interval_fourier", "RECORDABLE", "gauss_pieces", "gauss_nodes", "piece_peaks",
+           "piece_fourier", "displacement_observables", "displacement_fourier", "varying_friction", "piece_slip"]
 
 RECORDABLE = ("x", "v", "friction_force", "energy")
 #: Newton iterations at most of :func:`piece_peaks` (each halves the bracket at worst)
