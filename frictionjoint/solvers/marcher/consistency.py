@@ -33,12 +33,14 @@ import numpy as np
 
 from ..jit import ENABLED, _jit, matvec, row_dot
 
-__all__ = ["check", "pack", "unpack", "most_violated", "FLOATS", "INTS", "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS",
-           "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
+__all__ = ["check", "pack", "unpack", "most_violated", "ROW_KIND", "FLOATS", "INTS", "ENABLED", "KIND_V",
+           "KIND_PLUS", "KIND_MINUS", "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
 #: normal load (lift-off) and an open contact's closure
 KIND_V, KIND_PLUS, KIND_MINUS, KIND_OPEN, KIND_CLOSE = 0, 1, 2, 3, 4
+#: the row kinds of a status's rows (:attr:`.patterns.StatusPattern.meta`: ``(slider, kind)``)
+ROW_KIND = {"v": KIND_V, "+": KIND_PLUS, "-": KIND_MINUS, "o": KIND_OPEN, "c": KIND_CLOSE}
 
 
 #: an event row located by the search (on the piece's modal closed form) that the direct

@@ -49,9 +49,6 @@ MAX_PIECES_PER_PERIOD = 200_000
 #: the status a slider takes when its event row of kind ``v`` (stop), ``o`` (lift-off) or ``c``
 #: (closure) is violated
 _AFTER = {"v": 0, "o": 2, "c": 0}
-#: the compiled consistency test's row kinds (:mod:`.consistency`) of the kinds of a status's rows
-_ROW_KIND = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS,
-             "o": consistency.KIND_OPEN, "c": consistency.KIND_CLOSE}
 
 
 _NO_ROWS = np.zeros(0, np.intp)
@@ -515,7 +512,7 @@ class Marcher:
             # (consistency.EVENT_ROW_SLACK); Hong & Liu's choice as the compiled test makes it
             event_row = meta.index(trigger) if (trigger is not None and trigger in meta
                                                 and np.array_equal(state.status, old)) else -1
-            kinds = np.array([_ROW_KIND[k] for _, k in meta], dtype=np.int64)
+            kinds = np.array([consistency.ROW_KIND[k] for _, k in meta], dtype=np.int64)
             sliders = np.array([i for i, _ in meta], dtype=np.int64)
             j, atzero = consistency.most_violated(g, np.asarray(dg, float), np.asarray(ddg, float), tol,
                                                   max(omega, itv.config.max_rate, 1e-300), kinds, sliders,

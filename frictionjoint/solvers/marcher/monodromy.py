@@ -125,8 +125,8 @@ def _mode_responses(pairs, tau: float):
 
 
 def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
-    """``piece_matrix(marcher, itv, tau) @ jac`` without forming the piece matrix: the rows of
-    ``jac`` (variations of ``[x, v, w]``) carried to the piece's local time ``tau``."""
+    """The piece's ``(nZ, nZ)`` transition matrix times ``jac``, without forming the matrix: the
+    rows of ``jac`` (variations of ``[x, v, w]``) carried to the piece's local time ``tau``."""
     sens = _sensitivity(marcher, itv)
     n = sens.n
     cfg = itv.config
@@ -167,13 +167,6 @@ def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
     if moving.size:
         out[2 * n + moving] = itv.pattern.w_dir[moving] @ out[:n]
     return out
-
-
-def piece_matrix(marcher, itv, tau: float) -> np.ndarray:
-    """``(nZ, nZ)`` matrix carrying a variation of the full state ``[x, v, w]`` at the start of
-    the piece ``itv`` to its local time ``tau``."""
-    sens = _sensitivity(marcher, itv)
-    return apply_piece(marcher, itv, tau, np.eye(sens.nz))
 
 
 def _event_gradient(marcher, itv, j: int) -> np.ndarray:

@@ -150,8 +150,7 @@ class StatusPattern:
         rigid_idx = np.flatnonzero(sysm.rigid)
         m = cfg.m
         n = sysm.n_dof
-        kinds = {"v": consistency.KIND_V, "+": consistency.KIND_PLUS, "-": consistency.KIND_MINUS,
-                 "o": consistency.KIND_OPEN, "c": consistency.KIND_CLOSE}
+        kinds = consistency.ROW_KIND
         obs = pat.obs
         cy = pat.red_cy
         pat.kern = consistency.pack(
