@@ -17,7 +17,7 @@ from .solvers.frequency_domain.continuation import hbm_sweep
 from .solvers.frequency_domain.hbm import harmonic_balance
 from .solvers.marcher.response import simulate
 from .solvers.sdof.kernel import SdofCoulomb
-from .solvers.marcher.steady import periodic_response
+from .solvers.steady_state import periodic_response
 from .regime import RegimeMap, regime_map
 from .shakedown import QuasiStaticFrictionSystem, PeriodicLoad, melan_check, shakedown_check
 from .structure import LinearStructure

@@ -56,7 +56,7 @@ def system_sweep(build: Callable, omegas: ArrayLike, progress: bool = False, pea
     from tqdm import tqdm
 
     from .solvers.frequency_domain.hbm import lyapunov_stable
-    from .solvers.marcher.steady import periodic_response
+    from .solvers.steady_state import periodic_response
 
     _check_build(build)
     ws = check_omegas("omegas", omegas)

@@ -138,7 +138,7 @@ class BladeAssembly:
         -------
         PeriodicResponse
         """
-        from ..solvers.marcher.steady import periodic_response
+        from ..solvers.steady_state import periodic_response
 
         return periodic_response(self.system(omega), **kwargs)
 

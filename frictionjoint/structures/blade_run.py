@@ -25,7 +25,7 @@ from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..solvers.marcher.eventlog import MarchState
 from ..solvers.marcher.events import EventLog, Marcher
 from ..solvers.marcher.response import displacement_fourier, piece_slip
-from ..solvers.marcher.steady import periodic_response
+from ..solvers.steady_state import periodic_response
 from ..stepping import run_parameters
 from .assembly import BladeAssembly
 

@@ -113,7 +113,7 @@ def _refined_peak(asm, fr, method: str, harmonics: int):
     steady states, bounded search) and the steady state at the peak. Harmonic balance: a bounded
     search of the balance's tip amplitude (same ``H``)."""
     from ..solvers.frequency_domain.hbm import harmonic_balance
-    from ..solvers.marcher.steady import periodic_response
+    from ..solvers.steady_state import periodic_response
 
     ok = np.asarray(fr.converged, bool)
     w, a = np.asarray(fr.omega, float)[ok], np.asarray(fr.amplitude, float)[ok]

@@ -401,12 +401,11 @@ def _newton(cond: Condensed, z: np.ndarray, tol: float, max_iter: int):
     return z, res, jf, it, converged, message
 
 
-def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray, peaks: bool = True):
-    """The exact time-domain steady state (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`)
-    started from a balanced orbit: its state at ``t = 0`` and its sliders' positions (within
-    their slip bands there: the balance holds the joint coordinates to its tolerance only)."""
-    from ..marcher import periodic_response
-
+def balanced_state(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray):
+    """The state ``(x0, v0, w0)`` at ``t = 0`` of a balanced orbit (``harmonics``, ``slider_positions``)
+    as the marcher takes it: displacements and velocities summed from the harmonics, the sliders'
+    positions moved into their slip bands there (the balance holds the joint coordinates to its
+    tolerance only)."""
     hh = harmonics.shape[0] - 1
     x0 = harmonics.sum(axis=0).real
     v0 = (harmonics * (1j * system.omega * np.arange(hh + 1))[:, None]).sum(axis=0).real
@@ -420,6 +419,15 @@ def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions:
         limit[var] *= n_c / system.contact_preload[system.slider_contact[var]]
     reach = limit[jen] / system.slider_stiffness[jen]
     w0[jen] = np.clip(w0[jen], s[jen] - reach, s[jen] + reach)
+    return x0, v0, w0
+
+
+def exact_orbit(system: FrictionSystem, harmonics: np.ndarray, slider_positions: np.ndarray, peaks: bool = True):
+    """The exact time-domain steady state (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`)
+    started from a balanced orbit (:func:`balanced_state`)."""
+    from ..marcher import periodic_response
+
+    x0, v0, w0 = balanced_state(system, harmonics, slider_positions)
     return periodic_response(system, x0, v0, w0, peaks=peaks)
 
 
