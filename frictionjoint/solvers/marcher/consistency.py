@@ -79,9 +79,11 @@ def pack(floats, ints) -> tuple:
     for a in ints:
         hdr += [ioff, a.size]
         ioff += a.size
-    fk = np.concatenate([a.ravel() for a in floats]) if off else np.zeros(0)
+    fk = np.empty(off)
+    for a, o in zip(floats, hdr[::3]):  # one copy each, transposed views included (no ravel first)
+        fk[o:o + a.size].reshape(a.shape)[...] = a
     ik = np.concatenate([np.array(hdr, np.intp)] + ints)
-    return np.ascontiguousarray(fk), ik
+    return fk, ik
 
 
 @_jit
@@ -125,7 +127,11 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
     fk, ik : ndarray
         The status's constant arrays packed by :func:`pack` (see ``Marcher._kernel``): the float
         arrays :data:`FLOATS` (``scales``: fixed load scale, mass scale, rate, omega) and the int
-        arrays :data:`INTS` (``flags``: has_slip, has_jst, has_af, has_w, harmonic).
+        arrays :data:`INTS` (``flags``: has_slip, has_jst, has_af, has_w, harmonic, identity,
+        diagonal). ``identity``: ``N = I`` (no stuck rigid sliders), ``N^T`` and ``cy_q`` (then
+        ``ax``) are not packed; ``diagonal``: ``M_r^-1 N^T`` is diagonal and packed as its diagonal
+        (m, 1); ``af`` is packed only where ``has_af``. Each gives the numbers of the product it
+        replaces: the terms of the zero entries add exact zeros.
     x, v : (n,) ndarray
         State.
     w : (n_sliders,) ndarray
@@ -174,8 +180,11 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
     _positions(w, x, _f2(fk, ik, 22), _f1(fk, ik, 23), _i1(ik, 5))
     _positions(w, x, _f2(fk, ik, 24), np.zeros(0), _i1(ik, 6))
     has_slip, has_jst, has_af, has_w, harmonic = flags[0], flags[1], flags[2], flags[3], flags[4]
+    identity, diagonal = flags[5], flags[6]
     fscale_fixed, mass_scale, rate, om = scales[0], scales[1], scales[2], scales[3]
-    m = nt.shape[0]
+    m = a21.shape[0]
+    if identity:
+        cyq = ax
     nr = a0c.size
     # constant load of the piece and the reduced forcing (as Marcher.interval)
     f_const = f_ext.copy()
@@ -202,8 +211,8 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
         rhs += matvec(jst_dt, kw)
     else:
         rhs = f_const - kx0
-    u = matvec(nt, v)
-    r = matvec(mint, rhs)
+    u = v.copy() if identity else matvec(nt, v)
+    r = mint[:, 0] * rhs if diagonal else matvec(mint, rhs)
     y0 = np.zeros(2 * m)
     b0 = np.zeros(2 * m)
     y0[m:] = u

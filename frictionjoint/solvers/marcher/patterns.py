@@ -71,7 +71,9 @@ class StatusPattern:
             # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses)
             self.ax_abs = np.abs(obs.ax)
             nb = cfg.N
-            self.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
+            # N = I: the products would give ax and av again (exact zeros added), at r n^2 each
+            self.red_cy = (np.hstack([obs.ax, obs.av]) if not cfg.rigid_stuck.size
+                           else np.hstack([obs.ax @ nb, obs.av @ nb]))
             self.red_cc = obs.af @ sysm.force_cos
             self.red_cs = obs.af @ sysm.force_sin
             self.has_af = bool(np.any(obs.af != 0))
@@ -153,16 +155,23 @@ class StatusPattern:
         kinds = consistency.ROW_KIND
         obs = pat.obs
         cy = pat.red_cy
+        a21, a22 = cfg.first_order_blocks()
+        # N = I: neither N^T nor cy_q (= ax) packed; a diagonal M^-1 as its diagonal (check's flags)
+        identity = not cfg.rigid_stuck.size
+        mint = cfg.mr_inv_nt
+        diagonal = identity and np.count_nonzero(mint) == np.count_nonzero(np.diagonal(mint))
+        none = np.zeros((0, n))
         pat.kern = consistency.pack(
             (cfg.base_stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
-             pat.jst_k, cfg.N.T, cfg.mr_inv_nt, cfg.A[m:, :m], cfg.A[m:, m:], cfg.bc[m:], cfg.bs[m:],
-             cy[:, :m], cy[:, m:], obs.ax, obs.af, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
+             pat.jst_k, none if identity else cfg.N.T, np.diagonal(mint)[:, None] if diagonal else mint,
+             a21, a22, cfg.bc[m:], cfg.bs[m:], none if identity else cy[:, :m], cy[:, m:], obs.ax,
+             obs.af if pat.has_af else none, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
              pat.row_fs, [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
                           sysm.omega], pat.slip_j_dir, pat.slip_j_off, sysm.slider_direction[rigid_idx]),
             (np.flatnonzero(pat.jst), pat.widx, [kinds[k] for _, k in pat.meta], pat.row_slider,
              [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
-              bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0))], np.flatnonzero(pat.slip_j),
-             rigid_idx))
+              bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0)), identity, diagonal],
+             np.flatnonzero(pat.slip_j), rigid_idx))
         return pat.kern
 
 

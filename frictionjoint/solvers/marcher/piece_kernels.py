@@ -18,7 +18,31 @@ import numpy as np
 
 from .search import ENABLED, _jit, _resonant
 
-__all__ = ["coefficients", "state", "resonant_terms", "ENABLED"]
+__all__ = ["coefficients", "coefficients_factored", "state", "resonant_terms", "ENABLED"]
+
+
+@_jit(inline=True)
+def _terms(e, b, lam, hp, hm, w, t0):
+    """The rows of :func:`coefficients` from the modes' ``eta0 = e`` and ``beta0 = b``."""
+    p = lam.size
+    out = np.empty((8, p), np.complex128)
+    ph = cmath.exp(1j * w * t0)
+    phc = ph.conjugate()
+    for i in range(p):
+        gp = hp[i] * ph
+        gm = hm[i] * phc
+        c0 = b[i] / (0.0 - lam[i])
+        cp = gp / (1j * w - lam[i])
+        cm = gm / (-1j * w - lam[i])
+        out[0, i] = e[i]
+        out[1, i] = b[i]
+        out[2, i] = gp
+        out[3, i] = gm
+        out[4, i] = ((e[i] - c0) - cp) - cm
+        out[5, i] = c0
+        out[6, i] = cp
+        out[7, i] = cm
+    return out
 
 
 @_jit
@@ -31,37 +55,50 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
         Inverse of the eigenvector matrix (its rows for the modes kept).
     lam : (modes,) complex ndarray
         Eigenvalues.
-    y0, b0 : (modes,) ndarray
+    y0, b0 : (2m,) ndarray
         Reduced start state and constant forcing.
     hp, hm : (modes,) complex ndarray
         Half the modal harmonic loads (``ConfigData.modal_forcing``).
     w, t0 : float
         Forcing frequency [rad/s] and start time [s].
     """
-    p = lam.size
-    out = np.empty((8, p), np.complex128)
-    ph = cmath.exp(1j * w * t0)
-    phc = ph.conjugate()
-    for i in range(p):
-        e = 0j
-        b = 0j
+    e = np.zeros(lam.size, np.complex128)
+    b = np.zeros(lam.size, np.complex128)
+    for i in range(lam.size):
         for k in range(y0.size):  # the reduced state's 2m; p modes (fewer where pairs are halved)
-            e += wi[i, k] * y0[k]
-            b += wi[i, k] * b0[k]
-        gp = hp[i] * ph
-        gm = hm[i] * phc
-        c0 = b / (0.0 - lam[i])
-        cp = gp / (1j * w - lam[i])
-        cm = gm / (-1j * w - lam[i])
-        out[0, i] = e
-        out[1, i] = b
-        out[2, i] = gp
-        out[3, i] = gm
-        out[4, i] = ((e - c0) - cp) - cm
-        out[5, i] = c0
-        out[6, i] = cp
-        out[7, i] = cm
-    return out
+            e[i] += wi[i, k] * y0[k]
+            b[i] += wi[i, k] * b0[k]
+    return _terms(e, b, lam, hp, hm, w, t0)
+
+
+@_jit
+def coefficients_factored(rows, right, lam, u, r, hp, hm, w, t0):
+    """:func:`coefficients` of classical modes, whose inverse is kept factored (``V^-1[:, m:] =
+    right rows``, :func:`.propagator._half_modes`), for a start state ``[0, u]`` and constant
+    forcing ``[0, r]``: each entry ``right_i rows_ik`` is formed as NumPy formed it in the complex
+    matrix before (and the zero half's terms added nothing), so the numbers are the same.
+
+    Parameters
+    ----------
+    rows : (modes, m) ndarray
+        ``Phi^T Mr`` of the modes kept.
+    right : (modes,) complex ndarray
+        The scale of each row in ``V^-1``'s velocity columns.
+    u, r : (m,) ndarray
+        Velocity halves of the reduced start state and constant forcing.
+    lam, hp, hm, w, t0
+        As :func:`coefficients`.
+    """
+    e = np.zeros(lam.size, np.complex128)
+    b = np.zeros(lam.size, np.complex128)
+    for i in range(lam.size):
+        sr = right[i].real
+        si = right[i].imag
+        for k in range(u.size):
+            wik = complex(sr * rows[i, k], si * rows[i, k])
+            e[i] += wik * u[k]
+            b[i] += wik * r[k]
+    return _terms(e, b, lam, hp, hm, w, t0)
 
 
 @_jit
