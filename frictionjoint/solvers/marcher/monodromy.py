@@ -33,7 +33,9 @@ no saltation.
 """
 from __future__ import annotations
 
+import collections
 import math
+import weakref
 
 import numpy as np
 import scipy.linalg
@@ -41,6 +43,10 @@ import scipy.linalg
 from .propagator import _phi1
 
 __all__ = ["march_jacobian"]
+
+#: memory held by the cached changes of modal basis between configurations (:func:`_basis_change`;
+#: ``8 n^2`` bytes per pair of configurations met in a row: 0.3 MB at n = 200) [bytes]
+BASIS_CACHE_BYTES = 2 ** 29
 
 
 class _ConfigSensitivity:
@@ -50,11 +56,14 @@ class _ConfigSensitivity:
     velocity block ``v`` and the displacement and stuck-``w`` blocks ``x``, ``w``). Classically
     damped ones (:attr:`~.propagator.ConfigData.shapes`): real mode shapes instead, ``U = N Phi``,
     ``P = Phi^T Mr N^T`` (velocity to modal velocity) and ``S = U^T K_c`` (displacement to modal
-    force), so that a piece costs four real products with the ``n x m`` shapes instead of complex
-    ones with the ``2m x 2m`` eigenvectors. Defective ones: ``B_y``, ``B_b`` for the exponential.
+    force), so that a piece in physical rows costs four real products with the ``n x m`` shapes
+    instead of complex ones with the ``2m x 2m`` eigenvectors; with ``N = I`` (``modal_rows``) the
+    march carries the rows in modal coordinates instead (:func:`_modal_piece`) and needs only the
+    moving sliders' ``w = (d Phi) xi`` rows (``wphi``), ``S`` is built where physical rows ask for
+    it. Defective ones: ``B_y``, ``B_b`` for the exponential.
     """
 
-    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols")
+    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols", "modal_rows", "moving", "wphi")
 
     def __init__(self, system, itv):
         cfg = itv.config
@@ -65,8 +74,10 @@ class _ConfigSensitivity:
         m = cfg.m
         nb = cfg.N
         self.n, self.nz = n, nz
-        self.by = self.bb = self.wby = self.wbb = self.u = self.p = self.s = self.sj = None
+        self.by = self.bb = self.wby = self.wbb = self.u = self.p = self.s = self.sj = self.wphi = None
         self.jcols = 2 * n + np.flatnonzero(pat.jst) if pat.has_jst else None
+        self.moving = np.flatnonzero(~pat.jst)
+        self.modal_rows = bool(m) and cfg.shapes is not None and not cfg.rigid_stuck.size
         if not m:
             return
         if cfg.shapes is not None:
@@ -74,10 +85,10 @@ class _ConfigSensitivity:
                 u = nb @ cfg.shapes
                 self.p = cfg.shapes_mass @ nb.T
                 self.s = u.T @ cfg.stiffness
-            else:  # N = I: Phi^T K_c = w^2 Phi^T M (to the eigensolver's residual)
+            else:  # N = I: S on demand (apply_piece); a moving slider's w = d . x = (d Phi) xi
                 u = cfg.shapes
                 self.p = cfg.shapes_mass
-                self.s = cfg.shapes_w2[:, None] * cfg.shapes_mass
+                self.wphi = pat.w_dir[self.moving] @ u
             self.u = u
             self.sj = u.T @ (pat.jst_dt * pat.jst_k) if pat.has_jst else None
             return
@@ -138,6 +149,8 @@ def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
         out[n:2 * n] = 0.0
     elif sens.u is not None:
         h1, h1d, h0 = _mode_responses(cfg.pairs, tau)
+        if sens.s is None:  # N = I: Phi^T K_c = w^2 Phi^T M (to the eigensolver's residual)
+            sens.s = cfg.shapes_w2[:, None] * cfg.shapes_mass
         qd0 = sens.p @ dv
         f = -(sens.s @ dx)
         if sens.sj is not None:
@@ -187,16 +200,22 @@ def _event_gradient(marcher, itv, j: int) -> np.ndarray:
 
 def _field(system, itv, tau: float, row: int | None = None):
     """Rates ``[v', w']`` of the piece at local time ``tau`` (x' = v is continuous at events) and,
-    for an event ``row``, the rate of its event function there (one state evaluation for both)."""
+    for an event ``row``, the rate of its event function there (one state evaluation for both).
+    A modal configuration with ``N = I`` evaluates the velocity rows only (half its modes'
+    products; ``y' = [v, v']``)."""
     n = system.n_dof
     cfg = itv.config
     m = cfg.m
     out = np.zeros(n + system.n_sliders)
-    y = dy = None
-    if m:
-        y, dy = itv.y(np.array([tau]), order=1)
-        v = cfg.N @ y[m:, 0]
-        out[:n] = cfg.N @ dy[m:, 0]
+    dy = None
+    if m and cfg.modal and not cfg.rigid_stuck.size:
+        v, acc = (a[:, 0] for a in itv.velocity(np.array([tau]), order=1))
+        out[:n] = acc
+        dy = np.concatenate((v, acc))
+    elif m:
+        y, dy = (a[:, 0] for a in itv.y(np.array([tau]), order=1))
+        v = cfg.N @ y[m:]
+        out[:n] = cfg.N @ dy[m:]
     else:
         v = np.zeros(n)
     moving = ~itv.pattern.jst
@@ -208,7 +227,7 @@ def _field(system, itv, tau: float, row: int | None = None):
     ph = itv.omega * (itv.t0 + tau)
     rate = itv.omega * (cs[row] * math.cos(ph) - cc[row] * math.sin(ph))
     if m:
-        rate += float(cy[row] @ dy[:, 0])
+        rate += float(cy[row] @ dy)
     return out, float(rate)
 
 
@@ -227,9 +246,113 @@ def saltation(marcher, before, tau: float, row: int, after):
     return jump, grad / rate
 
 
+def _basis_change(marcher, old, new) -> np.ndarray:
+    """``T = Phi_new^T M Phi_old`` (n, n): the modal coordinates of configuration ``old`` taken to
+    those of ``new`` (``Phi^T M Phi = I``, so ``dx = Phi_old xi`` is ``Phi_new T xi``), cached on the
+    marcher: a march's configurations follow each other in the same pairs in every Jacobian of a
+    steady-state search. The cache holds :data:`BASIS_CACHE_BYTES` at most (the least recently
+    used pairs forgotten) and its keys are weak references: a configuration the marcher forgot
+    leaves its pairs unreachable, and a new one decomposed in its place gets its own."""
+    cache = marcher.__dict__.get("_basis_changes")
+    if cache is None:
+        cache = marcher.__dict__["_basis_changes"] = collections.OrderedDict()
+    key = (weakref.ref(old), weakref.ref(new))
+    t = cache.get(key)
+    if t is not None:
+        cache.move_to_end(key)
+        return t
+    t = cache[key] = new.shapes_mass @ old.shapes
+    total = sum(a.nbytes for a in cache.values())
+    for k in [k for k in cache if k[0]() is None or k[1]() is None]:  # forgotten configurations
+        total -= cache.pop(k).nbytes
+    while total > BASIS_CACHE_BYTES and len(cache) > 1:
+        total -= cache.popitem(last=False)[1].nbytes
+    return t
+
+
+def _to_modal(marcher, jac, basis, cfg, stage) -> None:
+    """Rows ``[x, v]`` of ``jac`` (physical where ``basis`` is None, else modal in ``basis``) as the
+    modal coordinates of ``cfg``, ``xi = Phi^T M dx`` and ``eta = Phi^T M dv``, into ``stage``
+    ``(n, 3, nZ)``: per mode its rows ``xi``, ``eta`` (the third is the piece's modal force,
+    :func:`_modal_piece`). The ``(n, 2 nZ)`` view of the rows ``[xi_i, eta_i]`` makes a change of
+    basis one product (as fast as one of half the size, for half the calls)."""
+    n = cfg.m
+    nz = jac.shape[1]
+    rows = stage[:, :2].reshape(n, 2 * nz)  # a view: the two rows of a mode are adjacent
+    if basis is None:
+        np.matmul(cfg.shapes_mass, np.concatenate((jac[:n], jac[n:2 * n]), axis=1), out=rows)
+    elif basis is cfg:
+        stage[:, :2] = jac[:2 * n].reshape(n, 2, nz)
+    else:
+        np.matmul(_basis_change(marcher, basis, cfg), jac[:2 * n].reshape(n, 2 * nz), out=rows)
+
+
+def _to_physical(jac, basis) -> np.ndarray:
+    """Modal rows of ``jac`` in ``basis`` (:func:`_modal_piece`: ``xi_i``, ``eta_i`` interleaved)
+    back to ``[x, v, w]``: ``dx = Phi xi``, ``dv = Phi eta``."""
+    n = basis.m
+    nz = jac.shape[1]
+    both = basis.shapes @ jac[:2 * n].reshape(n, 2 * nz)
+    out = np.empty_like(jac)
+    out[:n] = both[:, :nz]
+    out[n:2 * n] = both[:, nz:]
+    out[2 * n:] = jac[2 * n:]
+    return out
+
+
+def _modal_piece(sens, itv, tau: float, stage, jac) -> None:
+    """:func:`apply_piece` on modal rows: the piece's start rows ``[xi_i, eta_i]`` in ``stage``
+    (:func:`_to_modal`) carried to its end in the rows ``2i``, ``2i + 1`` of ``jac`` (rows ``w``
+    stay). Per mode ``xi' = xi + h1 eta + h0 f``, ``eta' = h1' eta + h1 f`` with the modal force
+    ``f = -w^2 xi + Phi^T sum_stuck k d dw`` (the responses of :func:`_mode_responses`): with
+    ``Phi^T sum k d dw`` as the third row of ``stage``, one 2 x 3 matrix per mode, ``O(n nZ)``
+    instead of the four ``n x n x nZ`` products of physical rows. Moving sliders follow ``w = d .
+    x = (d Phi) xi``."""
+    cfg = itv.config
+    n = cfg.m
+    nz = jac.shape[1]
+    h1, h1d, h0 = _mode_responses(cfg.pairs, tau)
+    w2 = cfg.shapes_w2
+    step = np.empty((n, 2, 3))
+    step[:, 0, 0] = 1.0 - h0 * w2
+    step[:, 0, 1] = h1
+    step[:, 0, 2] = h0
+    step[:, 1, 0] = -h1 * w2
+    step[:, 1, 1] = h1d
+    step[:, 1, 2] = h1
+    if sens.sj is not None:
+        np.matmul(sens.sj, jac[sens.jcols], out=stage[:, 2])
+    else:
+        stage[:, 2] = 0.0
+    np.matmul(step, stage, out=jac[:2 * n].reshape(n, 2, nz))
+    if sens.moving.size:
+        jac[2 * n + sens.moving] = sens.wphi @ jac[0:2 * n:2]
+
+
+def _modal_saltation(basis, jac, jump, dg) -> None:
+    """The saltation ``S = I + e_[v,w] jump dg^T`` (:func:`saltation`) on modal rows of ``jac`` in
+    ``basis``, in place: ``dg^T [dx; dv] = (Phi^T dg_x)^T xi + (Phi^T dg_v)^T eta``, and the jump of
+    the velocities enters ``eta`` as ``Phi^T M jump_v`` (rank one, ``O(n^2 + n nZ)``)."""
+    n = basis.m
+    grad = np.empty(jac.shape[0])
+    grad[0:2 * n:2] = dg[:n] @ basis.shapes
+    grad[1:2 * n:2] = dg[n:2 * n] @ basis.shapes
+    grad[2 * n:] = dg[2 * n:]
+    r = grad @ jac
+    jac[1:2 * n:2] += np.outer(basis.shapes_mass @ jump[:n], r)
+    jac[2 * n:] += np.outer(jump[n:], r)
+
+
 def march_jacobian(marcher, pieces) -> np.ndarray:
     """Jacobian ``(nZ, nZ)`` of the end state of a march with respect to its start state, both in
     full coordinates ``[x, v, w]``.
+
+    The variations are carried as rows of ``[x, v, w]`` through the pieces (:func:`apply_piece`,
+    saltations between them). While consecutive pieces are classically damped without stuck rigid
+    sliders (``N = I``) the rows ``[x, v]`` are kept in the modal coordinates of the current
+    configuration instead: a piece is then a 2 x 2 matrix per mode (:func:`_modal_piece`) and a new
+    configuration a change of basis (:func:`_basis_change`), one product where physical rows take
+    four; other pieces and the end take physical rows. The same Jacobian to rounding.
 
     Parameters
     ----------
@@ -240,16 +363,41 @@ def march_jacobian(marcher, pieces) -> np.ndarray:
         :meth:`~frictionjoint.solvers.marcher.events.Marcher.march` (each piece ended by an event carries
         the event's row as ``end_row``).
     """
+    return _march_rows(marcher, pieces, modal=True)
+
+
+def _march_jacobian_rows(marcher, pieces) -> np.ndarray:
+    """:func:`march_jacobian` with physical rows through every piece (four products per
+    classical piece): the reference of the modal rows' test."""
+    return _march_rows(marcher, pieces, modal=False)
+
+
+def _march_rows(marcher, pieces, modal: bool) -> np.ndarray:
+    """:func:`march_jacobian`'s march of the rows; ``modal`` False: physical rows throughout."""
     system = marcher.system
-    nz = 2 * system.n_dof + system.n_sliders
     n = system.n_dof
-    jac = np.eye(nz)
+    nz = 2 * n + system.n_sliders
+    jac, stage = np.eye(nz), None
+    basis = None  # the configuration whose modal coordinates the rows [x, v] are in (None: physical)
     for k, (itv, tau) in enumerate(pieces):
-        jac = apply_piece(marcher, itv, tau, jac)
+        sens = _sensitivity(marcher, itv)
+        if modal and sens.modal_rows:
+            if stage is None:
+                stage = np.empty((n, 3, nz))
+            _to_modal(marcher, jac, basis, itv.config, stage)
+            basis = itv.config
+            _modal_piece(sens, itv, tau, stage, jac)
+        else:
+            if basis is not None:
+                jac, basis = _to_physical(jac, basis), None
+            jac = apply_piece(marcher, itv, tau, jac)
         row = getattr(itv, "end_row", None)
         if row is not None and k + 1 < len(pieces):
             s = saltation(marcher, itv, tau, row, pieces[k + 1][0])
             if s is not None:
                 jump, dg = s
-                jac[n:] += np.outer(jump, dg @ jac)
-    return jac
+                if basis is None:
+                    jac[n:] += np.outer(jump, dg @ jac)
+                else:
+                    _modal_saltation(basis, jac, jump, dg)
+    return jac if basis is None else _to_physical(jac, basis)
