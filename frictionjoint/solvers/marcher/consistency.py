@@ -33,8 +33,8 @@ import numpy as np
 
 from ..jit import ENABLED, _jit, matvec, row_dot
 
-__all__ = ["check", "pack", "unpack", "most_violated", "ROW_KIND", "FLOATS", "INTS", "ENABLED", "KIND_V",
-           "KIND_PLUS", "KIND_MINUS", "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
+__all__ = ["check", "pack", "pack_config", "unpack", "most_violated", "ROW_KIND", "FLOATS", "CONFIG_FLOATS", "INTS",
+           "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS", "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
 #: normal load (lift-off) and an open contact's closure
@@ -50,52 +50,78 @@ ROW_KIND = {"v": KIND_V, "+": KIND_PLUS, "-": KIND_MINUS, "o": KIND_OPEN, "c": K
 #: positive, the row would be found again at the same instant, forever
 EVENT_ROW_SLACK = 1e4
 
-#: the float and int arrays of a status, in the order :func:`pack` takes them and :func:`check` reads them
-FLOATS = ("K", "K_c", "f_slip", "jst_dt", "jst_k", "N^T", "M_r^-1 N^T", "A21", "A22", "bc", "bs", "cy_q", "cy_v",
-          "ax", "af", "ax_abs", "a0c", "a0k", "cc", "cs", "row_fs", "scales", "slip_j_dir", "slip_j_off",
-          "rigid_dir")
+#: the float arrays of a configuration, the same for each of its statuses: packed once
+#: (:func:`pack_config`, kept on the configuration), then referred to by each status's kern
+CONFIG_FLOATS = ("K", "K_c", "N^T", "M_r^-1 N^T", "A21", "A22", "bc", "bs")
+#: the float and int arrays of a status, in the order :func:`pack` takes them (the configuration's first) and
+#: :func:`check` reads them
+FLOATS = CONFIG_FLOATS + ("f_slip", "jst_dt", "jst_k", "cy_q", "cy_v", "ax", "af", "ax_abs", "a0c", "a0k", "cc",
+                          "cs", "row_fs", "scales", "slip_j_dir", "slip_j_off", "rigid_dir")
 INTS = ("jst_idx", "widx", "row_kind", "row_slider", "flags", "slip_j", "rigid_idx")
+_N_CONFIG = len(CONFIG_FLOATS)
 
 
-def pack(floats, ints) -> tuple:
-    """The status's constant arrays as two flat arrays ``(fk, ik)`` for :func:`check`.
-
-    Numba checks the type of every argument at every call: a tuple of 27 arrays cost ~4.5 us per
-    call (two calls per event), two arrays ~0.2 us. ``ik`` starts with a header: for each float
-    array its offset in ``fk`` and its shape as two numbers (1-D arrays: ``(size, 1)``), then for
-    each int array its offset in ``ik`` and its size; the int arrays follow.
-    """
-    if len(floats) != len(FLOATS) or len(ints) != len(INTS):
-        raise ValueError(f"pack takes {len(FLOATS)} float and {len(INTS)} int arrays")
+def _flat(floats) -> tuple:
+    """The float arrays one after the other in one buffer (one copy each, transposed views
+    included) and their header: offset and shape as two numbers (1-D arrays: ``(size, 1)``)."""
     floats = [np.asarray(a, dtype=float) for a in floats]
-    ints = [np.asarray(a, dtype=np.intp).ravel() for a in ints]
-    head = 3 * len(floats) + 2 * len(ints)
     hdr, off = [], 0
     for a in floats:
         r, c = (a.shape[0], a.shape[1]) if a.ndim == 2 else (a.size, 1)
         hdr += [off, r, c]
         off += a.size
-    ioff = head
+    buf = np.empty(off)
+    for a, o in zip(floats, hdr[::3]):
+        buf[o:o + a.size].reshape(a.shape)[...] = a
+    return buf, hdr
+
+
+def pack_config(floats) -> tuple:
+    """The configuration's arrays :data:`CONFIG_FLOATS` packed once for all its statuses:
+    ``(buffer, header)``, for :func:`pack`. Each status packed them again before: four ``m x m``
+    and ``n x n`` matrices, 1.3 MB at n = 200, per status."""
+    if len(floats) != _N_CONFIG:
+        raise ValueError(f"pack_config takes {_N_CONFIG} float arrays")
+    return _flat(floats)
+
+
+def pack(config, floats, ints) -> tuple:
+    """The status's constant arrays as ``((fc, fk), ik)`` for :func:`check`: the configuration's
+    buffer ``fc`` (:func:`pack_config`, shared), the status's own floats ``fk`` (the rest of
+    :data:`FLOATS`) and the ints.
+
+    Numba checks the type of every argument at every call: a tuple of 27 arrays cost ~4.5 us per
+    call (two calls per event), two arrays ~0.2 us. ``ik`` starts with a header: for each float
+    array its offset (in ``fc`` for the configuration's, in ``fk`` for the others) and its shape
+    as two numbers (1-D arrays: ``(size, 1)``), then for each int array its offset in ``ik`` and
+    its size; the int arrays follow.
+    """
+    if len(floats) != len(FLOATS) - _N_CONFIG or len(ints) != len(INTS):
+        raise ValueError(f"pack takes {len(FLOATS) - _N_CONFIG} float and {len(INTS)} int arrays")
+    fc, hc = config
+    fk, hk = _flat(floats)
+    ints = [np.asarray(a, dtype=np.intp).ravel() for a in ints]
+    hdr = hc + hk
+    ioff = len(hdr) + 2 * len(ints)
     for a in ints:
         hdr += [ioff, a.size]
         ioff += a.size
-    fk = np.empty(off)
-    for a, o in zip(floats, hdr[::3]):  # one copy each, transposed views included (no ravel first)
-        fk[o:o + a.size].reshape(a.shape)[...] = a
     ik = np.concatenate([np.array(hdr, np.intp)] + ints)
-    return fk, ik
+    return (fc, fk), ik
 
 
 @_jit
 def _f2(fk, ik, i):
     off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
-    return fk[off:off + r * c].reshape((r, c))
+    buf = fk[0] if i < _N_CONFIG else fk[1]
+    return buf[off:off + r * c].reshape((r, c))
 
 
 @_jit
 def _f1(fk, ik, i):
     off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
-    return fk[off:off + r * c]
+    buf = fk[0] if i < _N_CONFIG else fk[1]
+    return buf[off:off + r * c]
 
 
 @_jit
@@ -124,7 +150,8 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
 
     Parameters
     ----------
-    fk, ik : ndarray
+    fk : (ndarray, ndarray) tuple
+    ik : ndarray
         The status's constant arrays packed by :func:`pack` (see ``Marcher._kernel``): the float
         arrays :data:`FLOATS` (``scales``: fixed load scale, mass scale, rate, omega) and the int
         arrays :data:`INTS` (``flags``: has_slip, has_jst, has_af, has_w, harmonic, identity,
@@ -167,9 +194,9 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
         piece's constant load, ``K_c x``, the event functions' constants, and the start state and
         constant forcing in reduced coordinates.
     """
-    k_sys, k_c, f_slip, jst_dt, jst_k = _f2(fk, ik, 0), _f2(fk, ik, 1), _f1(fk, ik, 2), _f2(fk, ik, 3), _f1(fk, ik, 4)
-    nt, mint, a21, a22 = _f2(fk, ik, 5), _f2(fk, ik, 6), _f2(fk, ik, 7), _f2(fk, ik, 8)
-    bcv, bsv, cyq, cyv = _f1(fk, ik, 9), _f1(fk, ik, 10), _f2(fk, ik, 11), _f2(fk, ik, 12)
+    k_sys, k_c, f_slip, jst_dt, jst_k = _f2(fk, ik, 0), _f2(fk, ik, 1), _f1(fk, ik, 8), _f2(fk, ik, 9), _f1(fk, ik, 10)
+    nt, mint, a21, a22 = _f2(fk, ik, 2), _f2(fk, ik, 3), _f2(fk, ik, 4), _f2(fk, ik, 5)
+    bcv, bsv, cyq, cyv = _f1(fk, ik, 6), _f1(fk, ik, 7), _f2(fk, ik, 11), _f2(fk, ik, 12)
     ax, af, ax_abs = _f2(fk, ik, 13), _f2(fk, ik, 14), _f2(fk, ik, 15)
     a0c, a0k, cc, cs, row_fs, scales = (_f1(fk, ik, 16), _f1(fk, ik, 17), _f1(fk, ik, 18), _f1(fk, ik, 19),
                                         _f1(fk, ik, 20), _f1(fk, ik, 21))

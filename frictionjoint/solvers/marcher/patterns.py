@@ -144,7 +144,8 @@ class StatusPattern:
 
         Returns
         -------
-        (fk, ik) : (ndarray, ndarray)
+        ((fc, fk), ik) : ((ndarray, ndarray), ndarray)
+            The configuration's packed floats (shared by its statuses), the status's, the ints.
         """
         pat = self
         sysm = self.system
@@ -155,24 +156,37 @@ class StatusPattern:
         kinds = consistency.ROW_KIND
         obs = pat.obs
         cy = pat.red_cy
-        a21, a22 = cfg.first_order_blocks()
-        # N = I: neither N^T nor cy_q (= ax) packed; a diagonal M^-1 as its diagonal (check's flags)
-        identity = not cfg.rigid_stuck.size
-        mint = cfg.mr_inv_nt
-        diagonal = identity and np.count_nonzero(mint) == np.count_nonzero(np.diagonal(mint))
+        identity, diagonal = _config_kern(cfg, n)
         none = np.zeros((0, n))
         pat.kern = consistency.pack(
-            (cfg.base_stiffness, cfg.stiffness, np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt,
-             pat.jst_k, none if identity else cfg.N.T, np.diagonal(mint)[:, None] if diagonal else mint,
-             a21, a22, cfg.bc[m:], cfg.bs[m:], none if identity else cy[:, :m], cy[:, m:], obs.ax,
-             obs.af if pat.has_af else none, pat.ax_abs, pat.a0c, pat.a0k, pat.red_cc, pat.red_cs,
-             pat.row_fs, [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300),
-                          sysm.omega], pat.slip_j_dir, pat.slip_j_off, sysm.slider_direction[rigid_idx]),
+            cfg.kern,
+            (np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt, pat.jst_k,
+             none if identity else cy[:, :m], cy[:, m:], obs.ax, obs.af if pat.has_af else none, pat.ax_abs,
+             pat.a0c, pat.a0k, pat.red_cc, pat.red_cs, pat.row_fs,
+             [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300), sysm.omega], pat.slip_j_dir,
+             pat.slip_j_off, sysm.slider_direction[rigid_idx]),
             (np.flatnonzero(pat.jst), pat.widx, [kinds[k] for _, k in pat.meta], pat.row_slider,
              [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
               bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0)), identity, diagonal],
              np.flatnonzero(pat.slip_j), rigid_idx))
         return pat.kern
+
+
+def _config_kern(cfg: ConfigData, n: int) -> tuple[bool, bool]:
+    """The configuration's part of the consistency test's arrays (:func:`.consistency.pack_config`),
+    packed on the first status of the configuration and kept in ``cfg.kern``; returns the flags
+    ``(identity, diagonal)``: ``N = I`` (``N^T`` not packed, nor the statuses' ``cy_q``, which is
+    ``ax``), ``M^-1`` diagonal (packed as its diagonal)."""
+    identity = not cfg.rigid_stuck.size
+    mint = cfg.mr_inv_nt
+    diagonal = identity and np.count_nonzero(mint) == np.count_nonzero(np.diagonal(mint))
+    if cfg.kern is None:
+        m = cfg.m
+        a21, a22 = cfg.first_order_blocks()
+        cfg.kern = consistency.pack_config(
+            (cfg.base_stiffness, cfg.stiffness, np.zeros((0, n)) if identity else cfg.N.T,
+             np.diagonal(mint)[:, None] if diagonal else mint, a21, a22, cfg.bc[m:], cfg.bs[m:]))
+    return identity, diagonal
 
 
 def _slider_rows(sysm, cfg: ConfigData, rigid_row: dict, zero: np.ndarray, i: int, s: int) -> tuple:

@@ -400,6 +400,9 @@ class ConfigData:
         self.bc_zero = not self.bc.any()
         self.bs_zero = not self.bs.any()
         self._modal_omega = None
+        #: the consistency test's packed arrays of the configuration, shared by its statuses
+        #: (:func:`.consistency.pack_config`), set by the first status packed
+        self.kern = None
 
     def _stiffness(self, system, status: np.ndarray, jen_stuck: np.ndarray) -> None:
         """``base_stiffness`` and ``damping`` (contacts: open ones' spring and dashpot off, slipping
