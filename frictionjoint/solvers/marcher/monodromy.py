@@ -63,7 +63,8 @@ class _ConfigSensitivity:
     it. Defective ones: ``B_y``, ``B_b`` for the exponential.
     """
 
-    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols", "modal_rows", "moving", "wphi")
+    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols", "modal_rows", "moving",
+                 "wphi")
 
     def __init__(self, system, itv):
         cfg = itv.config
