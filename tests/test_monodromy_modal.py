@@ -2,10 +2,11 @@
 classically damped without stuck rigid sliders,
 :func:`~frictionjoint.solvers.marcher.monodromy.march_jacobian` carries the variations as modal
 coordinates and changes basis between configurations; it must be the Jacobian of physical rows
-through every piece (``_march_jacobian_rows``, the implementation before) to rounding, on every path: classical configurations only, a mix with stuck rigid sliders
-(``N != I``) and with stiff stuck springs (the general path), Rayleigh damping (the general path
-only), a root on its flanks with normal-load variation and lift-off (contacts); lumped and
-consistent masses, under- and over-damped modes."""
+through every piece (``_march_jacobian_rows``, the implementation before) to rounding, on every
+path: classical configurations only, a mix with stuck rigid sliders (``N != I``) and with stiff
+stuck springs (the general path), Rayleigh damping (the general path only), a root on its flanks
+with normal-load variation and lift-off (contacts); lumped and consistent masses, under- and
+over-damped modes."""
 import math
 
 import numpy as np
