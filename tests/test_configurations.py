@@ -114,3 +114,42 @@ def test_an_edited_mass_is_not_met_by_a_stale_inverse():
     second = ConfigData(system, np.zeros(system.n_sliders, np.int8))
     assert first.shapes is not None and second.shapes is None
     assert np.allclose(second.mr_inv_nt @ system.mass, np.eye(system.n_dof), rtol=0, atol=1e-12)
+
+
+def test_tridiagonal_pencil_gives_eighs_numbers():
+    """A chain with lumped masses: the pencil goes to LAPACK's stevd (eigh_tridiagonal), which
+    gives syevd's (eigh's) eigenvalues and vectors bit for bit (the Householder reduction of a
+    tridiagonal matrix is the identity exactly), for sizes on both sides of LAPACK's small-matrix
+    switch (25)."""
+    import scipy.linalg
+    for n in (3, 12, 30, 64):
+        system = _chain(n, joints=max(1, n // 5))
+        factor = propagator._mass_factor(system)
+        cfg = ConfigData(system, np.zeros(system.n_sliders, np.int8))
+        ks = cfg.stiffness / factor[:, None] / factor[None, :]
+        w2, psi = scipy.linalg.eigh(ks, check_finite=False, driver="evd")
+        got = propagator._pencil(system.mass, cfg.stiffness, factor)
+        assert np.array_equal(got[0], w2) and np.array_equal(got[1], psi / factor[:, None])
+
+
+def test_a_march_keeps_no_first_order_matrix_and_counts_its_own_arrays():
+    """A classical configuration marched (compiled) never builds A or the complex V^-1 (their
+    blocks and rows are read in factored form); nbytes counts the configuration's own arrays, not
+    the system's stiffness, damping, M^-1 and identity it refers to; the statuses of one
+    configuration share its packed consistency arrays."""
+    system = _chain()
+    marcher = fj.Marcher(system)
+    fj.periodic_response(system, marcher=marcher)
+    configs = list(marcher._configs.values())
+    assert configs and all(cfg._A is None and cfg._W is None for cfg in configs if cfg.shapes is not None)
+    n = system.n_dof
+    cfg = ConfigData(system, np.zeros(system.n_sliders, np.int8))
+    own = sum(a.nbytes for a in (cfg.stiffness, cfg.V, cfg.shapes, cfg.shapes_mass))
+    assert own <= cfg.nbytes <= own + 64 * n * 16  # and vectors of n
+    kerns = {}
+    for pat in marcher._patterns.values():
+        if pat.kern is not None:
+            kerns.setdefault(id(pat.cfg), set()).add(id(pat.kern[0][0]))
+    assert kerns and all(len(k) == 1 for k in kerns.values())
+    a21, a22 = cfg.first_order_blocks()  # before A is built: the same numbers as A's blocks
+    assert np.array_equal(cfg.A[n:, :n], a21) and np.array_equal(cfg.A[n:, n:], a22)
