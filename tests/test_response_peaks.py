@@ -1,6 +1,6 @@
 """Peaks of |x| on structures of many DOFs (:func:`piece_peaks`): the velocity reversals are located
-on their own DOFs' rows of the modal sum (``response._PieceRows``), checked against the whole
-structure's motion of :meth:`.Interval.velocity` and :meth:`.Interval.state`, and the peaks against
+on their own DOFs' rows of the modal sum (``response._PieceRows``), and a long piece's samples are
+screened (``response._screened_samples``), checked against the whole structure's motion of :meth:`.Interval.velocity` and :meth:`.Interval.state`, and the peaks against
 dense sampling of the same closed-form pieces, on a chain's transient from rest (pieces that start
 at a reversal, DOFs at rest to rounding) and on a chain with stuck Coulomb sliders (``N != I``)."""
 import math
@@ -10,7 +10,7 @@ import numpy as np
 import frictionjoint as fj
 from benchmarks.chains import chain
 from frictionjoint.solvers.marcher.events import EventLog, Marcher
-from frictionjoint.solvers.marcher.response import _PieceRows, piece_peaks
+from frictionjoint.solvers.marcher.response import _PieceRows, _sample_times, _samples, piece_peaks
 
 #: rows against the whole structure's motion, relative to the largest value over the piece (both
 #: are the same modal sum, added in another order)
@@ -40,8 +40,8 @@ def _slider_chain():
 
 
 def test_rows_are_the_structures_motion():
-    """v, a, a' and x of DOF ``rows[i]`` at its own time ``t[i]`` equal the entries of the whole
-    structure's motion at those times."""
+    """v, a, a' and x of DOF ``rows[i]`` at its own time ``t[i]``, and v and a of every DOF on a
+    grid of times, equal the entries of the whole structure's motion at those times."""
     rng = np.random.default_rng(3)
     rigid = 0
     for system in (chain(20, 4), _slider_chain()):
@@ -62,6 +62,10 @@ def test_rows_are_the_structures_motion():
             x = pr.displacement(t)
             scale = np.max(np.abs(itv.state(grid)[0]))
             assert np.max(np.abs(x - itv.state(t)[0][rows, idx])) <= ROWS_RTOL * scale
+            # every row on one grid of times
+            on_grid = _PieceRows(itv, np.arange(n)).grid(grid)
+            for order in (0, 1):
+                assert np.max(np.abs(on_grid[order] - itv.velocity(grid, 1)[order])) <= ROWS_RTOL * scales[order]
     assert rigid > 0
 
 
@@ -81,3 +85,25 @@ def test_peaks_against_dense_sampling():
             assert np.all(np.isfinite(amp))
             assert np.all(amp >= sampled - slack)
             assert np.all(amp <= sampled + acc * step ** 2 + slack)
+
+
+def test_screened_samples_skip_no_reversal():
+    """On the long pieces of chain(30, 6)'s transient, the samples left out by the screening (NaN)
+    are where the whole structure's velocity keeps its sign between samples (no reversal to
+    bracket), and the samples taken are Interval.velocity's."""
+    system = chain(30, 6)
+    screened = 0
+    for itv, tau in _pieces(system, 1):
+        taus = _sample_times(itv, tau)
+        vs, acc, _, _ = _samples(itv, taus)
+        if not np.isnan(vs).any():
+            continue
+        screened += 1
+        v, a = itv.velocity(taus, 1)
+        taken = ~np.isnan(vs)
+        assert np.max(np.abs(vs[taken] - v[taken])) <= ROWS_RTOL * np.max(np.abs(v))
+        assert np.max(np.abs(acc[taken] - a[taken])) <= ROWS_RTOL * np.max(np.abs(a))
+        # a sample interval is skipped when both its ends are
+        skipped = ~taken[:, :-1] & ~taken[:, 1:]
+        assert np.all(v[:, :-1][skipped] * v[:, 1:][skipped] > 0)
+    assert screened >= 3
