@@ -94,7 +94,7 @@ def _from_balance(system, options, strict: bool) -> PeriodicResponse | None:
     it: the balance refuses the system or did not converge, it sticks all over (the stuck orbit
     from rest is a closed form), or the orbit found is not unique or not found."""
     try:
-        hb = harmonic_balance(system, n_harmonics=BALANCE_START_HARMONICS)
+        hb = harmonic_balance(system, n_harmonics=BALANCE_START_HARMONICS, peaks=False)
     except ParameterError:
         if strict:
             raise

@@ -279,7 +279,7 @@ def _peaks(harm: np.ndarray) -> np.ndarray:
 @owns_blas_threads
 def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmonics: int = 7, *,
                      guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 60,
-                     check: bool = False) -> HarmonicBalance:
+                     check: bool = False, peaks: bool = True) -> HarmonicBalance:
     """Multi-harmonic balance of ``system`` at ``omega`` with ``n_harmonics`` harmonics (module
     docstring): exact hysteresis, analytic Jacobian, condensed to the joint coordinates.
 
@@ -302,6 +302,9 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     check : bool
         Also find the exact time-domain steady state from the balanced orbit
         (:func:`~frictionjoint.solvers.marcher.steady.periodic_response`) and report the truncation error.
+    peaks : bool
+        Locate each DOF's peak over the reconstructed period (``amplitude``); false: ``amplitude``
+        is NaN, for a caller that needs the harmonics only (the start of an exact search).
 
     Returns
     -------
@@ -328,7 +331,8 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
                    if converged else f"harmonic balance did not converge in {max_iter} iterations "
                                      f"(residual {rel:.2e})")
     out = HarmonicBalance(omega=system.omega, n_harmonics=hh, harmonics=harm,
-                          harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]), amplitude=_peaks(harm),
+                          harmonic_amplitude=np.abs(harm[1]), phase=-np.angle(harm[1]),
+                          amplitude=_peaks(harm) if peaks else np.full(system.n_dof, np.nan),
                           converged=bool(converged), message=message, iterations=it, residual=rel,
                           dissipated_per_cycle=jf.dissipated,
                           slider_positions=jf.slider_positions, stuck=jf.stuck)
@@ -344,7 +348,8 @@ def _start(system: FrictionSystem, cond: Condensed, guess, tol: float, max_iter:
     damper optimum), or the linear solution where that fails or ``H = 1``."""
     hh = cond.n_harmonics
     if guess is None and hh > 1:
-        first = harmonic_balance(system, n_harmonics=max(1, (hh - 1) // 2), tol=tol, max_iter=max_iter)
+        first = harmonic_balance(system, n_harmonics=max(1, (hh - 1) // 2), tol=tol, max_iter=max_iter,
+                                 peaks=False)
         if first.converged:
             guess = first.harmonics
     if guess is None:
@@ -458,7 +463,7 @@ def _check_exact(system: FrictionSystem, hb: HarmonicBalance) -> None:
     hb.exact = ex
     hb.stable = lyapunov_stable(ex)  # the Floquet multipliers of the matching exact orbit
     hb.truncation_error = truncation_error(hb.harmonics, ex)
-    if ex.converged:
+    if ex.converged and np.all(np.isfinite(hb.amplitude)):  # peaks located (``peaks=True``)
         hb.amplitude_error = float(np.max(np.abs(hb.amplitude - ex.amplitude)) / np.max(ex.amplitude))
 
 

@@ -631,7 +631,7 @@ class Marcher:
             cy, c0, cc, cs = red
             cfg = itv.config
             if pat.modal_p is None:
-                pat.modal_p = cy @ cfg.V
+                pat.modal_p = cfg.modal_rows(cy)
                 pat.modal_abs_p = search.magnitudes(pat.modal_p)
                 if self._patterns.get(itv.status.astype(np.int8, copy=False).tobytes()) is pat:  # cached
                     self._config_bytes += pat.modal_p.nbytes + pat.modal_abs_p.nbytes

@@ -304,12 +304,16 @@ def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jaco
     period = 2 * math.pi / system.omega
     pieces = []
     first_itv = []
+    marched = []  # the period's (interval, duration): the map's call at z_start when t_s = 0
+    log = EventLog()
+    start = (st.x.copy(), st.v.copy(), st.w.copy(), st.status.copy())
 
     def keep_first(itv, tau):
         if not first_itv:
             first_itv.append(itv)
+        marched.append((itv, tau))
         pieces.append((itv.t0, tau, int(np.count_nonzero(itv.status == 0))))
-    m.march(st, period, on_interval=keep_first)
+    m.march(st, period, log, on_interval=keep_first)
     fewest = min(p[2] for p in pieces)
     first, last = pieces[0], pieces[-1]
     margin = SECTION_MARGIN * period
@@ -321,6 +325,11 @@ def _first_section(system, m: Marcher, st: MarchState, z_start, tol: float, jaco
         st.t = 0.0
         pz = pmap.vector(st)
         periods = 1.0
+        again = pmap.state(z)
+        if all(np.array_equal(a, b) for a, b in zip(start, (again.x, again.v, again.w, again.status))):
+            # the period just marched is the map's call at z (it starts from the same state): its
+            # pieces serve the Jacobian there, no second march of it
+            pmap.last = (z.copy(), pz.copy(), marched, log)
     else:
         t_a, tau, _ = max((p for p in pieces if p[2] == fewest), key=lambda p: p[1])
         t_s = (t_a + 0.5 * tau) % period
