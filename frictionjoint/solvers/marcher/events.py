@@ -35,10 +35,11 @@ from . import search
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
 #: memory of decomposed configurations and their status patterns one marcher keeps [bytes], as
-#: counted when they are built (arrays added on first use later, about half as much again, are
-#: not all counted): beyond, the least recently used are forgotten (:meth:`Marcher._evict`); at 200
-#: DOFs a configuration holds about 6 MB, its patterns 3 MB, and a chain of 200 DOFs and 40
-#: joints visits about 160 per period
+#: counted when they are built and packed (the event search's modal coefficients included; a
+#: first-order matrix built on a rare first use is not): beyond, the least recently used are
+#: forgotten (:meth:`Marcher._evict`); at 200 DOFs a configuration holds about 2.3 MB and 1.3 MB
+#: packed for the consistency test, a status pattern about 0.8 MB, and a chain of 200 DOFs and 40
+#: joints visits 80 configurations and 160 statuses per period
 CONFIG_CACHE_BYTES = 2 * 2 ** 30
 _SAMPLES_PER_PERIOD = 16
 #: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
@@ -80,14 +81,16 @@ def _change_status(status: np.ndarray, row: tuple, in_band: bool, visited: set, 
 
 
 def _nbytes(obj) -> int:
-    """Memory held by the arrays of a slotted object (a :class:`StatusPattern`) [bytes]."""
-    total = 0
-    for name in type(obj).__slots__:
-        a = getattr(obj, name, None)
-        for b in (a if isinstance(a, tuple) else (a,)):
-            if isinstance(b, np.ndarray) and b.base is None:
-                total += b.nbytes
-    return total
+    """Memory held by the arrays of a slotted object (a :class:`StatusPattern`) [bytes], in its
+    slots and their (nested) tuples, without its configuration's packed arrays (``cfg.kern``,
+    shared by the configuration's statuses and counted with it)."""
+    shared = getattr(getattr(obj, "cfg", None), "kern", None)
+
+    def size(a) -> int:
+        if isinstance(a, tuple):
+            return sum(size(b) for b in a)
+        return a.nbytes if isinstance(a, np.ndarray) and a.base is None and a is not shared else 0
+    return sum(size(getattr(obj, name, None)) for name in type(obj).__slots__)
 
 
 def _zero_rows(meta, trigger) -> np.ndarray:
@@ -548,7 +551,11 @@ class Marcher:
             if pat.has_rigid_stuck:  # the state projected on the status (Marcher._project): v here,
                 cfg = pat.cfg       # the slider positions in check
                 state.v = cfg.N @ (cfg.N.T @ state.v)
-            fk, ik = pat.kern if pat.kern is not None else pat.pack(self._fscale_fixed, self._mass_scale)
+            if pat.kern is None:  # packed on first use: counted in the cache then
+                before = _nbytes(pat) + pat.cfg.nbytes
+                pat.pack(self._fscale_fixed, self._mass_scale)
+                self._config_bytes += _nbytes(pat) + pat.cfg.nbytes - before
+            fk, ik = pat.kern
             # the event's row (in the status of the piece it ended: the first test only) and the
             # rows that vanish with it
             er = pat.meta.index(trigger) if it == 0 and trigger is not None and trigger in pat.meta else -1
