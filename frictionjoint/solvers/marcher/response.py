@@ -72,21 +72,26 @@ def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     vs, acc, v_scale, a_scale = _samples(itv, taus)
     rows, ks = np.nonzero(np.sign(vs[:, :-1]) * np.sign(vs[:, 1:]) < 0)
     lo, hi = taus[ks], taus[ks + 1]
+    f_lo, f_hi = vs[rows, ks], vs[rows, ks + 1]
     # extrema of v between samples of one sign, |v| falling into them: two reversals if v changes
     # sign at the extremum
     drows, dks = np.nonzero((np.sign(acc[:, :-1]) * np.sign(acc[:, 1:]) < 0)
                             & (np.sign(vs[:, :-1]) == np.sign(vs[:, 1:])) & (vs[:, :-1] * acc[:, :-1] < 0))
     if drows.size:
         ext = _PieceRows(itv, drows)
-        tm = _roots(ext, taus[dks], taus[dks + 1], 1, tau_end, a_scale[drows], v_scale[drows])
-        two = np.sign(ext.velocity(tm, 0)[0]) != np.sign(vs[drows, dks])
+        tm = _roots(ext, (taus[dks], taus[dks + 1]), (acc[drows, dks], acc[drows, dks + 1]), 1, tau_end,
+                    a_scale[drows], v_scale[drows])
+        vm = ext.velocity(tm, 0)[0]
+        two = np.sign(vm) != np.sign(vs[drows, dks])
         rows = np.concatenate([rows, drows[two], drows[two]])
         lo = np.concatenate([lo, taus[dks][two], tm[two]])
         hi = np.concatenate([hi, tm[two], taus[dks + 1][two]])
+        f_lo = np.concatenate([f_lo, vs[drows, dks][two], vm[two]])
+        f_hi = np.concatenate([f_hi, vm[two], vs[drows, dks + 1][two]])
     if rows.size == 0:
         return x_end
     rev = _PieceRows(itv, rows)
-    t = _roots(rev, lo, hi, 0, tau_end, v_scale[rows], amp[rows])
+    t = _roots(rev, (lo, hi), (f_lo, f_hi), 0, tau_end, v_scale[rows], amp[rows])
     np.maximum.at(amp, rows, np.abs(rev.displacement(t)))
     return x_end
 
@@ -231,25 +236,26 @@ def _modal_rows(cfg, rows: np.ndarray, part: int) -> np.ndarray:
     return v[rows] if cfg.rigid_stuck.size == 0 else cfg.N[rows] @ v
 
 
-def _roots(motion: _PieceRows, lo, hi, order: int, tau_end: float, scale, prim) -> np.ndarray:
-    """Roots of ``v`` (``order`` 0) or ``a`` (1) of the rows of ``motion`` in ``[lo[i], hi[i]]``
-    (one sign change each): Newton steps on the exact function ``f`` and its derivative ``f'``,
-    bisection where a step would leave the bracket. A root is done when
+def _roots(motion: _PieceRows, bracket, ends, order: int, tau_end: float, scale, prim) -> np.ndarray:
+    """Roots of ``v`` (``order`` 0) or ``a`` (1) of the rows of ``motion`` in ``bracket = (lo, hi)``
+    (one sign change each between ``ends``, the values there: the samples'): Newton steps on the
+    exact function ``f`` and its derivative ``f'`` from the secant's root, bisection where a step
+    would leave the bracket. A root is done when
 
     - its primitive (``x`` for ``v``, ``v`` for ``a``: what the caller wants there) is its value
       at the root to 1e-16 of ``prim``, the primitive's scale: near a simple root ``f`` is linear
       and the primitive is off by ``f^2 / 2 f'`` at the current step, by far less at the next,
       which is kept if it stays in the bracket. ``f`` near its root is the rounding of its terms,
       and further steps bisect that noise down to rounding of ``t`` (the 91 calls on the orbit of
-      ``chain(200, 40)`` took 1172 evaluations of ``f`` so, 317 with this test);
+      ``chain(200, 40)`` took 1172 evaluations of ``f`` so, with ``f`` evaluated again at the
+      bracket's ends; 130 now);
     - or the step is at rounding of ``t``;
     - or ``|f|`` is below 1e-15 of its ``scale`` (a near-double root, where the primitive no
       longer changes: its error is ~ ``|f|`` times the distance to the root)."""
-    f_lo = motion.velocity(lo, order)[0]
-    f_hi = motion.velocity(hi, order)[0]
-    # secant start, inside the bracket also where f at an end is rounding of zero of another sign
-    # than the samples' (a piece that starts at a reversal; an extremum of v at rounding of zero
-    # found at a sample, which leaves an empty bracket)
+    lo, hi = bracket
+    f_lo, f_hi = ends
+    # secant start, inside the bracket also where f at an end is rounding of zero (an extremum of
+    # v at rounding of zero found at a sample leaves an empty bracket)
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = f_lo / (f_lo - f_hi)
     t = np.clip(lo + (hi - lo) * np.where(np.isfinite(frac), frac, 0.5), lo, hi)
