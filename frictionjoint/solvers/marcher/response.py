@@ -60,8 +60,9 @@ def piece_peaks(itv, tau_end: float, amp: np.ndarray) -> np.ndarray:
     ``itv``: its ends and every velocity reversal inside. ``v`` and ``a`` are sampled at 16 points
     per period of the active rate (as the event search samples its functions): a sign change of
     ``v`` brackets a reversal; a sign change of ``a`` with ``|v|`` falling brackets an extremum of
-    ``v``, which holds two reversals if ``v`` changes sign there. All roots are located together by
-    safeguarded Newton iterations on the exact ``v`` and ``a`` of their DOFs only
+    ``v``, which holds two reversals if ``v`` changes sign there (a long piece's samples are taken
+    only where a DOF's velocity can vanish, :func:`_screened_samples`). All roots are located
+    together by safeguarded Newton iterations on the exact ``v`` and ``a`` of their DOFs only
     (:class:`_PieceRows`), until ``x`` there is the peak to rounding (:func:`_roots`). Returns
     ``x`` at the two ends, (n_dof, 2)."""
     x_end, _ = itv.state(np.array([0.0, tau_end]))
