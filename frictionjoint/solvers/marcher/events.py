@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import collections
 import math
+import os
 from collections.abc import Callable
 
 import numpy as np
@@ -34,13 +35,27 @@ from . import search
 
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
+
+def _quarter_of_memory(fallback: int = 2 * 2 ** 30) -> int:
+    """A quarter of the physical memory [bytes] where ``os.sysconf`` reports it (POSIX), at least
+    ``fallback``; ``fallback`` elsewhere (Windows)."""
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):  # no sysconf, or no such name
+        return fallback
+    return max(fallback, total // 4)
+
+
 #: memory of decomposed configurations and their status patterns one marcher keeps [bytes], as
 #: counted when they are built and packed (the event search's modal coefficients included; a
 #: first-order matrix built on a rare first use is not): beyond, the least recently used are
-#: forgotten (:meth:`Marcher._evict`); at 200 DOFs a configuration holds about 2.3 MB and 1.3 MB
-#: packed for the consistency test, a status pattern about 0.8 MB, and a chain of 200 DOFs and 40
-#: joints visits 80 configurations and 160 statuses per period
-CONFIG_CACHE_BYTES = 2 * 2 ** 30
+#: forgotten (:meth:`Marcher._evict`). A quarter of the machine's memory, at least 2 GiB: a
+#: period's configurations must fit, or least-recently-used eviction forgets each one before the
+#: march comes back to it (at 400 DOFs and 80 joints a period holds about 3 GB, and a 2 GiB cache
+#: decomposed every configuration twice per period). At 200 DOFs a configuration holds about
+#: 2.3 MB and 1.3 MB packed for the consistency test, a status pattern about 0.8 MB, and a chain
+#: of 200 DOFs and 40 joints visits 80 configurations and 160 statuses per period
+CONFIG_CACHE_BYTES = _quarter_of_memory()
 _SAMPLES_PER_PERIOD = 16
 #: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
 #: it stops with a ConvergenceError (a scene whose events come faster than the march can take

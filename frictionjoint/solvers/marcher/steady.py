@@ -98,6 +98,9 @@ class _PeriodMap:
         return np.concatenate([st.x, st.v, st.w[self.jen]])
 
     def __call__(self, z, log=None, on_interval=None):
+        # the previous call's pieces hold its period's configurations: let them go before this
+        # period builds its own (at 400 DOFs and 80 joints, a period's are about 3 GB)
+        self.last = None
         st = self.state(z)
         log = EventLog() if log is None else log
         pieces = []
