@@ -28,8 +28,14 @@ between the two largest (where fixed costs weigh less). ``--check`` asserts issu
 ratios for the sizes run: cold ``periodic_response`` at (100, 20) and (200, 40) at most 0.5 x the
 baseline, ``harmonic_balance`` at ``H = 7`` at (200, 40) at most 0.05 x. ``--amplitudes FILE``
 keeps the steady states' amplitudes: written when the file does not exist, otherwise compared
-(column ``amp diff``, the largest relative difference of a DOF's amplitude; ``--check`` asserts it
-is at most 1e-12), so that a faster marcher can show it finds the same orbits. Usage::
+(column ``amp diff``, the largest difference of a DOF's amplitude relative to the largest
+amplitude, the norm the steady state's tolerance is on; ``--check`` asserts it is at most 1e-10),
+so that a faster marcher can show it finds the same orbits. Two exact computations of one orbit
+differ by the rounding of the closed-form pieces, which grows like ``eps cond(K)`` with the chain
+(splitting one period's march at a time that is no event moves its end by 1.7e-14 of the
+motion at n = 20, 3.5e-13 at 50, 1.8e-12 at 100, 6.9e-12 at 200; the orbit, a fixed point of a
+map contracting by 0.93 per period, about 14 times that): a steady state started on another
+section time differs by that much. Usage::
 
     python benchmarks/scaling.py [--quick] [--sizes n:j,...] [--limit SECONDS] [--memory GB] [--out FILE]
                                  [--check] [--amplitudes FILE]
@@ -64,7 +70,7 @@ TOLERANCES = (1e-6, 1e-9)           # the baseline's rtol, atol
 TIGHT = (1e-10, 1e-12)              # the reference column's
 # issue 26: (n, joints, column, largest ratio to the baseline)
 TARGETS = ((100, 20, "cold", 0.5), (200, 40, "cold", 0.5), (200, 40, "hbm7", 0.05))
-SAME_ORBIT = 1e-12                  # amplitudes against a kept reference, relative
+SAME_ORBIT = 1e-10                  # amplitudes against a kept reference, relative to the largest
 ENVIRONMENT = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
                "FRICTIONJOINT_BLAS_THREADS", "NUMBA_NUM_THREADS")
 
@@ -308,7 +314,7 @@ def _amp_diff(row, reference):
     ref = reference[key]
     if ref.shape != row["amplitude"].shape:
         return "shape"
-    return f"{float(np.max(np.abs(row['amplitude'] / ref - 1))):.1e}"
+    return f"{float(np.max(np.abs(row['amplitude'] - ref)) / np.max(np.abs(ref))):.1e}"
 
 
 def check(rows: list[dict], reference: dict | None) -> list[str]:

@@ -8,7 +8,7 @@ import pytest
 
 from benchmarks import scaling  # the benchmark of the source tree (pytest pythonpath: ".")
 
-SAME = 1e-12  # amplitudes of the same orbit, relative (the script's own bar)
+SAME = scaling.SAME_ORBIT  # amplitudes of the same orbit, relative to the largest (the script's own bar)
 
 
 @pytest.mark.slow
@@ -63,6 +63,14 @@ def test_check_names_each_missed_target():
     assert scaling.check(rows, None) == []
     assert scaling.check(rows, {"100_20": amp * (1 + 0.5 * SAME)}) == []
     assert "amplitudes differ" in scaling.check(rows, {"100_20": amp * (1 + 4 * SAME)})[0]
+    # relative to the largest amplitude: a DOF that moves 1/100 of the largest may differ by 100 SAME of its own
+    small = amp.copy()
+    small[0] = 0.01
+    off = small.copy()
+    off[0] *= 1 + 50 * SAME
+    rows[0]["amplitude"] = off
+    assert scaling.check(rows, {"100_20": small}) == []
+    rows[0]["amplitude"] = amp
     del rows[1]["hbm7"]
     assert "not measured" in scaling.check(rows, None)[0]
 
