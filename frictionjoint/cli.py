@@ -7,7 +7,7 @@ Subcommands::
     frictionjoint sweep FMU_OR_MODEL --omega START:STOP:N [--set NAME=VALUE ...]
                         [--direction up|down|both] [--output NAME ...] [--compare analytic]
                         [--csv FILE] [--plot PNG]
-    frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...]
+    frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
     frictionjoint host-env
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
@@ -15,8 +15,8 @@ Subcommands::
 exact periodic steady state at every frequency), prints the table beside Den Hartog's closed
 form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
-(and ``LinearStructure`` FMUs from structure definitions); ``host-env`` prints the environment a
-non-Python host (Ecos, a C/C++ master) needs to run them;
+(``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition);
+``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
 ``bench`` runs the work-precision benchmark of the source tree (``benchmarks/harness.py``) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
 message.
@@ -359,6 +359,10 @@ def _add_tools(sub) -> None:
                     help="also build a LinearStructure FMU from each structure definition (.toml or .json, "
                          "see frictionjoint.structure_file; e.g. models/two_dof_chain.toml), named after its "
                          "'name'; with --structure and no --only, only the structure FMUs are built")
+    bf.add_argument("--system", nargs="+", default=[], metavar="FILE",
+                    help="also build one FMU of a whole friction system from each system definition (.toml "
+                         "or .json, see frictionjoint.system_file; e.g. models/two_dof_chain_system.toml), "
+                         "named after its 'name'; with --system and no --only, only these FMUs are built")
 
     _command(
         sub, "host-env", _host_env, csv=None, out=None,
@@ -508,7 +512,7 @@ def _build_fmus(args, parser) -> int:
         unknown = [n for n in args.only if n not in FMUS]
         if unknown:
             parser.error(f"--only: unknown FMU(s) {unknown}; choose from {sorted(FMUS)}")
-    for path in build_fmus(out, names=args.only, structures=args.structure):
+    for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system):
         print(f"built and validated {path}")
     return 0
 

@@ -13,8 +13,8 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
-__all__ = ["FMUS", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "build_fmus", "postprocess", "validate",
-           "default_source_dir"]
+__all__ = ["FMUS", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT", "build_fmus", "postprocess",
+           "validate", "default_source_dir"]
 
 BUNDLE_NAME = "_frictionjoint_bundle"
 #: FMU name -> script in the FMU source folder (unique module names: see DESIGN.md 5)
@@ -31,6 +31,8 @@ FMUS = {
 BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
 #: the script of LinearStructure.fmu (one per structure definition, built by ``structures=``)
 STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
+#: the script of a friction system FMU (one per system definition, built by ``systems=``)
+SYSTEM_SCRIPT = "fj_friction_system_fmu.py"
 
 
 def default_source_dir() -> Path:
@@ -83,7 +85,7 @@ def validate(fmu: Path) -> list[str]:
     return list(validate_fmu(str(fmu)))
 
 
-def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=()) -> list[Path]:
+def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=(), systems=()) -> list[Path]:
     """Build, post-process and (optionally) validate the FMUs.
 
     Parameters
@@ -91,7 +93,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     out_dir : path
         Folder for the ``.fmu`` files (created).
     names : sequence of str, optional
-        Which of :data:`FMUS` to build; all by default, none when ``structures`` are given.
+        Which of :data:`FMUS` to build; all by default, none when ``structures`` or ``systems`` are given.
     source_dir : path, optional
         Folder of the FMU scripts; the repository's ``fmus/`` by default.
     check : bool
@@ -100,6 +102,10 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     structures : sequence of path or StructureDefinition
         Structure definitions (:mod:`frictionjoint.structure_file`): each becomes
         ``<name>.fmu``, a ``LinearStructure`` FMU carrying the definition in its resources.
+    systems : sequence of path or SystemDefinition
+        System definitions (:mod:`frictionjoint.system_file`): each becomes ``<name>.fmu``, one FMU
+        of the whole friction system (:mod:`frictionjoint.fmi.system_slave`) carrying the
+        definition in its resources.
 
     Returns
     -------
@@ -110,8 +116,11 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     source = Path(source_dir) if source_dir is not None else default_source_dir()
+    from ..system_file import SystemDefinition, load_system_definition
+
     structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
-    names = ([] if structures else list(FMUS)) if names is None else list(names)
+    systems = [s if isinstance(s, SystemDefinition) else load_system_definition(s) for s in systems]
+    names = ([] if structures or systems else list(FMUS)) if names is None else list(names)
     for n in names:
         if n not in FMUS:
             raise ValueError(f"names must be among {sorted(FMUS)}, got {n!r}")
@@ -122,7 +131,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
     # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
     # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), STRUCTURE_SCRIPT)}
+    scripts = {Path(f).stem for f in (*FMUS.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT)}
 
     def ours(m):
         return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
@@ -132,7 +141,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            for script_name, dest, project_files in _jobs(names, structures, out, tmp, bundle):
+            for script_name, dest, project_files in _jobs(names, structures, systems, out, tmp, bundle):
                 built.append(_build_one(source / script_name, dest, project_files, check))
         finally:
             sys.path.remove(str(tmp))
@@ -142,11 +151,13 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     return built
 
 
-def _jobs(names, structures, out: Path, tmp: Path, bundle: Path) -> list:
+def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: Path) -> list:
     """``(script name, destination, project files)`` of each FMU to build: the named FMUs (with
-    their blade model definition in the resources where :data:`BLADE_MODELS` gives one) and one
-    ``LinearStructure`` FMU per structure definition (written into ``tmp``)."""
+    their blade model definition in the resources where :data:`BLADE_MODELS` gives one), one
+    ``LinearStructure`` FMU per structure definition and one friction system FMU per system
+    definition (the definitions written into ``tmp``)."""
     from .slaves import BLADE_RESOURCE, STRUCTURE_RESOURCE
+    from .system_slave import SYSTEM_RESOURCE
 
     jobs = []
     for n in names:
@@ -164,6 +175,11 @@ def _jobs(names, structures, out: Path, tmp: Path, bundle: Path) -> list:
         data.parent.mkdir()
         d.to_json(data)
         jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
+    for d in systems:
+        data = tmp / ("system_" + d.name) / SYSTEM_RESOURCE
+        data.parent.mkdir()
+        d.to_json(data)
+        jobs.append((SYSTEM_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
     return jobs
 
 

@@ -1,0 +1,316 @@
+"""System definition files: a whole friction system (structure, joints, excitation, outputs) as data.
+
+A definition is a TOML or JSON file (SI units); ``frictionjoint build-fmus --system FILE`` makes
+one FMU of it, which marches the system with the library's exact event-driven marcher inside each
+communication step (:mod:`frictionjoint.fmi.system_slave`)::
+
+    name = "TwoDofChainSystem"           # optional: the FMU's file name (default: the file's stem)
+    source = "..."                       # optional: where the numbers come from
+    structure = "two_dof_chain.toml"     # a structure definition file (relative to this file), or a
+                                         # [structure] table with its keys (dofs, mass, stiffness, ...)
+
+    [[joints]]                           # each joint: a name, a type, its DOF and its parameters
+    name = "j1"
+    type = "jenkins"                     # jenkins: tangential_stiffness [N/m], slip_force [N]
+    dof = "x1"                           # coulomb: slip_force [N]
+    tangential_stiffness = 100.0         # iwan: slip_force [N], stiffness [N/m], chi, beta
+    slip_force = 0.8                     #       (Segalman), n_sliders (integer, default 50)
+
+    [excitation]                         # optional; default: the structure definition's
+    omega = 1.2                          # [rad/s]
+    force_amplitude = { x2 = 1.0 }       # [N], amplitude * cos(omega t) per DOF
+    inputs = ["x1"]                      # DOFs with an external force input, held over a step [N]
+
+    [outputs]                            # optional; default: the structure definition's outputs
+    displacement = ["x1", "x2"]          # DOFs whose x is an output (x_<dof>) [m]
+    velocity = ["x1", "x2"]              # DOFs whose v is an output (v_<dof>) [m/s]
+    joint_force = ["j1", "j2"]           # joints whose force is an output (force_<joint>), default all
+
+The dissipated energy and the event count are always outputs. :func:`load_system_definition`
+reads a file; :meth:`SystemDefinition.to_json` writes the normalised form (the structure's
+matrices inline) that the FMU carries in its resources; :meth:`SystemDefinition.system` is the
+:class:`~frictionjoint.system.FrictionSystem` the FMU marches (with its parameters' values).
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .elements import CoulombSlider, Iwan, Jenkins
+from .errors import ParameterError, check_count, check_positive, check_real
+from .excitation import HarmonicForce
+from .structure import LinearStructure
+from .structure_file import _NAME, StructureDefinition, load_structure_definition
+from .system import FrictionSystem
+
+__all__ = ["SystemDefinition", "load_system_definition", "JOINT_TYPES"]
+
+#: joint type -> its real parameters (name -> description with unit), each an FMU parameter
+#: ``<joint>_<name>``
+JOINT_TYPES = {
+    "jenkins": {"tangential_stiffness": "stiffness of the spring in series with the slider [N/m], > 0",
+                "slip_force": "slip force [N], >= 0"},
+    "coulomb": {"slip_force": "friction force limit [N], >= 0"},
+    "iwan": {"slip_force": "macro-slip force F_S of the Segalman Iwan element [N], > 0",
+             "stiffness": "tangent stiffness K_T of the Segalman Iwan element [N/m], > 0",
+             "chi": "exponent chi of the Segalman slip density, in (-1, 0]",
+             "beta": "weight beta of the Segalman delta at macro-slip, >= 0"},
+}
+_JOINT_KEYS = {"name", "type", "dof", "n_sliders"}
+
+
+def _element(kind: str, dof: str, values: dict, n_sliders: int):
+    """The library element of a joint of type ``kind`` on ``dof`` with its parameter ``values``."""
+    if kind == "jenkins":
+        return Jenkins(values["tangential_stiffness"], values["slip_force"], dof=dof)
+    if kind == "coulomb":
+        return CoulombSlider(values["slip_force"], dof=dof)
+    return Iwan.segalman(values["slip_force"], values["stiffness"], values["chi"], values["beta"],
+                         n_sliders=n_sliders, dof=dof)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint of a system definition: ``name``, ``type`` (a key of :data:`JOINT_TYPES`), the
+    ``dof`` it ties to the ground, its real parameters ``values`` and, for an Iwan joint, its
+    number of sliders."""
+
+    name: str
+    type: str
+    dof: str
+    values: dict
+    n_sliders: int = 50
+
+    @classmethod
+    def from_dict(cls, data: dict, index: int) -> "Joint":
+        """A joint from its table ``data`` (the ``index``-th of ``[[joints]]``, for messages)."""
+        where = f"joints[{index}]"
+        if not isinstance(data, dict):
+            raise ParameterError(f"{where} must be a table, got {data!r}")
+        kind = data.get("type")
+        if kind not in JOINT_TYPES:
+            raise ParameterError(f"{where}.type must be one of {sorted(JOINT_TYPES)}, got {kind!r}")
+        allowed = _JOINT_KEYS | set(JOINT_TYPES[kind])
+        unknown = set(data) - allowed
+        if unknown:
+            raise ParameterError(f"unknown keys {sorted(unknown)} in {where} ({kind}); allowed: {sorted(allowed)}")
+        for key in ("name", "dof", *JOINT_TYPES[kind]):
+            if key not in data:
+                raise ParameterError(f"{where} ({kind}) needs {key!r}")
+        name = data["name"]
+        if not isinstance(name, str) or not _NAME.match(name):
+            raise ParameterError(f"{where}.name must be an identifier (letters, digits, _), got {name!r}")
+        values = {k: check_real(f"{where}.{k}", data[k]) for k in JOINT_TYPES[kind]}
+        n_sliders = check_count(f"{where}.n_sliders", data.get("n_sliders", 50)) if kind == "iwan" else 50
+        return cls(name, kind, str(data["dof"]), values, n_sliders)
+
+    def to_dict(self) -> dict:
+        """The joint's table (the file format)."""
+        extra = {"n_sliders": self.n_sliders} if self.type == "iwan" else {}
+        return {"name": self.name, "type": self.type, "dof": self.dof, **self.values, **extra}
+
+    def element(self, values: dict | None = None):
+        """The library element, with ``values`` (parameter name -> value) over the joint's own."""
+        try:
+            return _element(self.type, self.dof, {**self.values, **(values or {})}, self.n_sliders)
+        except ParameterError as exc:
+            raise ParameterError(f"joint {self.name!r}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class SystemDefinition:
+    """A friction system as data (see the module docstring).
+
+    Attributes
+    ----------
+    structure : LinearStructure
+    joints : tuple of Joint
+    omega : float
+        Excitation angular frequency [rad/s].
+    force_amplitude : dict
+        DOF name -> amplitude of ``cos(omega t)`` [N].
+    inputs : tuple of str
+        DOFs with an external force input, held over a communication step.
+    displacement, velocity : tuple of str
+        DOFs whose displacement [m] / velocity [m/s] are outputs.
+    joint_force : tuple of str
+        Joints whose force [N] (restoring convention) is an output.
+    name, source : str
+    """
+
+    structure: LinearStructure
+    joints: tuple = ()
+    omega: float = 1.0
+    force_amplitude: dict = field(default_factory=dict)
+    inputs: tuple = ()
+    displacement: tuple = ()
+    velocity: tuple = ()
+    joint_force: tuple = ()
+    name: str = "FrictionSystem"
+    source: str = ""
+
+    def __post_init__(self):
+        s = self.structure
+        if not isinstance(s, LinearStructure):
+            raise ParameterError(f"structure must be a LinearStructure, got {type(s).__name__}")
+        if not isinstance(self.name, str) or not _NAME.match(self.name):
+            raise ParameterError(f"name must be an identifier (letters, digits, _), got {self.name!r}")
+
+        def dofs(key, names):
+            try:
+                out = tuple(s.dof_names[s.dof_index(d)] for d in names)
+            except ParameterError as exc:
+                raise ParameterError(f"{key}: {exc}") from None
+            if len(set(out)) != len(out):
+                raise ParameterError(f"{key} must be distinct DOFs, got {list(names)!r}")
+            return out
+        joints = tuple(self.joints)
+        names = [j.name for j in joints]
+        if len(set(names)) != len(names):
+            raise ParameterError(f"joints' names must be distinct, got {names!r}")
+        joints = tuple(Joint(j.name, j.type, dofs(f"joint {j.name!r} dof", [j.dof])[0], j.values, j.n_sliders)
+                       for j in joints)
+        unknown = [j for j in self.joint_force if j not in names]
+        if unknown:
+            raise ParameterError(f"outputs.joint_force: no joints {unknown!r}; the joints are {names!r}")
+        amplitude = {dofs("excitation.force_amplitude", [k])[0]: check_real(f"excitation.force_amplitude[{k!r}]", v)
+                     for k, v in dict(self.force_amplitude).items()}
+        object.__setattr__(self, "joints", joints)
+        object.__setattr__(self, "force_amplitude", amplitude)
+        object.__setattr__(self, "omega", check_positive("excitation.omega", self.omega))
+        object.__setattr__(self, "inputs", dofs("excitation.inputs", self.inputs))
+        object.__setattr__(self, "displacement", dofs("outputs.displacement", self.displacement))
+        object.__setattr__(self, "velocity", dofs("outputs.velocity", self.velocity))
+        object.__setattr__(self, "joint_force", tuple(dict.fromkeys(self.joint_force)))
+        self.system()  # every joint's element is valid with its values
+
+    def parameters(self) -> dict:
+        """The FMU's real parameters: name -> (default, description with unit): ``omega``,
+        ``force_amplitude_<dof>`` and ``<joint>_<parameter>`` (:data:`JOINT_TYPES`)."""
+        out = {"omega": (self.omega, "excitation angular frequency [rad/s], > 0")}
+        for dof, value in self.force_amplitude.items():
+            out[f"force_amplitude_{dof}"] = (value, f"amplitude of the force on {dof}, times cos(omega t) [N]")
+        for j in self.joints:
+            for key, text in JOINT_TYPES[j.type].items():
+                out[f"{j.name}_{key}"] = (j.values[key], f"{j.type} joint {j.name} at {j.dof}: {text}")
+        return out
+
+    def system(self, values: dict | None = None) -> FrictionSystem:
+        """The :class:`~frictionjoint.system.FrictionSystem`, with ``values`` (names of
+        :meth:`parameters` -> value) over the definition's."""
+        values = dict(values or {})
+        unknown = set(values) - set(self.parameters()) if values else set()
+        if unknown:
+            raise ParameterError(f"unknown parameter(s) {sorted(unknown)}; allowed: {sorted(self.parameters())}")
+        elements = [j.element({k: values[f"{j.name}_{k}"] for k in j.values if f"{j.name}_{k}" in values})
+                    for j in self.joints]
+        forces = [HarmonicForce(dof, check_real(f"force_amplitude_{dof}", values.get(f"force_amplitude_{dof}", a)))
+                  for dof, a in self.force_amplitude.items()]
+        return FrictionSystem(self.structure, elements, omega=values.get("omega", self.omega), excitation=forces)
+
+    def to_dict(self) -> dict:
+        """The definition as plain data (the file format, the structure's matrices inline)."""
+        s = self.structure
+        return {"name": self.name, "source": self.source,
+                "structure": {"dofs": list(s.dof_names), "mass": s.mass.tolist(), "stiffness": s.stiffness.tolist(),
+                              "damping": s.damping.tolist(), "indefinite_stiffness": bool(s.indefinite_stiffness)},
+                "joints": [j.to_dict() for j in self.joints],
+                "excitation": {"omega": self.omega, "force_amplitude": dict(self.force_amplitude),
+                               "inputs": list(self.inputs)},
+                "outputs": {"displacement": list(self.displacement), "velocity": list(self.velocity),
+                            "joint_force": list(self.joint_force)}}
+
+    def to_json(self, path) -> Path:
+        """Write the definition as JSON (full double precision) and return the path."""
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=1))
+        return path
+
+    @classmethod
+    def from_dict(cls, data: dict, folder=None, default_name: str = "FrictionSystem") -> "SystemDefinition":
+        """A definition from plain data (the file format); a structure given as a file name is read
+        from ``folder`` (the definition file's folder)."""
+        data = dict(data)
+        known = {"name", "source", "structure", "joints", "excitation", "outputs"}
+        unknown = set(data) - known
+        if unknown:
+            raise ParameterError(f"unknown keys {sorted(unknown)} in a system definition; allowed: {sorted(known)}")
+        if "structure" not in data:
+            raise ParameterError("a system definition needs 'structure' (a structure definition file or table)")
+        base = _structure(data["structure"], folder)
+        joints = data.get("joints", [])
+        if not isinstance(joints, list):
+            raise ParameterError(f"joints must be an array of tables ([[joints]]), got {joints!r}")
+        joints = tuple(Joint.from_dict(j, i) for i, j in enumerate(joints))
+        excitation = _table(data, "excitation", {"omega", "force_amplitude", "inputs"})
+        outputs = _table(data, "outputs", {"displacement", "velocity", "joint_force"})
+        if "excitation" not in data:
+            excitation = {"omega": base.omega, "force_amplitude": base.force_amplitude}
+        dofs = list(base.outputs) or list(base.structure.dof_names)
+        return cls(base.structure, joints, excitation.get("omega", 1.0), dict(excitation.get("force_amplitude", {})),
+                   tuple(excitation.get("inputs", ())), tuple(outputs.get("displacement", dofs)),
+                   tuple(outputs.get("velocity", dofs)), tuple(outputs.get("joint_force", [j.name for j in joints])),
+                   data.get("name", default_name), str(data.get("source", "")))
+
+
+def _table(data: dict, key: str, allowed: set) -> dict:
+    """The table ``data[key]`` (empty if absent), its keys checked against ``allowed``."""
+    table = data.get(key, {})
+    if not isinstance(table, dict):
+        raise ParameterError(f"{key} must be a table, got {table!r}")
+    unknown = set(table) - allowed
+    if unknown:
+        raise ParameterError(f"unknown keys {sorted(unknown)} in [{key}]; allowed: {sorted(allowed)}")
+    for k, v in table.items():
+        if k != "omega" and k != "force_amplitude" and not isinstance(v, list):
+            raise ParameterError(f"{key}.{k} must be an array of names, got {v!r}")
+    return table
+
+
+def _structure(value, folder) -> StructureDefinition:
+    """The structure of a system definition: a structure definition file's (relative to
+    ``folder``) or an inline table's."""
+    if isinstance(value, str):
+        path = Path(value)
+        if not path.is_absolute() and folder is not None:
+            path = Path(folder) / path
+        try:
+            return load_structure_definition(path)
+        except ParameterError as exc:
+            raise ParameterError(f"structure ({value!r}): {exc}") from None
+    if not isinstance(value, dict):
+        raise ParameterError(f"structure must be a file name or a table, got {value!r}")
+    try:
+        return StructureDefinition.from_dict({"name": "Structure", **value})
+    except ParameterError as exc:
+        raise ParameterError(f"[structure]: {exc}") from None
+
+
+def load_system_definition(path) -> SystemDefinition:
+    """Read a system definition (the module docstring's format) from a ``.toml`` or ``.json`` file.
+
+    Parameters
+    ----------
+    path : path
+        The file; a structure file it names is read relative to its folder.
+
+    Returns
+    -------
+    SystemDefinition
+        Named after the file's stem unless it gives a ``name``.
+    """
+    from .structures.models import _tomllib
+
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError(f"system definition file {str(path)!r} not found")
+    suffix = path.suffix.lower()
+    if suffix not in (".toml", ".json"):
+        raise ParameterError(f"system definition file must end in .toml or .json, got {str(path)!r}")
+    tomllib = _tomllib()
+    try:
+        data = tomllib.loads(path.read_text()) if suffix == ".toml" else json.loads(path.read_text())
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+        raise ParameterError(f"system definition file {str(path)!r} is not valid {suffix[1:].upper()}: {exc}") from None
+    return SystemDefinition.from_dict(data, folder=path.parent, default_name=path.stem)

@@ -1,0 +1,173 @@
+"""A whole friction system as one FMU (frictionjoint.system_file, frictionjoint.fmi.system_slave):
+the README's two-DOF chain with its two Jenkins joints (models/two_dof_chain_system.toml) as one
+FMU, run by fmpy.simulate_fmu (in a subprocess) and by Ecos, against frictionjoint.simulate of the
+same FrictionSystem at every communication point; the run without FMI; the file's errors."""
+import json
+import math
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.errors import ParameterError
+from frictionjoint.fmi.system_slave import SystemRun
+from frictionjoint.system_file import SystemDefinition, load_system_definition
+
+ROOT = Path(__file__).resolve().parents[1]
+CHAIN = ROOT / "models" / "two_dof_chain_system.toml"
+OMEGA = 1.2
+T = 2 * math.pi / OMEGA
+PERIODS = 4
+DIVISIONS = (20, 50, 100)
+TOL = 1e-10  # every communication point, relative to the largest |x| (|v|, |force|) of the motion
+OUTPUTS = ["x_x1", "x_x2", "v_x1", "v_x2", "force_j1", "force_j2", "dissipated_energy"]
+
+
+def chain_system():
+    """The chain as the README and benchmarks/cosim_coupling.py write it in the library."""
+    structure = fj.LinearStructure([[1.0, 0.0], [0.0, 1.0]], [[2.0, -1.0], [-1.0, 1.0]],
+                                   [[0.04, -0.02], [-0.02, 0.02]], dof_names=["x1", "x2"])
+    return fj.FrictionSystem(structure, [fj.Jenkins(100.0, 0.8, dof="x1"), fj.Jenkins(100.0, 0.8, dof="x2")],
+                             omega=OMEGA, excitation=[fj.HarmonicForce("x2", 1.0)])
+
+
+def errors(t, values):
+    """Largest deviation of the outputs ``values`` (name -> (n_t,)) from fj.simulate at ``t``,
+    relative to each quantity's largest value; and the dissipated energy's, relative to its end."""
+    ref = fj.simulate(chain_system(), t[-1], t_eval=t, record=("x", "v", "friction_force", "energy"))
+    out = {}
+    for key, rows in (("x", ref.x), ("v", ref.v), ("force", ref.friction_force)):
+        names = [n for n in OUTPUTS if n.startswith(key + "_")]
+        got = np.vstack([values[n] for n in names])
+        out[key] = float(np.max(np.abs(got - rows)) / np.max(np.abs(rows)))
+    diss = ref.dissipated_friction
+    out["energy"] = float(np.max(np.abs(np.asarray(values["dissipated_energy"]) - diss)) / diss[-1])
+    return out
+
+
+@pytest.fixture(scope="module")
+def chain_fmu(tmp_path_factory):
+    from frictionjoint.fmi.build import build_fmus, validate
+
+    (path,) = build_fmus(tmp_path_factory.mktemp("system_fmu"), systems=[CHAIN])
+    assert path.name == "TwoDofChainSystem.fmu"
+    assert validate(path) == []
+    return path
+
+
+def test_the_file_is_the_library_system():
+    d = load_system_definition(CHAIN)
+    s, ref = d.system(), chain_system()
+    for attr in ("mass", "stiffness", "damping", "slider_stiffness", "slip_force", "slider_direction"):
+        np.testing.assert_array_equal(getattr(s, attr), getattr(ref, attr))
+    assert s.omega == ref.omega
+    np.testing.assert_array_equal(s.harmonic_force(np.array([0.3, 1.7])), ref.harmonic_force(np.array([0.3, 1.7])))
+    assert d.inputs == ("x1", "x2") and d.joint_force == ("j1", "j2")
+    # the normalised form (the FMU's resource) gives the same definition
+    again = SystemDefinition.from_dict(json.loads(json.dumps(d.to_dict())))
+    assert again.to_dict() == d.to_dict()
+
+
+def test_run_matches_simulate_and_holds_inputs():
+    """The run without FMI at T/20: within TOL of fj.simulate; a held force is the library's
+    ExternalForce over the same steps."""
+    d = load_system_definition(CHAIN)
+    h = T / 20
+    t = h * np.arange(20 * PERIODS + 1)
+    run = SystemRun(d, {})
+    values = {n: [] for n in OUTPUTS}
+    for tk in t:
+        run.advance(tk)
+        for n in OUTPUTS:
+            values[n].append(run.output(n))
+    err = errors(t, values)
+    assert max(err.values()) <= TOL, err
+    # an external force on x1, held over each step: 0.3 N on the first 10 steps, -0.2 N on the next 10
+    run = SystemRun(d, {}, forces=(0.0, 0.0))
+    x = []
+    for k in range(20):
+        run.hold((0.3 if k < 10 else -0.2, 0.0))
+        run.advance((k + 1) * h)
+        x.append(run.state.x.copy())
+    ext = fj.ExternalForce("x1", h * np.array([0.0, 10.0, 20.0]), [0.3, -0.2])
+    sysm = fj.FrictionSystem(chain_system().structure, chain_system().elements, omega=OMEGA,
+                             excitation=[fj.HarmonicForce("x2", 1.0), ext])
+    ref = fj.simulate(sysm, 20 * h, t_eval=h * np.arange(1, 21), record=("x",))
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+
+
+@pytest.mark.slow  # a fresh Python with fmpy and the FMU's bundle: about 2 s
+def test_fmpy_simulate_fmu_at_three_steps(chain_fmu):
+    """fmpy.simulate_fmu (its own process: the FMU's bundle is not this process's package) at
+    T/20, T/50, T/100: every communication point within TOL of fj.simulate."""
+    code = ("import json, sys\nfrom fmpy import simulate_fmu\nout = {}\n"
+            "for d in (%s):\n"
+            "    r = simulate_fmu(sys.argv[1], stop_time=%r, output_interval=%r / d, output=%r)\n"
+            "    out[d] = {n: r[n].tolist() for n in r.dtype.names}\n"
+            "print(json.dumps(out))\n") % (", ".join(map(str, DIVISIONS)), PERIODS * T, T, OUTPUTS)
+    proc = subprocess.run([sys.executable, "-c", code, str(chain_fmu)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    results = json.loads(proc.stdout.strip().splitlines()[-1])
+    for d in DIVISIONS:
+        r = results[str(d)]
+        t = np.asarray(r["time"])
+        assert t.size == d * PERIODS + 1 and abs(t[-1] - PERIODS * T) <= 1e-12 * PERIODS * T
+        err = errors(t, r)
+        assert max(err.values()) <= TOL, (d, err)
+
+
+@pytest.mark.slow  # three Ecos processes: about 5 s
+@pytest.mark.skipif(not (sys.platform == "linux" and platform.machine() == "x86_64"),
+                    reason="ecospy (Ecos) has wheels for Linux x86_64 only")
+def test_ecos_at_three_steps(chain_fmu):
+    """Ecos (its library, in its own process, time accumulated) at T/20, T/50, T/100: every
+    communication point within TOL of fj.simulate at Ecos's times."""
+    from frictionjoint.fmi.cosim import FMUSystem
+    from frictionjoint.fmi.ecos import run_ecos
+
+    system = FMUSystem({"chain": chain_fmu})
+    for d in DIVISIONS:
+        r = run_ecos(system, PERIODS * T, T / d, [f"chain.{n}" for n in OUTPUTS])
+        assert r.success, r.message
+        t = np.asarray(r.t)
+        assert t.size == d * PERIODS + 1
+        err = errors(t, {n: r[f"chain.{n}"] for n in OUTPUTS})
+        assert max(err.values()) <= TOL, (d, err)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda data: data.pop("structure"), "'structure'"),
+    (lambda data: data["joints"][0].pop("slip_force"), "'slip_force'"),
+    (lambda data: data["joints"][1].update(type="dovetail"), "joints[1].type"),
+    (lambda data: data["joints"][0].update(slip_force=-1.0), "slip_force"),
+    (lambda data: data["joints"][0].update(dof="x3"), "joint 'j1' dof"),
+    (lambda data: data["joints"][1].update(name="j1"), "distinct"),
+    (lambda data: data["excitation"].update(inputs=["x9"]), "excitation.inputs"),
+    (lambda data: data["excitation"].update(omega=0.0), "excitation.omega"),
+    (lambda data: data["outputs"].update(joint_force=["j3"]), "outputs.joint_force"),
+    (lambda data: data["outputs"].update(velocity=["x1", "y"]), "outputs.velocity"),
+    (lambda data: data.update(colour="red"), "colour"),
+    (lambda data: data["structure"].pop("mass"), "'mass'"),
+])
+def test_loading_errors_name_the_key(change, message):
+    data = load_system_definition(CHAIN).to_dict()
+    change(data)
+    with pytest.raises(ParameterError, match=message.replace("[", r"\[").replace("(", r"\(")):
+        SystemDefinition.from_dict(data)
+
+
+def test_structure_file_relative_to_the_definition(tmp_path):
+    (tmp_path / "s.toml").write_text('structure = "missing.toml"\n')
+    with pytest.raises(ParameterError, match="structure .'missing.toml'.*not found"):
+        load_system_definition(tmp_path / "s.toml")
+    (tmp_path / "s.toml").write_text(f'structure = "{ROOT / "models" / "two_dof_chain.toml"}"\n'
+                                     '[[joints]]\nname = "slider"\ntype = "coulomb"\ndof = "x2"\nslip_force = 0.1\n')
+    d = load_system_definition(tmp_path / "s.toml")
+    # the structure definition's excitation and outputs, every joint's force; named after the file
+    assert d.name == "s" and d.omega == OMEGA and d.force_amplitude == {"x2": 1.0}
+    assert d.displacement == ("x1", "x2") and d.joint_force == ("slider",) and d.inputs == ()
+    assert set(d.parameters()) == {"omega", "force_amplitude_x2", "slider_slip_force"}
