@@ -111,11 +111,13 @@ class Joint:
         return {"name": self.name, "type": self.type, "dof": self.dof, **self.values, **extra}
 
     def element(self, values: dict | None = None):
-        """The library element, with ``values`` (parameter name -> value) over the joint's own."""
+        """The library element, with ``values`` (parameter name -> value) over the joint's own; an
+        invalid value is a :class:`ParameterError` naming the joint and its FMU parameter
+        ``<joint>_<name>`` (the element's message starts with the name)."""
         try:
             return _element(self.type, self.dof, {**self.values, **(values or {})}, self.n_sliders)
         except ParameterError as exc:
-            raise ParameterError(f"joint {self.name!r}: {exc}") from None
+            raise ParameterError(f"joint {self.name!r}: {self.name}_{exc}") from None
 
 
 @dataclass(frozen=True)

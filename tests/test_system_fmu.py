@@ -51,12 +51,27 @@ def errors(t, values):
 
 @pytest.fixture(scope="module")
 def chain_fmu(tmp_path_factory):
-    from frictionjoint.fmi.build import build_fmus, validate
+    """The chain's FMU, built by ``frictionjoint build-fmus --system`` (this process) and valid."""
+    from frictionjoint.cli import main
+    from frictionjoint.fmi.build import validate
 
-    (path,) = build_fmus(tmp_path_factory.mktemp("system_fmu"), systems=[CHAIN])
-    assert path.name == "TwoDofChainSystem.fmu"
+    out = tmp_path_factory.mktemp("system_fmu")
+    assert main(["build-fmus", "--system", str(CHAIN), "--out", str(out)]) == 0
+    assert [p.name for p in out.iterdir()] == ["TwoDofChainSystem.fmu"]
+    path = out / "TwoDofChainSystem.fmu"
     assert validate(path) == []
     return path
+
+
+def test_cli_names_the_key_of_a_bad_file(tmp_path, capsys):
+    from frictionjoint.cli import main
+
+    (tmp_path / "bad.toml").write_text('structure = "%s"\n[excitation]\nomega = -1.0\n'
+                                       % (ROOT / "models" / "two_dof_chain.toml"))
+    with pytest.raises(SystemExit) as exc:
+        main(["build-fmus", "--system", str(tmp_path / "bad.toml"), "--out", str(tmp_path)])
+    assert exc.value.code == 2
+    assert "excitation.omega" in capsys.readouterr().err
 
 
 def test_the_file_is_the_library_system():
@@ -120,6 +135,62 @@ def test_fmpy_simulate_fmu_at_three_steps(chain_fmu):
         assert max(err.values()) <= TOL, (d, err)
 
 
+HELD = """
+import json, sys
+from frictionjoint.fmi.master import FMUInstance
+
+h, out = float(sys.argv[2]), {}
+with FMUInstance(sys.argv[1]) as inst:
+    inst.initialize()
+    rows = []
+    for k in range(20):
+        inst.set({"force_x1": 0.3 if k < 10 else -0.2})
+        if k == 10:
+            saved = inst.get_state()
+        inst.step_between(k * h, (k + 1) * h)  # the same times in both runs
+        rows.append(inst.get(["x_x1", "x_x2", "event_count"]))
+    out["rows"] = rows
+    inst.set_state(saved)  # serialised: the second half again, bit for bit
+    again = []
+    for k in range(10, 20):
+        inst.set({"force_x1": -0.2})
+        inst.step_between(k * h, (k + 1) * h)
+        again.append(inst.get(["x_x1", "x_x2", "event_count"]))
+    out["again"] = again
+with FMUInstance(sys.argv[1]) as inst:
+    try:
+        inst.initialize({"j1_slip_force": -1.0})
+        out["raised"] = None
+    except Exception as exc:  # fmpy's FMICallException
+        out["raised"] = str(exc)
+    out["messages"] = inst.messages
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow  # a fresh Python with fmpy and the FMU's bundle: about 2 s
+def test_fmu_holds_inputs_restores_state_and_names_a_bad_parameter(chain_fmu):
+    """Through the FMU (its own process): an external force on x1 held over each step is the
+    library's ExternalForce; a serialised state restarts the run bit for bit; a negative slip
+    force fails initialisation with a message naming the parameter."""
+    h = T / 20
+    proc = subprocess.run([sys.executable, "-c", HELD, str(chain_fmu), repr(h)], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    ext = fj.ExternalForce("x1", h * np.array([0.0, 10.0, 20.0]), [0.3, -0.2])
+    ref_system = chain_system()
+    sysm = fj.FrictionSystem(ref_system.structure, ref_system.elements, omega=OMEGA,
+                             excitation=[fj.HarmonicForce("x2", 1.0), ext])
+    ref = fj.simulate(sysm, 20 * h, t_eval=h * np.arange(1, 21), record=("x",))
+    x = np.array(out["rows"])[:, :2].T
+    assert np.max(np.abs(x - ref.x)) <= TOL * np.max(np.abs(ref.x))
+    assert out["again"] == out["rows"][10:]
+    assert out["rows"][-1][2] > 0  # events happened
+    assert out["raised"] is not None
+    assert any("j1_slip_force" in m and ">= 0" in m for m in out["messages"]), out["messages"]
+
+
 @pytest.mark.slow  # three Ecos processes: about 5 s
 @pytest.mark.skipif(not (sys.platform == "linux" and platform.machine() == "x86_64"),
                     reason="ecospy (Ecos) has wheels for Linux x86_64 only")
@@ -171,3 +242,26 @@ def test_structure_file_relative_to_the_definition(tmp_path):
     assert d.name == "s" and d.omega == OMEGA and d.force_amplitude == {"x2": 1.0}
     assert d.displacement == ("x1", "x2") and d.joint_force == ("slider",) and d.inputs == ()
     assert set(d.parameters()) == {"omega", "force_amplitude_x2", "slider_slip_force"}
+
+
+def test_run_with_coulomb_and_iwan_joints_matches_simulate():
+    """A Coulomb slider and a Segalman Iwan joint (8 sliders) on the chain, stepped at T/20 with
+    SystemRun: x and each joint's force within TOL of fj.simulate of the file's system."""
+    data = load_system_definition(CHAIN).to_dict()
+    data["joints"] = [{"name": "c", "type": "coulomb", "dof": "x1", "slip_force": 0.3},
+                      {"name": "iw", "type": "iwan", "dof": "x2", "slip_force": 0.5, "stiffness": 50.0,
+                       "chi": -0.5, "beta": 0.1, "n_sliders": 8}]
+    data["outputs"]["joint_force"] = ["c", "iw"]
+    d = SystemDefinition.from_dict(data)
+    assert set(d.parameters()) >= {"c_slip_force", "iw_slip_force", "iw_stiffness", "iw_chi", "iw_beta"}
+    t = T / 20 * np.arange(20 * 2 + 1)
+    ref = fj.simulate(d.system(), t[-1], t_eval=t, record=("x", "friction_force"))
+    run = SystemRun(d, {})
+    x, f = [], []
+    for tk in t:
+        run.advance(tk)
+        x.append([run.output("x_x1"), run.output("x_x2")])
+        f.append([run.output("force_c"), run.output("force_iw")])
+    assert len(run.log) > 4  # the joints stick and slip
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+    assert np.max(np.abs(np.array(f).T - ref.friction_force)) <= TOL * np.max(np.abs(ref.friction_force))
