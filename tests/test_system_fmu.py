@@ -164,6 +164,16 @@ with FMUInstance(sys.argv[1]) as inst:
     except Exception as exc:  # fmpy's FMICallException
         out["raised"] = str(exc)
     out["messages"] = inst.messages
+with FMUInstance(sys.argv[1]) as inst:
+    inst.initialize()
+    try:
+        inst.step_between(0.0, 1e6)
+        out["long"] = None
+    except Exception as exc:  # fmi2Discard
+        out["long"] = str(exc)
+    inst.step_between(0.0, h)  # the state is the step's start: the run goes on
+    out["after_long"] = inst.get(["x_x2", "event_count"])
+    out["long_messages"] = inst.messages
 print(json.dumps(out))
 """
 
@@ -172,7 +182,8 @@ print(json.dumps(out))
 def test_fmu_holds_inputs_restores_state_and_names_a_bad_parameter(chain_fmu):
     """Through the FMU (its own process): an external force on x1 held over each step is the
     library's ExternalForce; a serialised state restarts the run bit for bit; a negative slip
-    force fails initialisation with a message naming the parameter."""
+    force fails initialisation with a message naming the parameter; a step beyond the budget is
+    refused (fmi2Discard) and the next step goes on from its start."""
     h = T / 20
     proc = subprocess.run([sys.executable, "-c", HELD, str(chain_fmu), repr(h)], capture_output=True, text=True,
                           timeout=120)
@@ -189,6 +200,12 @@ def test_fmu_holds_inputs_restores_state_and_names_a_bad_parameter(chain_fmu):
     assert out["rows"][-1][2] > 0  # events happened
     assert out["raised"] is not None
     assert any("j1_slip_force" in m and ">= 0" in m for m in out["messages"]), out["messages"]
+    # a step beyond the budget (1e6 s: about 3e5 cycles) is refused with the reason, and the run
+    # goes on from the step's start
+    assert out["long"] is not None
+    assert any("take shorter steps" in m for m in out["long_messages"]), out["long_messages"]
+    ref = fj.simulate(chain_system(), h, t_eval=[h], record=("x",))
+    assert abs(out["after_long"][0] - ref.x[1, 0]) <= TOL * np.max(np.abs(ref.x))
 
 
 @pytest.mark.slow  # three Ecos processes: about 5 s

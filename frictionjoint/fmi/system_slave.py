@@ -160,8 +160,9 @@ class SystemSlave(_RunSlave):
                    "external forces; exact event-driven stick/slip located inside do_step")
     #: the held inputs, as one tuple (the property below): _RunSlave holds and restores it
     _held = "held_forces"
-    # the README's chain: about 0.3 ms per period (4 events); 20000 cycles take a few seconds
-    max_cycles = 20000.0
+    # the README's chain: about 1.1 ms per period (8 events, 1.5 cycles of the excitation and the
+    # structure's lowest frequency): 5000 cycles take about 4 s
+    max_cycles = 5000.0
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
