@@ -9,12 +9,17 @@ communication step (:mod:`frictionjoint.fmi.system_slave`)::
     structure = "two_dof_chain.toml"     # a structure definition file (relative to this file), or a
                                          # [structure] table with its keys (dofs, mass, stiffness, ...)
 
-    [[joints]]                           # each joint: a name, a type, its DOF and its parameters
+    [[joints]]                           # each joint: a name, a type, where it acts, its parameters
     name = "j1"
-    type = "jenkins"                     # jenkins: tangential_stiffness [N/m], slip_force [N]
-    dof = "x1"                           # coulomb: slip_force [N]
-    tangential_stiffness = 100.0         # iwan: slip_force [N], stiffness [N/m], chi, beta
-    slip_force = 0.8                     #       (Segalman), n_sliders (integer, default 50)
+    type = "jenkins"
+    dof = "x1"                           # or direction = { x1 = 1.0, x2 = -1.0 }: s = x1 - x2
+    tangential_stiffness = 100.0         # [N/m]
+    slip_force = 0.8                     # [N]
+
+    # types and their parameters: jenkins: tangential_stiffness [N/m], slip_force [N];
+    # coulomb: slip_force [N]; iwan (Segalman): slip_force [N], stiffness [N/m], chi, beta and
+    # n_sliders (an integer, default 50). A joint on ``dof`` ties it to the ground; one along
+    # ``direction`` (DOF name = coefficient) acts on s = sum of coefficient * x, e.g. between two DOFs.
 
     [excitation]                         # optional; default: the structure definition's
     omega = 1.2                          # [rad/s]
@@ -57,30 +62,43 @@ JOINT_TYPES = {
              "chi": "exponent chi of the Segalman slip density, in (-1, 0]",
              "beta": "weight beta of the Segalman delta at macro-slip, >= 0"},
 }
-_JOINT_KEYS = {"name", "type", "dof", "n_sliders"}
+_JOINT_KEYS = {"name", "type", "dof", "direction", "n_sliders"}
 
 
-def _element(kind: str, dof: str, values: dict, n_sliders: int):
-    """The library element of a joint of type ``kind`` on ``dof`` with its parameter ``values``."""
+def _element(kind: str, where: dict, values: dict, n_sliders: int):
+    """The library element of a joint of type ``kind`` attached by ``where`` (``dof=`` or
+    ``direction=``) with its parameter ``values``."""
     if kind == "jenkins":
-        return Jenkins(values["tangential_stiffness"], values["slip_force"], dof=dof)
+        return Jenkins(values["tangential_stiffness"], values["slip_force"], **where)
     if kind == "coulomb":
-        return CoulombSlider(values["slip_force"], dof=dof)
+        return CoulombSlider(values["slip_force"], **where)
     return Iwan.segalman(values["slip_force"], values["stiffness"], values["chi"], values["beta"],
-                         n_sliders=n_sliders, dof=dof)
+                         n_sliders=n_sliders, **where)
+
+
+def _dof_names(structure: LinearStructure, key: str, names) -> tuple:
+    """The DOFs ``names`` (names or indices) of ``structure`` by name, distinct; errors name ``key``."""
+    try:
+        out = tuple(structure.dof_names[structure.dof_index(d)] for d in names)
+    except ParameterError as exc:
+        raise ParameterError(f"{key}: {exc}") from None
+    if len(set(out)) != len(out):
+        raise ParameterError(f"{key} must be distinct DOFs, got {list(names)!r}")
+    return out
 
 
 @dataclass(frozen=True)
 class Joint:
     """One joint of a system definition: ``name``, ``type`` (a key of :data:`JOINT_TYPES`), the
-    ``dof`` it ties to the ground, its real parameters ``values`` and, for an Iwan joint, its
-    number of sliders."""
+    ``dof`` it ties to the ground or the ``direction`` it acts along (DOF name -> coefficient; the
+    other is None), its real parameters ``values`` and, for an Iwan joint, its number of sliders."""
 
     name: str
     type: str
-    dof: str
+    dof: str | None
     values: dict
     n_sliders: int = 50
+    direction: dict | None = None
 
     @classmethod
     def from_dict(cls, data: dict, index: int) -> "Joint":
@@ -95,27 +113,61 @@ class Joint:
         unknown = set(data) - allowed
         if unknown:
             raise ParameterError(f"unknown keys {sorted(unknown)} in {where} ({kind}); allowed: {sorted(allowed)}")
-        for key in ("name", "dof", *JOINT_TYPES[kind]):
+        for key in ("name", *JOINT_TYPES[kind]):
             if key not in data:
                 raise ParameterError(f"{where} ({kind}) needs {key!r}")
+        if ("dof" in data) == ("direction" in data):
+            raise ParameterError(f"{where} ({kind}) needs one of 'dof' (a DOF name) and 'direction' (a table "
+                                 "DOF name = coefficient)")
+        direction = data.get("direction")
+        if direction is not None:
+            if not isinstance(direction, dict) or not direction:
+                raise ParameterError(f"{where}.direction must be a table DOF name = coefficient, got {direction!r}")
+            direction = {str(k): check_real(f"{where}.direction[{k!r}]", v) for k, v in direction.items()}
         name = data["name"]
         if not isinstance(name, str) or not _NAME.match(name):
             raise ParameterError(f"{where}.name must be an identifier (letters, digits, _), got {name!r}")
         values = {k: check_real(f"{where}.{k}", data[k]) for k in JOINT_TYPES[kind]}
         n_sliders = check_count(f"{where}.n_sliders", data.get("n_sliders", 50)) if kind == "iwan" else 50
-        return cls(name, kind, str(data["dof"]), values, n_sliders)
+        dof = str(data["dof"]) if "dof" in data else None
+        return cls(name, kind, dof, values, n_sliders, direction)
 
     def to_dict(self) -> dict:
         """The joint's table (the file format)."""
         extra = {"n_sliders": self.n_sliders} if self.type == "iwan" else {}
-        return {"name": self.name, "type": self.type, "dof": self.dof, **self.values, **extra}
+        where = {"dof": self.dof} if self.direction is None else {"direction": dict(self.direction)}
+        return {"name": self.name, "type": self.type, **where, **self.values, **extra}
 
-    def element(self, values: dict | None = None):
-        """The library element, with ``values`` (parameter name -> value) over the joint's own; an
-        invalid value is a :class:`ParameterError` naming the joint and its FMU parameter
-        ``<joint>_<name>`` (the element's message starts with the name)."""
+    def on(self, structure: LinearStructure) -> "Joint":
+        """The joint with its DOFs checked on ``structure`` and given by name."""
+        dof, direction = self.dof, self.direction
+        if dof is not None:
+            dof = _dof_names(structure, f"joint {self.name!r} dof", [dof])[0]
+        if direction is not None:
+            names = _dof_names(structure, f"joint {self.name!r} direction", list(direction))
+            direction = dict(zip(names, direction.values()))
+        return Joint(self.name, self.type, dof, self.values, self.n_sliders, direction)
+
+    @property
+    def where(self) -> str:
+        """Where the joint acts, in words."""
+        if self.direction is None:
+            return f"at {self.dof}"
+        return "along " + " ".join(f"{c:+g} {d}" for d, c in self.direction.items())
+
+    def element(self, structure: LinearStructure, values: dict | None = None):
+        """The library element on ``structure``, with ``values`` (parameter name -> value) over the
+        joint's own; an invalid value is a :class:`ParameterError` naming the joint and its FMU
+        parameter ``<joint>_<name>`` (the element's message starts with the name)."""
+        if self.direction is None:
+            where = {"dof": self.dof}
+        else:
+            vector = [0.0] * structure.n_dof
+            for dof, c in self.direction.items():
+                vector[structure.dof_index(dof)] = c
+            where = {"direction": vector}
         try:
-            return _element(self.type, self.dof, {**self.values, **(values or {})}, self.n_sliders)
+            return _element(self.type, where, {**self.values, **(values or {})}, self.n_sliders)
         except ParameterError as exc:
             raise ParameterError(f"joint {self.name!r}: {self.name}_{exc}") from None
 
@@ -158,32 +210,22 @@ class SystemDefinition:
             raise ParameterError(f"structure must be a LinearStructure, got {type(s).__name__}")
         if not isinstance(self.name, str) or not _NAME.match(self.name):
             raise ParameterError(f"name must be an identifier (letters, digits, _), got {self.name!r}")
-
-        def dofs(key, names):
-            try:
-                out = tuple(s.dof_names[s.dof_index(d)] for d in names)
-            except ParameterError as exc:
-                raise ParameterError(f"{key}: {exc}") from None
-            if len(set(out)) != len(out):
-                raise ParameterError(f"{key} must be distinct DOFs, got {list(names)!r}")
-            return out
         joints = tuple(self.joints)
         names = [j.name for j in joints]
         if len(set(names)) != len(names):
             raise ParameterError(f"joints' names must be distinct, got {names!r}")
-        joints = tuple(Joint(j.name, j.type, dofs(f"joint {j.name!r} dof", [j.dof])[0], j.values, j.n_sliders)
-                       for j in joints)
+        joints = tuple(j.on(s) for j in joints)
         unknown = [j for j in self.joint_force if j not in names]
         if unknown:
             raise ParameterError(f"outputs.joint_force: no joints {unknown!r}; the joints are {names!r}")
-        amplitude = {dofs("excitation.force_amplitude", [k])[0]: check_real(f"excitation.force_amplitude[{k!r}]", v)
-                     for k, v in dict(self.force_amplitude).items()}
+        amplitude = {_dof_names(s, "excitation.force_amplitude", [k])[0]:
+                     check_real(f"excitation.force_amplitude[{k!r}]", v) for k, v in dict(self.force_amplitude).items()}
         object.__setattr__(self, "joints", joints)
         object.__setattr__(self, "force_amplitude", amplitude)
         object.__setattr__(self, "omega", check_positive("excitation.omega", self.omega))
-        object.__setattr__(self, "inputs", dofs("excitation.inputs", self.inputs))
-        object.__setattr__(self, "displacement", dofs("outputs.displacement", self.displacement))
-        object.__setattr__(self, "velocity", dofs("outputs.velocity", self.velocity))
+        object.__setattr__(self, "inputs", _dof_names(s, "excitation.inputs", self.inputs))
+        object.__setattr__(self, "displacement", _dof_names(s, "outputs.displacement", self.displacement))
+        object.__setattr__(self, "velocity", _dof_names(s, "outputs.velocity", self.velocity))
         object.__setattr__(self, "joint_force", tuple(dict.fromkeys(self.joint_force)))
         self.system()  # every joint's element is valid with its values
 
@@ -195,7 +237,7 @@ class SystemDefinition:
             out[f"force_amplitude_{dof}"] = (value, f"amplitude of the force on {dof}, times cos(omega t) [N]")
         for j in self.joints:
             for key, text in JOINT_TYPES[j.type].items():
-                out[f"{j.name}_{key}"] = (j.values[key], f"{j.type} joint {j.name} at {j.dof}: {text}")
+                out[f"{j.name}_{key}"] = (j.values[key], f"{j.type} joint {j.name} {j.where}: {text}")
         return out
 
     def system(self, values: dict | None = None) -> FrictionSystem:
@@ -205,8 +247,8 @@ class SystemDefinition:
         unknown = set(values) - set(self.parameters()) if values else set()
         if unknown:
             raise ParameterError(f"unknown parameter(s) {sorted(unknown)}; allowed: {sorted(self.parameters())}")
-        elements = [j.element({k: values[f"{j.name}_{k}"] for k in j.values if f"{j.name}_{k}" in values})
-                    for j in self.joints]
+        elements = [j.element(self.structure, {k: values[f"{j.name}_{k}"] for k in j.values
+                                               if f"{j.name}_{k}" in values}) for j in self.joints]
         forces = [HarmonicForce(dof, check_real(f"force_amplitude_{dof}", values.get(f"force_amplitude_{dof}", a)))
                   for dof, a in self.force_amplitude.items()]
         return FrictionSystem(self.structure, elements, omega=values.get("omega", self.omega), excitation=forces)
@@ -265,7 +307,9 @@ def _table(data: dict, key: str, allowed: set) -> dict:
     if unknown:
         raise ParameterError(f"unknown keys {sorted(unknown)} in [{key}]; allowed: {sorted(allowed)}")
     for k, v in table.items():
-        if k != "omega" and k != "force_amplitude" and not isinstance(v, list):
+        if k == "force_amplitude" and not isinstance(v, dict):
+            raise ParameterError(f"{key}.{k} must be a table (DOF name = amplitude [N]), got {v!r}")
+        if k not in ("omega", "force_amplitude") and not isinstance(v, list):
             raise ParameterError(f"{key}.{k} must be an array of names, got {v!r}")
     return table
 

@@ -236,6 +236,10 @@ def test_ecos_at_three_steps(chain_fmu):
     (lambda data: data["joints"][1].update(name="j1"), "distinct"),
     (lambda data: data["excitation"].update(inputs=["x9"]), "excitation.inputs"),
     (lambda data: data["excitation"].update(omega=0.0), "excitation.omega"),
+    (lambda data: data["excitation"].update(force_amplitude=3.0), "excitation.force_amplitude"),
+    (lambda data: data["excitation"].update(inputs="x1"), "excitation.inputs"),
+    (lambda data: data["joints"][0].update(tangential_stiffness="stiff"), r"joints[0].tangential_stiffness"),
+    (lambda data: data["joints"][0].update(name="j-1"), r"joints[0].name"),
     (lambda data: data["outputs"].update(joint_force=["j3"]), "outputs.joint_force"),
     (lambda data: data["outputs"].update(velocity=["x1", "y"]), "outputs.velocity"),
     (lambda data: data.update(colour="red"), "colour"),
@@ -282,3 +286,34 @@ def test_run_with_coulomb_and_iwan_joints_matches_simulate():
     assert len(run.log) > 4  # the joints stick and slip
     assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
     assert np.max(np.abs(np.array(f).T - ref.friction_force)) <= TOL * np.max(np.abs(ref.friction_force))
+
+
+def test_a_joint_between_two_dofs():
+    """A Jenkins joint along x1 - x2 (direction), in the file and in the library: the same system,
+    and the run within TOL of fj.simulate."""
+    data = load_system_definition(CHAIN).to_dict()
+    data["joints"][1] = {"name": "j12", "type": "jenkins", "direction": {"x1": 1.0, "x2": -1.0},
+                         "tangential_stiffness": 20.0, "slip_force": 0.3}
+    data["outputs"]["joint_force"] = ["j12"]
+    d = SystemDefinition.from_dict(data)
+    assert "along +1 x1 -1 x2" in d.parameters()["j12_slip_force"][1]
+    s = d.system()
+    np.testing.assert_array_equal(s.slider_direction, [[1.0, 0.0], [1.0, -1.0]])
+    t = T / 20 * np.arange(20 * 2 + 1)
+    ref = fj.simulate(s, t[-1], t_eval=t, record=("x", "friction_force"))
+    run = SystemRun(d, {})
+    x, f = [], []
+    for tk in t:
+        run.advance(tk)
+        x.append([run.output("x_x1"), run.output("x_x2")])
+        f.append(run.output("force_j12"))
+    assert len(run.log) > 4
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+    assert np.max(np.abs(np.array(f) - ref.friction_force[1])) <= TOL * np.max(np.abs(ref.friction_force[1]))
+    for bad, message in (({"x1": 1.0, "x3": -1.0}, "joint 'j12' direction"), ({}, r"joints\[1\].direction")):
+        data["joints"][1]["direction"] = bad
+        with pytest.raises(ParameterError, match=message):
+            SystemDefinition.from_dict(data)
+    data["joints"][1]["dof"] = "x2"
+    with pytest.raises(ParameterError, match="one of 'dof'"):
+        SystemDefinition.from_dict(data)
