@@ -266,11 +266,12 @@ def test_structure_file_relative_to_the_definition(tmp_path):
 
 
 def test_run_with_coulomb_and_iwan_joints_matches_simulate():
-    """A Coulomb slider and a Segalman Iwan joint (8 sliders) on the chain, stepped at T/20 with
-    SystemRun: x and each joint's force within TOL of fj.simulate of the file's system."""
+    """A Coulomb slider (slipping from the start: 1 N on its DOF against 0.3 N) and a Segalman Iwan
+    joint (8 sliders) on the chain, stepped at T/20 with SystemRun: x and each joint's force within
+    TOL of fj.simulate of the file's system, the same events (those of the start included)."""
     data = load_system_definition(CHAIN).to_dict()
-    data["joints"] = [{"name": "c", "type": "coulomb", "dof": "x1", "slip_force": 0.3},
-                      {"name": "iw", "type": "iwan", "dof": "x2", "slip_force": 0.5, "stiffness": 50.0,
+    data["joints"] = [{"name": "c", "type": "coulomb", "dof": "x2", "slip_force": 0.3},
+                      {"name": "iw", "type": "iwan", "dof": "x1", "slip_force": 0.5, "stiffness": 50.0,
                        "chi": -0.5, "beta": 0.1, "n_sliders": 8}]
     data["outputs"]["joint_force"] = ["c", "iw"]
     d = SystemDefinition.from_dict(data)
@@ -284,6 +285,7 @@ def test_run_with_coulomb_and_iwan_joints_matches_simulate():
         x.append([run.output("x_x1"), run.output("x_x2")])
         f.append([run.output("force_c"), run.output("force_iw")])
     assert len(run.log) > 4  # the joints stick and slip
+    assert run.log.time[0] == 0.0 and run.output("event_count") == len(ref.events)
     assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
     assert np.max(np.abs(np.array(f).T - ref.friction_force)) <= TOL * np.max(np.abs(ref.friction_force))
 

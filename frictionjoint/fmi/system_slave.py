@@ -75,9 +75,9 @@ class SystemRun:
         self.held_forces = (0.0,) * len(self._input_rows)
         self.hold(forces if len(forces) else self.held_forces)
         n = self.system.n_dof
-        self.state = self.marcher.initial_state(np.zeros(n), np.zeros(n), None, t0=self.t)
+        self.log = EventLog()  # with the events of the start's settling, as frictionjoint.simulate's
+        self.state = self.marcher.initial_state(np.zeros(n), np.zeros(n), None, t0=self.t, log=self.log)
         self.itv = None
-        self.log = EventLog()
         self.dissipated_energy = 0.0
 
     def hold(self, forces) -> None:
