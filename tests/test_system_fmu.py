@@ -277,17 +277,34 @@ def test_run_with_coulomb_and_iwan_joints_matches_simulate():
     d = SystemDefinition.from_dict(data)
     assert set(d.parameters()) >= {"c_slip_force", "iw_slip_force", "iw_stiffness", "iw_chi", "iw_beta"}
     t = T / 20 * np.arange(20 * 2 + 1)
-    ref = fj.simulate(d.system(), t[-1], t_eval=t, record=("x", "friction_force"))
+    ref = fj.simulate(d.system(), t[-1], t_eval=t, record=("x", "friction_force", "energy"))
     run = SystemRun(d, {})
-    x, f = [], []
+    x, f, e = [], [], []
     for tk in t:
         run.advance(tk)
         x.append([run.output("x_x1"), run.output("x_x2")])
         f.append([run.output("force_c"), run.output("force_iw")])
+        e.append(run.output("dissipated_energy"))
     assert len(run.log) > 4  # the joints stick and slip
     assert run.log.time[0] == 0.0 and run.output("event_count") == len(ref.events)
     assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
     assert np.max(np.abs(np.array(f).T - ref.friction_force)) <= TOL * np.max(np.abs(ref.friction_force))
+    assert np.max(np.abs(np.array(e) - ref.dissipated_friction)) <= TOL * ref.dissipated_friction[-1]
+
+
+def test_run_from_a_later_start_time():
+    """From rest at t0 = 1.3 s (the excitation's phase is absolute): fj.simulate with t0."""
+    d = load_system_definition(CHAIN)
+    t = 1.3 + T / 20 * np.arange(21)
+    ref = fj.simulate(d.system(), t[-1], t0=1.3, t_eval=t, record=("x",))
+    run = SystemRun(d, {}, start_time=1.3)
+    x = []
+    for tk in t:
+        run.advance(tk)
+        x.append(run.state.x.copy())
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+    with pytest.raises(ParameterError, match="t must be >= the current time"):
+        run.advance(1.0)
 
 
 def test_a_joint_between_two_dofs():
