@@ -154,7 +154,35 @@ class FMUInstance:
             self.time = float(t_end)
             self._h = None
 
+    def step_between(self, t_start: float, t_end: float) -> None:
+        """One communication step from ``t_start`` to ``t_end`` [s] (a master that cuts its steps at
+        events: the FMU's time is the master's, whatever it was)."""
+        self._call("doStep", currentCommunicationPoint=t_start, communicationStepSize=t_end - t_start)
+        self.time = float(t_end)
+        self._h = None
+
     # ---------------------------------------------------------------- state
+    @property
+    def can_save_state(self) -> bool:
+        """Whether the FMU can get and set its state (``canGetAndSetFMUstate``)."""
+        return bool(self.model.coSimulation.canGetAndSetFMUstate)
+
+    def save(self):
+        """The FMU's state in memory (an ``fmi2FMUstate``, not serialised; free it with
+        :meth:`free`) and the master's time."""
+        return self._call("getFMUstate"), self.time
+
+    def restore(self, saved) -> None:
+        """Restore a state from :meth:`save` (it stays valid: restore it again or :meth:`free` it)."""
+        st, t = saved
+        self._call("setFMUstate", st)
+        self.time = t
+        self._h = None
+
+    def free(self, saved) -> None:
+        """Release a state from :meth:`save`."""
+        self._call("freeFMUstate", saved[0])
+
     def get_state(self):
         """Serialised FMU state (bytes) and the master's time."""
         st = self._call("getFMUstate")

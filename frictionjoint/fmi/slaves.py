@@ -481,6 +481,19 @@ class _DrivenSlave(_Slave):
                      method="_get")
         self._output("displacement", "the input u at which force and tangent_stiffness are evaluated [m] "
                      "(for a master that couples through the tangent stiffness)", method="_displacement", args=())
+        # for a master that locates stick/slip events (frictionjoint.fmi.cosim, locate_events)
+        self._input("velocity", 0.0, "rate of change of u [m/s]: a slider at its limit slips only while u moves "
+                    "towards it (0: not known, the slip state of the last move of u)")
+        self._output("status", "signed number of slipping sliders at u and velocity (sign: slip direction; "
+                     "0: all stick)", kind=int, method="_event", args=("status",))
+        self._output("slip_margin", "event indicator: smallest slip_force - |spring force| at u of the sliders "
+                     "that stuck at the last step's start [N] (< 0: one has slipped since; 0 if none stuck)",
+                     method="_event", args=("slip_margin",))
+        self._output("slip_margin_rate", "rate of change of slip_margin at u and velocity [N/s]", method="_event",
+                     args=("slip_margin_rate",))
+        self._output("slip_velocity", "event indicator: velocity in the slip direction of the sliders that slipped "
+                     "at the last step's start [m/s] (< 0: they stick again; 0 if none slipped)",
+                     method="_event", args=("slip_velocity",))
 
     def _displacement(self):
         return float(self.u)
@@ -505,24 +518,70 @@ class _DrivenSlave(_Slave):
         if name == "force":
             return sl.force_at(u)
         if name == "tangent_stiffness":
+            if self.velocity != 0.0:
+                return float(sl.stiffness[self._slips(u, self.velocity) == 0].sum())
             return sl.tangent_stiffness_at(u)
+        if name == "slipping" and self.velocity != 0.0:
+            return bool(np.all(self._slips(u, self.velocity) != 0))
         probe = sl.copy()
         probe.update(u)
         if name == "slipping":
             return bool(probe.slipping.all())
         return probe.dissipated_energy
 
+    def _slips(self, u: float, velocity: float) -> np.ndarray:
+        """Per slider: +1 or -1 where it slips at ``u`` (reached monotonically from the committed
+        state) in that direction, 0 where it sticks. With ``velocity`` != 0 a slider at its limit
+        slips only while ``u`` moves towards it (at a reversal it sticks, at the instant it reaches
+        its limit moving outwards it slips); with 0, the play operator's last move decides."""
+        sl = self._sliders
+        w = np.clip(sl.w, u - sl.reach, u + sl.reach)
+        if velocity > 0.0:
+            return np.where(w == u - sl.reach, 1, 0)
+        if velocity < 0.0:
+            return np.where(w == u + sl.reach, -1, 0)
+        moved = sl.slipping if u == sl.u else w != sl.w
+        return np.where(moved, np.sign(u - w), 0).astype(int)
+
+    def _event(self, name):
+        """The event outputs (see their descriptions), relative to the state committed at the last
+        step's start (:attr:`_committed`: its slip directions)."""
+        if not self._ready:
+            return 0 if name == "status" else 0.0
+        u, v = self._check_u(), float(self.velocity)
+        if name == "status":
+            slips = self._slips(u, v)
+            return int(np.sign(slips.sum()) * np.count_nonzero(slips))
+        committed = self._committed
+        sl = self._sliders
+        if name == "slip_velocity":
+            direction = np.sign(committed.sum())
+            return float(direction * v)
+        stuck = committed == 0
+        if not stuck.any():
+            return 0.0
+        spring = sl.stiffness[stuck] * (u - sl.w[stuck])
+        margins = sl.slip_force[stuck] - np.abs(spring)
+        i = int(np.argmin(margins))
+        if name == "slip_margin":
+            return float(margins[i])
+        return float(-np.sign(spring[i]) * sl.stiffness[stuck][i] * v)
+
     def _initialise(self):
         k, f = self._slider_table()
         self._sliders = DrivenSliders(k, f)  # its reach bounds u (_check_u)
         self._u_max = float(min(self._sliders.reach)) * RESOLUTION / np.finfo(float).eps
         self._sliders = DrivenSliders(k, f, u0=self._check_u())
+        self._committed = np.zeros(len(k), dtype=int)  # the sliders' slip directions at the step's start
 
     def _do_step(self, current_time, step_size):
         try:
             u = self._check_u()
         except ParameterError as exc:
             return self._refuse(str(exc))
+        if not math.isfinite(self.velocity):
+            return self._refuse(f"input velocity must be finite, got {self.velocity!r}")
+        self._committed = self._slips(u, float(self.velocity))
         self._sliders.update(u)
         return True
 
@@ -530,7 +589,8 @@ class _DrivenSlave(_Slave):
         if not self._ready:
             return None
         sl = self._sliders
-        return {"u_state": sl.u, "w": sl.w, "slipping": sl.slipping, "diss": sl.dissipated_energy, "u": self.u}
+        return {"u_state": sl.u, "w": sl.w, "slipping": sl.slipping, "diss": sl.dissipated_energy, "u": self.u,
+                "velocity": self.velocity, "committed": self._committed}
 
     def _restore(self, snap):
         if snap is None:
@@ -538,6 +598,8 @@ class _DrivenSlave(_Slave):
         sl = self._sliders
         sl.u, sl.w, sl.slipping, sl.dissipated_energy = snap["u_state"], snap["w"], snap["slipping"], snap["diss"]
         self.u = snap["u"]
+        self.velocity = snap.get("velocity", 0.0)
+        self._committed = snap.get("committed", np.zeros(len(sl.w), dtype=int))
 
 
 class JenkinsJointSlave(_DrivenSlave):
