@@ -9,7 +9,9 @@ periods) through:
 - Ecos (its library, in its own process; Jacobi, as its command line);
 
 with semi-implicit coupling (the joints' tangent stiffness and evaluation point passed to the
-structure) and explicit coupling (force held). Error: the largest deviation over all
+structure) and explicit coupling (force held); and this master with the events located across the
+FMUs (``locate_events=True``, the joints' velocity connected: ``joint_connections(...,
+events=True)``), both transfers, from T/20. Error: the largest deviation over all
 communication points of each DOF from the library's exact event-driven solution
 (FrictionSystem + simulate), relative to that DOF's amplitude; the table gives the worse DOF, the
 observed order between neighbouring steps and the wall time of the run. Usage:
@@ -35,6 +37,7 @@ from frictionjoint.structure_file import load_structure_definition
 
 ROOT = Path(__file__).resolve().parents[1]
 OMEGA, PERIODS, DIVISIONS = 1.2, 4, (50, 100, 200, 400)
+LOCATED_DIVISIONS = (20, 50, 100, 200, 400)
 T = 2 * math.pi / OMEGA
 
 
@@ -61,12 +64,17 @@ def main(out_dir: str) -> None:
                  f"Python {platform.python_version()}",
                  f"{'host':20s} {'coupling':14s} {'step':>6s} {'error':>9s} {'order':>6s} {'time [s]':>8s} "
                  f"{'exact [s]':>9s}"]
-        for coupling in ("semi-implicit", "explicit"):
-            s = FMUSystem(comps, joint_connections("chain", "j1", "x1", coupling)
-                          + joint_connections("chain", "j2", "x2", coupling))
-            for name, run in hosts:
+        located = [("master, sequential", lambda s, h: s.simulate(PERIODS * T, h, OUT, locate_events=True)),
+                   ("master, Jacobi", lambda s, h: s.simulate(PERIODS * T, h, OUT, transfer="jacobi",
+                                                              locate_events=True))]
+        for coupling, runs, divisions in (("semi-implicit", hosts, DIVISIONS), ("explicit", hosts, DIVISIONS),
+                                          ("event-located", located, LOCATED_DIVISIONS)):
+            base, events = ("semi-implicit", True) if coupling == "event-located" else (coupling, False)
+            s = FMUSystem(comps, joint_connections("chain", "j1", "x1", base, events=events)
+                          + joint_connections("chain", "j2", "x2", base, events=events))
+            for name, run in runs:
                 previous = None
-                for d in DIVISIONS:
+                for d in divisions:
                     t = T / d * np.arange(d * PERIODS + 1)
                     t0 = time.perf_counter()
                     ref = fj.simulate(exact_system, t[-1], t_eval=t, record=("x",))
