@@ -74,7 +74,7 @@ def test_cli_names_the_key_of_a_bad_file(tmp_path, capsys):
     assert "excitation.omega" in capsys.readouterr().err
 
 
-def test_the_file_is_the_library_system():
+def test_the_file_is_the_library_system(tmp_path):
     d = load_system_definition(CHAIN)
     s, ref = d.system(), chain_system()
     for attr in ("mass", "stiffness", "damping", "slider_stiffness", "slip_force", "slider_direction"):
@@ -85,6 +85,7 @@ def test_the_file_is_the_library_system():
     # the normalised form (the FMU's resource) gives the same definition
     again = SystemDefinition.from_dict(json.loads(json.dumps(d.to_dict())))
     assert again.to_dict() == d.to_dict()
+    assert load_system_definition(d.to_json(tmp_path / "chain.json")).to_dict() == d.to_dict()
 
 
 def test_run_matches_simulate_and_holds_inputs():
