@@ -20,6 +20,10 @@ communication step (:mod:`frictionjoint.fmi.system_slave`)::
     # coulomb: slip_force [N]; iwan (Segalman): slip_force [N], stiffness [N/m], chi, beta and
     # n_sliders (an integer, default 50). A joint on ``dof`` ties it to the ground; one along
     # ``direction`` (DOF name = coefficient) acts on s = sum of coefficient * x, e.g. between two DOFs.
+    # dovetail (flat flanks, frictionjoint.DovetailRoot): tangential_dof and/or radial_dof (the
+    # root's DOFs) instead of dof; centrifugal_force [N], flank_angle [rad], friction_coefficient,
+    # normal_stiffness, tangential_stiffness [N/m], normal_damping [N s/m] (default 0) and
+    # normal_load_variation (true/false, default false).
 
     [excitation]                         # optional; default: the structure definition's
     omega = 1.2                          # [rad/s]
@@ -42,8 +46,8 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .elements import CoulombSlider, Iwan, Jenkins
-from .errors import ParameterError, check_count, check_positive, check_real
+from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
+from .errors import ParameterError, check_bool, check_count, check_positive, check_real
 from .excitation import HarmonicForce
 from .structure import LinearStructure
 from .structure_file import _NAME, StructureDefinition, load_structure_definition
@@ -61,19 +65,33 @@ JOINT_TYPES = {
              "stiffness": "tangent stiffness K_T of the Segalman Iwan element [N/m], > 0",
              "chi": "exponent chi of the Segalman slip density, in (-1, 0]",
              "beta": "weight beta of the Segalman delta at macro-slip, >= 0"},
+    "dovetail": {"centrifugal_force": "root load Fc [N], > 0",
+                 "flank_angle": "angle between the flank normal and the radial axis [rad], in [0, pi/2)",
+                 "friction_coefficient": "flank friction coefficient mu, > 0",
+                 "normal_stiffness": "normal contact stiffness of one flank [N/m], > 0",
+                 "tangential_stiffness": "tangential stiffness of one flank [N/m], > 0",
+                 "normal_damping": "viscous damping of each flank's normal contact [N s/m], >= 0"},
 }
-_JOINT_KEYS = {"name", "type", "dof", "direction", "n_sliders"}
+#: real parameters that may be left out: type -> name -> default
+_DEFAULTS = {"dovetail": {"normal_damping": 0.0}}
+#: options that are no FMU parameter: type -> name -> (default, check)
+_OPTIONS = {"iwan": {"n_sliders": (50, check_count)}, "dovetail": {"normal_load_variation": (False, check_bool)}}
+#: where a joint acts: type -> its keys (the others: exactly one of dof and direction)
+_ATTACH = {"dovetail": ("tangential_dof", "radial_dof")}
+_ATTACH_DEFAULT = ("dof", "direction")
 
 
-def _element(kind: str, where: dict, values: dict, n_sliders: int):
-    """The library element of a joint of type ``kind`` attached by ``where`` (``dof=`` or
-    ``direction=``) with its parameter ``values``."""
+def _element(kind: str, attach: dict, values: dict, options: dict):
+    """The library element of a joint of type ``kind`` attached by ``attach`` (``dof=``,
+    ``direction=`` or the root DOFs) with its parameter ``values`` and ``options``."""
     if kind == "jenkins":
-        return Jenkins(values["tangential_stiffness"], values["slip_force"], **where)
+        return Jenkins(values["tangential_stiffness"], values["slip_force"], **attach)
     if kind == "coulomb":
-        return CoulombSlider(values["slip_force"], **where)
-    return Iwan.segalman(values["slip_force"], values["stiffness"], values["chi"], values["beta"],
-                         n_sliders=n_sliders, **where)
+        return CoulombSlider(values["slip_force"], **attach)
+    if kind == "iwan":
+        return Iwan.segalman(values["slip_force"], values["stiffness"], values["chi"], values["beta"],
+                             n_sliders=options["n_sliders"], **attach)
+    return DovetailRoot(**values, **attach, normal_load_variation=options["normal_load_variation"])
 
 
 def _dof_names(structure: LinearStructure, key: str, names) -> tuple:
@@ -87,18 +105,38 @@ def _dof_names(structure: LinearStructure, key: str, names) -> tuple:
     return out
 
 
+def _attachment(kind: str, data: dict, where: str) -> dict:
+    """Where the joint of table ``data`` acts: its keys of :data:`_ATTACH` (DOF names; a direction
+    as a table DOF name -> coefficient)."""
+    if kind in _ATTACH:
+        attach = {k: str(data[k]) for k in _ATTACH[kind] if k in data}
+        if not attach:
+            raise ParameterError(f"{where} ({kind}) needs {' or '.join(map(repr, _ATTACH[kind]))} (DOF names)")
+        return attach
+    if ("dof" in data) == ("direction" in data):
+        raise ParameterError(f"{where} ({kind}) needs one of 'dof' (a DOF name) and 'direction' (a table "
+                             "DOF name = coefficient)")
+    if "dof" in data:
+        return {"dof": str(data["dof"])}
+    direction = data["direction"]
+    if not isinstance(direction, dict) or not direction:
+        raise ParameterError(f"{where}.direction must be a table DOF name = coefficient, got {direction!r}")
+    return {"direction": {str(k): check_real(f"{where}.direction[{k!r}]", v) for k, v in direction.items()}}
+
+
 @dataclass(frozen=True)
 class Joint:
-    """One joint of a system definition: ``name``, ``type`` (a key of :data:`JOINT_TYPES`), the
-    ``dof`` it ties to the ground or the ``direction`` it acts along (DOF name -> coefficient; the
-    other is None), its real parameters ``values`` and, for an Iwan joint, its number of sliders."""
+    """One joint of a system definition: ``name``, ``type`` (a key of :data:`JOINT_TYPES`), where
+    it acts (``attach``: its ``dof``, tied to the ground, or the ``direction`` it acts along, DOF
+    name -> coefficient; a dovetail's ``tangential_dof`` and ``radial_dof``), its real parameters
+    ``values`` and its ``options`` (an Iwan joint's ``n_sliders``, a dovetail's
+    ``normal_load_variation``)."""
 
     name: str
     type: str
-    dof: str | None
+    attach: dict
     values: dict
-    n_sliders: int = 50
-    direction: dict | None = None
+    options: dict = field(default_factory=dict)
 
     @classmethod
     def from_dict(cls, data: dict, index: int) -> "Joint":
@@ -109,67 +147,64 @@ class Joint:
         kind = data.get("type")
         if kind not in JOINT_TYPES:
             raise ParameterError(f"{where}.type must be one of {sorted(JOINT_TYPES)}, got {kind!r}")
-        allowed = _JOINT_KEYS | set(JOINT_TYPES[kind])
+        options = _OPTIONS.get(kind, {})
+        defaults = _DEFAULTS.get(kind, {})
+        allowed = {"name", "type", *_ATTACH.get(kind, _ATTACH_DEFAULT), *JOINT_TYPES[kind], *options}
         unknown = set(data) - allowed
         if unknown:
             raise ParameterError(f"unknown keys {sorted(unknown)} in {where} ({kind}); allowed: {sorted(allowed)}")
-        for key in ("name", *JOINT_TYPES[kind]):
+        for key in ("name", *(k for k in JOINT_TYPES[kind] if k not in defaults)):
             if key not in data:
                 raise ParameterError(f"{where} ({kind}) needs {key!r}")
-        if ("dof" in data) == ("direction" in data):
-            raise ParameterError(f"{where} ({kind}) needs one of 'dof' (a DOF name) and 'direction' (a table "
-                                 "DOF name = coefficient)")
-        direction = data.get("direction")
-        if direction is not None:
-            if not isinstance(direction, dict) or not direction:
-                raise ParameterError(f"{where}.direction must be a table DOF name = coefficient, got {direction!r}")
-            direction = {str(k): check_real(f"{where}.direction[{k!r}]", v) for k, v in direction.items()}
         name = data["name"]
         if not isinstance(name, str) or not _NAME.match(name):
             raise ParameterError(f"{where}.name must be an identifier (letters, digits, _), got {name!r}")
-        values = {k: check_real(f"{where}.{k}", data[k]) for k in JOINT_TYPES[kind]}
-        n_sliders = check_count(f"{where}.n_sliders", data.get("n_sliders", 50)) if kind == "iwan" else 50
-        dof = str(data["dof"]) if "dof" in data else None
-        return cls(name, kind, dof, values, n_sliders, direction)
+        values = {k: check_real(f"{where}.{k}", data.get(k, defaults.get(k))) for k in JOINT_TYPES[kind]}
+        chosen = {k: check(f"{where}.{k}", data.get(k, default)) for k, (default, check) in options.items()}
+        return cls(name, kind, _attachment(kind, data, where), values, chosen)
 
     def to_dict(self) -> dict:
         """The joint's table (the file format)."""
-        extra = {"n_sliders": self.n_sliders} if self.type == "iwan" else {}
-        where = {"dof": self.dof} if self.direction is None else {"direction": dict(self.direction)}
-        return {"name": self.name, "type": self.type, **where, **self.values, **extra}
+        attach = {k: dict(v) if isinstance(v, dict) else v for k, v in self.attach.items()}
+        return {"name": self.name, "type": self.type, **attach, **self.values, **self.options}
 
     def on(self, structure: LinearStructure) -> "Joint":
         """The joint with its DOFs checked on ``structure`` and given by name."""
-        dof, direction = self.dof, self.direction
-        if dof is not None:
-            dof = _dof_names(structure, f"joint {self.name!r} dof", [dof])[0]
-        if direction is not None:
-            names = _dof_names(structure, f"joint {self.name!r} direction", list(direction))
-            direction = dict(zip(names, direction.values()))
-        return Joint(self.name, self.type, dof, self.values, self.n_sliders, direction)
+        attach = {}
+        for key, value in self.attach.items():
+            where = f"joint {self.name!r} {key}"
+            if isinstance(value, dict):
+                attach[key] = dict(zip(_dof_names(structure, where, list(value)), value.values()))
+            else:
+                attach[key] = _dof_names(structure, where, [value])[0]
+        return Joint(self.name, self.type, attach, self.values, self.options)
 
     @property
     def where(self) -> str:
         """Where the joint acts, in words."""
-        if self.direction is None:
-            return f"at {self.dof}"
-        return "along " + " ".join(f"{c:+g} {d}" for d, c in self.direction.items())
+        if "direction" in self.attach:
+            return "along " + " ".join(f"{c:+g} {d}" for d, c in self.attach["direction"].items())
+        if "dof" in self.attach:
+            return f"at {self.attach['dof']}"
+        return "at " + ", ".join(f"{k[:-4]} {v}" for k, v in self.attach.items())
 
     def element(self, structure: LinearStructure, values: dict | None = None):
         """The library element on ``structure``, with ``values`` (parameter name -> value) over the
         joint's own; an invalid value is a :class:`ParameterError` naming the joint and its FMU
         parameter ``<joint>_<name>`` (the element's message starts with the name)."""
-        if self.direction is None:
-            where = {"dof": self.dof}
-        else:
+        attach = dict(self.attach)
+        if "direction" in attach:
             vector = [0.0] * structure.n_dof
-            for dof, c in self.direction.items():
+            for dof, c in attach["direction"].items():
                 vector[structure.dof_index(dof)] = c
-            where = {"direction": vector}
+            attach["direction"] = vector
         try:
-            return _element(self.type, where, {**self.values, **(values or {})}, self.n_sliders)
+            return _element(self.type, attach, {**self.values, **(values or {})}, self.options)
         except ParameterError as exc:
-            raise ParameterError(f"joint {self.name!r}: {self.name}_{exc}") from None
+            message = str(exc)
+            if message.split(" ", 1)[0] in self.values:  # the FMU parameter's name
+                message = f"{self.name}_{message}"
+            raise ParameterError(f"joint {self.name!r}: {message}") from None
 
 
 @dataclass(frozen=True)

@@ -231,7 +231,7 @@ def test_ecos_at_three_steps(chain_fmu):
 @pytest.mark.parametrize("change, message", [
     (lambda data: data.pop("structure"), "'structure'"),
     (lambda data: data["joints"][0].pop("slip_force"), "'slip_force'"),
-    (lambda data: data["joints"][1].update(type="dovetail"), "joints[1].type"),
+    (lambda data: data["joints"][1].update(type="masing"), "joints[1].type"),
     (lambda data: data["joints"][0].update(slip_force=-1.0), "slip_force"),
     (lambda data: data["joints"][0].update(dof="x3"), "joint 'j1' dof"),
     (lambda data: data["joints"][1].update(name="j1"), "distinct"),
@@ -336,4 +336,44 @@ def test_a_joint_between_two_dofs():
             SystemDefinition.from_dict(data)
     data["joints"][1]["dof"] = "x2"
     with pytest.raises(ParameterError, match="one of 'dof'"):
+        SystemDefinition.from_dict(data)
+
+
+@pytest.mark.parametrize("variation", [False, True])
+def test_a_dovetail_root(variation):
+    """A flat-flank dovetail root on a two-DOF root (tangential X, radial Y), with and without
+    normal-load variation (lift-off): the file's system is the library's, and the run at T/20 is
+    within TOL of fj.simulate (x, the flanks' summed friction force, the friction energy)."""
+    data = {"structure": {"dofs": ["X", "Y"], "mass": [[1.0, 0.0], [0.0, 1.0]],
+                          "stiffness": [[100.0, 0.0], [0.0, 100.0]], "damping": [[0.2, 0.0], [0.0, 0.2]]},
+            "joints": [{"name": "root", "type": "dovetail", "tangential_dof": "X", "radial_dof": "Y",
+                        "centrifugal_force": 10.0, "flank_angle": 0.5, "friction_coefficient": 0.3,
+                        "normal_stiffness": 1000.0, "tangential_stiffness": 500.0,
+                        "normal_load_variation": variation}],
+            "excitation": {"omega": 8.0, "force_amplitude": {"X": 8.0}}}
+    d = SystemDefinition.from_dict(data)
+    assert d.joints[0].to_dict()["normal_damping"] == 0.0
+    assert SystemDefinition.from_dict(json.loads(json.dumps(d.to_dict()))).to_dict() == d.to_dict()
+    assert "root_centrifugal_force" in d.parameters() and "root_normal_load_variation" not in d.parameters()
+    period = 2 * math.pi / 8.0
+    t = period / 20 * np.arange(20 * 2 + 1)
+    ref = fj.simulate(d.system(), t[-1], t_eval=t, record=("x", "friction_force", "energy"))
+    root = fj.DovetailRoot(10.0, 0.5, 0.3, 1000.0, 500.0, tangential_dof="X", radial_dof="Y",
+                           normal_load_variation=variation)
+    lib = fj.simulate(fj.FrictionSystem(d.structure, [root], omega=8.0, excitation=[fj.HarmonicForce("X", 8.0)]),
+                      t[-1], t_eval=t, record=("x",))
+    np.testing.assert_array_equal(lib.x, ref.x)
+    run = SystemRun(d, {})
+    x, f, e = [], [], []
+    for tk in t:
+        run.advance(tk)
+        x.append(run.state.x.copy())
+        f.append(run.output("force_root"))
+        e.append(run.output("dissipated_energy"))
+    assert len(run.log) > 10
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+    assert np.max(np.abs(np.array(f) - ref.friction_force[0])) <= TOL * np.max(np.abs(ref.friction_force))
+    assert np.max(np.abs(np.array(e) - ref.dissipated_friction)) <= TOL * ref.dissipated_friction[-1]
+    data["joints"][0].pop("tangential_dof"), data["joints"][0].pop("radial_dof")
+    with pytest.raises(ParameterError, match=r"joints\[0\] \(dovetail\) needs 'tangential_dof' or 'radial_dof'"):
         SystemDefinition.from_dict(data)

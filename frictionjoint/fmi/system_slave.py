@@ -42,7 +42,8 @@ def system_outputs(definition: SystemDefinition) -> dict:
     for dof in definition.velocity:
         out[f"v_{dof}"] = (float, f"velocity of {dof} [m/s]")
     for name in definition.joint_force:
-        out[f"force_{name}"] = (float, f"force of joint {name} on its DOF, restoring convention [N]")
+        out[f"force_{name}"] = (float, f"force of joint {name} along its DOF or direction, restoring convention "
+                                       "(a dovetail: its two flanks' friction forces summed) [N]")
     out["dissipated_energy"] = (float, "energy dissipated by friction since the start [J]")
     out["event_count"] = (int, "number of stick/slip events since the start")
     return out
@@ -156,8 +157,8 @@ class SystemSlave(_RunSlave):
     (:class:`SystemRun`): parameters ``omega``, ``force_amplitude_<dof>``, ``<joint>_<parameter>``;
     inputs ``force_<dof>`` (held over a step); outputs of :func:`system_outputs`."""
 
-    description = ("Linear structure with friction joints (Jenkins, Coulomb, Iwan) under harmonic and held "
-                   "external forces; exact event-driven stick/slip located inside do_step")
+    description = ("Linear structure with friction joints (Jenkins, Coulomb, Iwan, dovetail) under harmonic and "
+                   "held external forces; exact event-driven stick/slip located inside do_step")
     #: the held inputs, as one tuple (the property below): _RunSlave holds and restores it
     _held = "held_forces"
     # the README's chain: about 1.1 ms per period (8 events, 1.5 cycles of the excitation and the
