@@ -469,7 +469,9 @@ class CoulombOscillatorSlave(_RunSlave):
 
 
 class _DrivenSlave(_Slave):
-    """Displacement-driven joint: input ``u``, outputs force, tangent stiffness, slip state."""
+    """Displacement-driven joint: input ``u``, outputs force, tangent stiffness, slip state; with
+    the input ``velocity`` (the rate of ``u``), the status and event indicators a master needs to
+    locate the joint's stick/slip events (:mod:`frictionjoint.fmi.cosim`, ``locate_events``)."""
 
     def _declare_io(self):
         self._input("u", 0.0, "relative displacement across the joint, held over a step [m]")
@@ -494,6 +496,9 @@ class _DrivenSlave(_Slave):
         self._output("slip_velocity", "event indicator: velocity in the slip direction of the sliders that slipped "
                      "at the last step's start [m/s] (< 0: they stick again; 0 if none slipped)",
                      method="_event", args=("slip_velocity",))
+        self._output("slip_distance", "u travelled since the last step's start in the slip direction of the "
+                     "sliders that slipped then [m] (its rate is slip_velocity; 0 if none slipped)",
+                     method="_event", args=("slip_distance",))
 
     def _displacement(self):
         return float(self.u)
@@ -536,10 +541,12 @@ class _DrivenSlave(_Slave):
         its limit moving outwards it slips); with 0, the play operator's last move decides."""
         sl = self._sliders
         w = np.clip(sl.w, u - sl.reach, u + sl.reach)
-        if velocity > 0.0:
-            return np.where(w == u - sl.reach, 1, 0)
-        if velocity < 0.0:
-            return np.where(w == u + sl.reach, -1, 0)
+        if velocity != 0.0:
+            # at its limit: moved there, or a spring force that slip_margin counts as reaching it
+            # (the two tests round apart: one slider, one answer)
+            direction = 1 if velocity > 0.0 else -1
+            at_limit = (w == u - direction * sl.reach) | (direction * sl.stiffness * (u - sl.w) >= sl.slip_force)
+            return np.where(at_limit, direction, 0)
         moved = sl.slipping if u == sl.u else w != sl.w
         return np.where(moved, np.sign(u - w), 0).astype(int)
 
@@ -554,9 +561,9 @@ class _DrivenSlave(_Slave):
             return int(np.sign(slips.sum()) * np.count_nonzero(slips))
         committed = self._committed
         sl = self._sliders
-        if name == "slip_velocity":
+        if name in ("slip_velocity", "slip_distance"):
             direction = np.sign(committed.sum())
-            return float(direction * v)
+            return float(direction * (v if name == "slip_velocity" else u - sl.u))
         stuck = committed == 0
         if not stuck.any():
             return 0.0
