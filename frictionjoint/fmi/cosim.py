@@ -344,12 +344,14 @@ class _EventLocator:
             inst.restore(saved[name])
             inst.step_between(t, s)
         self.system._transfer(self.insts, self.transfer)
+        self._at = s
 
     def step(self, t: float, t_end: float) -> None:
         fresh = True  # t is not an event: the indicators read there hold for the step
         for _ in range(MAX_EVENTS_PER_STEP):
             start = self._read()
             saved = {name: inst.save() for name, inst in self.insts.items()}
+            self._at = None
             try:
                 for inst in self.insts.values():
                     inst.step_between(t, t_end)
@@ -357,7 +359,8 @@ class _EventLocator:
                 cut = self._event(saved, t, t_end, start if fresh else None, self._read())
                 if cut is None:
                     return
-                self._advance(saved, t, cut)
+                if self._at != cut:  # (the root finder's last evaluation is mostly there)
+                    self._advance(saved, t, cut)
                 if self.transfer == "jacobi":  # the structure gets the joint's outputs at its new input
                     self.system._transfer(self.insts, self.transfer)
             finally:
@@ -398,8 +401,9 @@ class _EventLocator:
             lo = self._lower_end(phi, t, hi)
             if lo is None:
                 return None
+        guess = None if lo > t else _hermite_root(t, t_end, start, end, set(negative.tolist()))
         return _illinois(phi, lo, hi, None if lo > t else float(start[0][negative].min()),
-                         float(f_hi[negative].min()))
+                         float(f_hi[negative].min()), guess)
 
     @staticmethod
     def _lower_end(phi, t, hi):
@@ -414,22 +418,30 @@ class _EventLocator:
         return None
 
 
-def _hermite_dip(t, t_end, start, end):
-    """Where an indicator dips below zero inside the step by the cubic Hermite interpolant of its
-    values and rates, or the derivative of that of its integral (zero at ``t``) and its values, at
-    ``t`` and ``t_end`` (``start``, ``end``: values, rates, integrals as :meth:`_EventLocator._read`
-    gives them): the lowest such point, or None."""
+def _hermite_pieces(t, t_end, start, end):
+    """Per indicator with a rate or an integral: ``(i, a, b, c, p0, deriv)``, the cubic Hermite
+    interpolant ``p(x) = a x^3 + b x^2 + c x + p0`` over the step (``x = (s - t) / (t_end - t)``) of
+    its values and rates, or (``deriv``) of its integral (zero at ``t``) and its values, at ``t`` and
+    ``t_end`` (``start``, ``end``: values, rates, integrals as :meth:`_EventLocator._read` gives them);
+    the indicator is ``p(x)``, or ``p'(x) / (t_end - t)``."""
     (g0, r0, _), (g1, r1, q1) = start, end
     length = t_end - t
-    best = None
     for i in range(len(g0)):
-        if np.isfinite(r0[i]) and np.isfinite(r1[i]):  # g itself: p(x) = a x^3 + b x^2 + c x + g0
+        if np.isfinite(r0[i]) and np.isfinite(r1[i]):
             p0, p1, m0, m1, deriv = g0[i], g1[i], r0[i] * length, r1[i] * length, False
-        elif np.isfinite(q1[i]):  # the integral's p(x); g = p'(x) / length
+        elif np.isfinite(q1[i]):
             p0, p1, m0, m1, deriv = 0.0, q1[i], g0[i] * length, g1[i] * length, True
         else:
             continue
-        a, b, c = 2 * p0 + m0 - 2 * p1 + m1, -3 * p0 - 2 * m0 + 3 * p1 - m1, m0
+        yield i, 2 * p0 + m0 - 2 * p1 + m1, -3 * p0 - 2 * m0 + 3 * p1 - m1, m0, p0, deriv
+
+
+def _hermite_dip(t, t_end, start, end):
+    """Where an indicator dips below zero inside the step by its interpolant
+    (:func:`_hermite_pieces`): the lowest such point, or None."""
+    length = t_end - t
+    best = None
+    for _, a, b, c, p0, deriv in _hermite_pieces(t, t_end, start, end):
         if deriv:  # the lowest point of the parabola p'
             xs = [-b / (3 * a)] if a > 0 else []
         else:  # the stationary points of the cubic
@@ -441,24 +453,51 @@ def _hermite_dip(t, t_end, start, end):
     return None if best is None else best[1]
 
 
-def _illinois(phi, lo, hi, f_lo=None, f_hi=None):
+def _hermite_root(t, t_end, start, end, indices):
+    """The first zero inside the step of the interpolants (:func:`_hermite_pieces`) of the
+    indicators ``indices``: a first estimate of the event time, or None."""
+    first = None
+    for i, a, b, c, p0, deriv in _hermite_pieces(t, t_end, start, end):
+        if i not in indices:
+            continue
+        coefficients = [3 * a, 2 * b, c] if deriv else [a, b, c, p0]
+        if not any(coefficients[:-1]):
+            continue
+        for x in np.roots(coefficients):
+            if x.imag == 0 and 0 < x.real < 1 and (first is None or x.real < first):
+                first = x.real
+    return None if first is None else t + first * (t_end - t)
+
+
+def _illinois(phi, lo, hi, f_lo=None, f_hi=None, guess=None):
     """The upper end of a bracket ``[lo, hi]`` of the root of ``phi`` (``phi(lo) >= 0 > phi(hi)``;
-    ``f_lo``, ``f_hi``: the values there if known) shrunk to the rounding of ``hi`` (Illinois'
-    regula falsi)."""
+    ``f_lo``, ``f_hi``: the values there if known) shrunk to the rounding of ``hi``: the secant
+    through the two latest points where it falls inside the bracket (stepping at least the rounding
+    tolerance, so that the bracket closes round the root), else Illinois' regula falsi;
+    ``guess``, an estimate of the root, is tried first."""
     f_lo = phi(lo) if f_lo is None else f_lo
     f_hi = phi(hi) if f_hi is None else f_hi
+    latest = [(lo, f_lo), (hi, f_hi)]
     side = 0
-    for _ in range(200):
+    for k in range(200):
         tol = 4 * np.finfo(float).eps * max(abs(lo), abs(hi))
         if hi - lo <= tol:
             break
-        s = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-        s = min(max(s, lo + 0.25 * tol), hi - 0.25 * tol)
-        if not lo < s < hi:
-            s = 0.5 * (lo + hi)
+        (s1, f1), (s2, f2) = latest[-2:]
+        s = s2 - f2 * (s2 - s1) / (f2 - f1) if f2 != f1 and k < 40 else None
+        if k == 0 and guess is not None:
+            s = guess
+        elif s is not None and abs(s - s2) < tol:
+            s = s2 + np.copysign(tol, s - s2)
+        if s is None or not lo < s < hi:
+            s = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+            s = min(max(s, lo + 0.25 * tol), hi - 0.25 * tol)
             if not lo < s < hi:
-                break
+                s = 0.5 * (lo + hi)
+                if not lo < s < hi:
+                    break
         f = phi(s)
+        latest.append((s, f))
         if f >= 0:  # (0: the status has not changed yet -- a velocity of exactly 0 is no reversal)
             lo, f_lo = s, f
             if side == 1:
