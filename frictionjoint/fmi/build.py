@@ -40,11 +40,16 @@ def default_source_dir() -> Path:
     return Path(__file__).resolve().parents[2] / "fmus"
 
 
-def _bundle(tmp: Path) -> Path:
+def _bundle(tmp: Path) -> list:
+    """The project files every FMU carries: the library as :data:`BUNDLE_NAME` and its loader
+    (:mod:`.bundle_loader` as the top-level module ``_frictionjoint_loader``, which each FMU script
+    calls before it imports the library)."""
     src = Path(__file__).resolve().parents[1]
     dest = tmp / BUNDLE_NAME
     shutil.copytree(src, dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "cli.py", "__main__.py"))
-    return dest
+    loader = tmp / "_frictionjoint_loader.py"
+    shutil.copyfile(Path(__file__).with_name("bundle_loader.py"), loader)
+    return [dest, loader]
 
 
 def postprocess(fmu: Path) -> None:
@@ -151,7 +156,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     return built
 
 
-def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: Path) -> list:
+def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> list:
     """``(script name, destination, project files)`` of each FMU to build: the named FMUs (with
     their blade model definition in the resources where :data:`BLADE_MODELS` gives one), one
     ``LinearStructure`` FMU per structure definition and one friction system FMU per system
@@ -161,7 +166,7 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: Path) -> lis
 
     jobs = []
     for n in names:
-        files = [bundle]
+        files = list(bundle)
         if n in BLADE_MODELS:  # the definition travels in the resources
             from ..structures import load_blade_model
 
@@ -174,12 +179,12 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: Path) -> lis
         data = tmp / d.name / STRUCTURE_RESOURCE
         data.parent.mkdir()
         d.to_json(data)
-        jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
+        jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
     for d in systems:
         data = tmp / ("system_" + d.name) / SYSTEM_RESOURCE
         data.parent.mkdir()
         d.to_json(data)
-        jobs.append((SYSTEM_SCRIPT, out / f"{d.name}.fmu", [bundle, data]))
+        jobs.append((SYSTEM_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
     return jobs
 
 
