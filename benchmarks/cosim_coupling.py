@@ -61,9 +61,10 @@ def exact_system():
 
 def own_process(host: str, comps: dict, connections: list, d: int) -> dict:
     """One run of ``host`` ("fmpy": simulate_fmu of the single component; "libcosim") in a fresh
-    Python (this script, ``--run``): ``{"t", "values", "time"}``. A fresh process, since FMUs built
-    by this library import their bundled package under one name, and a process that has loaded
-    one FMU and removed its extracted files cannot import another's modules from it."""
+    Python (this script, ``--run``): ``{"t", "values", "time"}``. A fresh process, so that each
+    host's time is its own (the FMUs' import of their bundled library included); it was also needed
+    before the FMUs' loader (``frictionjoint.fmi.bundle_loader``), when a process that had freed one
+    FMU could not import another's modules."""
     job = dict(host=host, components={k: str(v) for k, v in comps.items()}, connections=connections, d=d)
     proc = subprocess.run([sys.executable, __file__, "--run", json.dumps(job)], capture_output=True, text=True,
                           timeout=600)
