@@ -18,7 +18,7 @@ import numpy as np
 
 from .search import ENABLED, _jit, _resonant
 
-__all__ = ["coefficients", "coefficients_factored", "state", "resonant_terms", "ENABLED"]
+__all__ = ["coefficients", "coefficients_factored", "coefficients_modal", "state", "resonant_terms", "ENABLED"]
 
 
 @_jit(inline=True)
@@ -98,6 +98,38 @@ def coefficients_factored(rows, right, lam, u, r, hp, hm, w, t0):
             wik = complex(sr * rows[i, k], si * rows[i, k])
             e[i] += wik * u[k]
             b[i] += wik * r[k]
+    return _terms(e, b, lam, hp, hm, w, t0)
+
+
+@_jit
+def coefficients_modal(rows, right, w2, lam, u, f, x0, hp, hm, w, t0):
+    """:func:`coefficients_factored` with the constant load from the modal identity ``Phi^T K_c =
+    W^2 Phi^T M``: ``b_i = right_i (rows_i . f - w2_i rows_i . x0)`` with ``f = M^-1 f_const``
+    (:meth:`.propagator.Interval._modal_load`), instead of ``right_i rows_i . M^-1 (f_const - K_c
+    x0)``; the start ``e`` is formed as there (the same numbers).
+
+    Parameters
+    ----------
+    rows, right, lam, u, hp, hm, w, t0
+        As :func:`coefficients_factored`.
+    w2 : (modes,) ndarray
+        Each kept mode's ``w^2`` (the product of its pair's roots).
+    f, x0 : (m,) ndarray
+        ``M^-1 f_const`` and the start displacement.
+    """
+    e = np.zeros(lam.size, np.complex128)
+    b = np.zeros(lam.size, np.complex128)
+    for i in range(lam.size):
+        sr = right[i].real
+        si = right[i].imag
+        sf = 0.0
+        sx = 0.0
+        for k in range(u.size):
+            wik = complex(sr * rows[i, k], si * rows[i, k])
+            e[i] += wik * u[k]
+            sf += rows[i, k] * f[k]
+            sx += rows[i, k] * x0[k]
+        b[i] = right[i] * (sf - w2[i] * sx)
     return _terms(e, b, lam, hp, hm, w, t0)
 
 

@@ -529,6 +529,15 @@ class ConfigData:
             return self._W
         return _inverse(*self._inverse)
 
+    def modal_w2(self) -> np.ndarray:
+        """``w^2`` of each kept classical mode (p,), the product of its pair's roots ``lam other``
+        (:func:`_half_modes`), real; built on first use."""
+        w2 = getattr(self, "_w2", None)
+        if w2 is None:
+            _, left, right = self._inverse
+            w2 = self._w2 = np.ascontiguousarray((self.lam * (-left / right)).real)
+        return w2
+
     def velocity_inverse(self) -> np.ndarray:
         """``V^-1[:, m:]`` (p, m): the columns of ``V^-1`` a reduced state ``[0, u]`` meets (every
         piece's start and constant load); for classical modes built on each use."""
@@ -702,6 +711,21 @@ class Interval:
         self._ready = False
         return self
 
+    def _mass_load(self) -> np.ndarray:
+        """``M^-1 f_const`` (n_dof,) of a configuration without stuck rigid sliders (``N = I``).
+
+        Classically damped pieces form their constant modal load from it and the modal identity
+        ``Phi^T K_c = W^2 Phi^T M``, ``right_i (phi_i^T f_const - w_i^2 phi_i^T M x0)``, instead of
+        projecting ``f_const - K_c x0``: the double-precision modes satisfy the identity only to
+        ``eps |K|``, and that residual times ``x0``, over the slowest ``w^2``, was a static shift of
+        ``eps cond(K) |x0|`` that every piece's start brought anew (splitting a period's march at a
+        time that is no event moved its end by 6.9e-12 of the motion at 200 DOFs, 7e-15 now)."""
+        minv = self.config.mr_inv_nt
+        diag = getattr(self.config, "_diagonal_mass", None)
+        if diag is None:
+            diag = self.config._diagonal_mass = bool(np.count_nonzero(minv) == np.count_nonzero(np.diagonal(minv)))
+        return np.diagonal(minv) * self.f_const if diag else minv @ self.f_const
+
     def _prepare(self):
         """Modal coefficients (or the augmented matrix), computed on first use only."""
         self._ready = True
@@ -715,7 +739,11 @@ class Interval:
             hp, hm, terms = config.modal_forcing(w)
             if piece_kernels.ENABLED and not (terms[0][3] or terms[1][3] or terms[2][3]):
                 # plain modal piece: one compiled call (same arithmetic as below); y0, b0 = [0, .]
-                if config._inverse is not None:
+                if config._inverse is not None and not config.rigid_stuck.size:
+                    rows, _, right = config._inverse
+                    out = piece_kernels.coefficients_modal(rows, right, config.modal_w2(), config.lam, y0[m:],
+                                                           self._mass_load(), self.x0, hp, hm, w, self.t0)
+                elif config._inverse is not None:
                     rows, _, right = config._inverse
                     out = piece_kernels.coefficients_factored(rows, right, config.lam, y0[m:], b0[m:], hp, hm,
                                                               w, self.t0)
@@ -728,7 +756,11 @@ class Interval:
                 return
             wi = config.velocity_inverse()  # y0, b0 = [0, .]
             self.eta0 = wi @ y0[m:]
-            self.beta0 = wi @ b0[m:]
+            if config._inverse is not None and not config.rigid_stuck.size:
+                rows, _, right = config._inverse
+                self.beta0 = right * (rows @ self._mass_load() - config.modal_w2() * (rows @ self.x0))
+            else:
+                self.beta0 = wi @ b0[m:]
             ph = cmath.exp(1j * w * self.t0)
             self.gp = hp * ph
             self.gm = hm * ph.conjugate()
