@@ -30,12 +30,12 @@ baseline, ``harmonic_balance`` at ``H = 7`` at (200, 40) at most 0.05 x. ``--amp
 keeps the steady states' amplitudes: written when the file does not exist, otherwise compared
 (column ``amp diff``, the largest difference of a DOF's amplitude relative to the largest
 amplitude, the norm the steady state's tolerance is on; ``--check`` asserts it is at most 1e-10),
-so that a faster marcher can show it finds the same orbits. Two exact computations of one orbit
-differ by the rounding of the closed-form pieces, which grows like ``eps cond(K)`` with the chain
-(splitting one period's march at a time that is no event moves its end by 1.7e-14 of the
-motion at n = 20, 3.5e-13 at 50, 1.8e-12 at 100, 6.9e-12 at 200; the orbit, a fixed point of a
-map contracting by 0.93 per period, about 14 times that): a steady state started on another
-section time differs by that much. Usage::
+so that a faster marcher can show it finds the same orbits. The orbits of the code before issue
+26's second session carried the rounding of its closed-form pieces, which grew like ``eps cond(K)``
+with the chain (a period's march split at a time that is no event moved its end by 6.9e-12 of the
+motion at n = 200, about 14 times that on the orbit of a map that contracts by 0.93 per period);
+today's pieces move it by 1.7e-14, and against that code the amplitudes differ by up to 4.5e-11
+at (200, 40). Usage::
 
     python benchmarks/scaling.py [--quick] [--sizes n:j,...] [--limit SECONDS] [--memory GB] [--out FILE]
                                  [--check] [--amplitudes FILE]
