@@ -13,10 +13,12 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
+from .bundle_loader import BUNDLE
+
 __all__ = ["FMUS", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
-BUNDLE_NAME = "_frictionjoint_bundle"
+BUNDLE_NAME = BUNDLE  # the name the FMU scripts and their loader import
 #: FMU name -> script in the FMU source folder (unique module names: see DESIGN.md 5)
 FMUS = {
     "CoulombOscillator": "fj_coulomb_oscillator_fmu.py",

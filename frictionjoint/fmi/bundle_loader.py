@@ -17,7 +17,7 @@ import importlib
 import os
 import sys
 
-BUNDLE = "_frictionjoint_bundle"  # frictionjoint.fmi.build.BUNDLE_NAME (this file is copied alone)
+BUNDLE = "_frictionjoint_bundle"  # the package name of the bundled library (build.BUNDLE_NAME is this)
 
 
 def fresh_bundle(script: str) -> None:

@@ -179,7 +179,7 @@ def _config_kern(cfg: ConfigData, n: int) -> tuple[bool, bool]:
     ``ax``), ``M^-1`` diagonal (packed as its diagonal)."""
     identity = not cfg.rigid_stuck.size
     mint = cfg.mr_inv_nt
-    diagonal = identity and np.count_nonzero(mint) == np.count_nonzero(np.diagonal(mint))
+    diagonal = cfg.diagonal_mass_inverse()
     if cfg.kern is None:
         m = cfg.m
         a21, a22 = cfg.first_order_blocks()

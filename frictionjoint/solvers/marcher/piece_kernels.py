@@ -71,6 +71,19 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
     return _terms(e, b, lam, hp, hm, w, t0)
 
 
+@_jit(inline=True)
+def _factored_start(rows, right, u):
+    """``(right rows) @ u`` (modes,) complex, each entry ``right_i rows_ik`` formed as NumPy formed
+    it in the complex matrix ``V^-1[:, m:]`` (:func:`.propagator._inverse`), so the same numbers."""
+    e = np.zeros(rows.shape[0], np.complex128)
+    for i in range(rows.shape[0]):
+        sr = right[i].real
+        si = right[i].imag
+        for k in range(u.size):
+            e[i] += complex(sr * rows[i, k], si * rows[i, k]) * u[k]
+    return e
+
+
 @_jit
 def coefficients_factored(rows, right, lam, u, r, hp, hm, w, t0):
     """:func:`coefficients` of classical modes, whose inverse is kept factored (``V^-1[:, m:] =
@@ -89,15 +102,8 @@ def coefficients_factored(rows, right, lam, u, r, hp, hm, w, t0):
     lam, hp, hm, w, t0
         As :func:`coefficients`.
     """
-    e = np.zeros(lam.size, np.complex128)
-    b = np.zeros(lam.size, np.complex128)
-    for i in range(lam.size):
-        sr = right[i].real
-        si = right[i].imag
-        for k in range(u.size):
-            wik = complex(sr * rows[i, k], si * rows[i, k])
-            e[i] += wik * u[k]
-            b[i] += wik * r[k]
+    e = _factored_start(rows, right, u)
+    b = _factored_start(rows, right, r)
     return _terms(e, b, lam, hp, hm, w, t0)
 
 
@@ -117,16 +123,12 @@ def coefficients_modal(rows, right, w2, lam, u, f, x0, hp, hm, w, t0):
     f, x0 : (m,) ndarray
         ``M^-1 f_const`` and the start displacement.
     """
-    e = np.zeros(lam.size, np.complex128)
+    e = _factored_start(rows, right, u)
     b = np.zeros(lam.size, np.complex128)
     for i in range(lam.size):
-        sr = right[i].real
-        si = right[i].imag
         sf = 0.0
         sx = 0.0
         for k in range(u.size):
-            wik = complex(sr * rows[i, k], si * rows[i, k])
-            e[i] += wik * u[k]
             sf += rows[i, k] * f[k]
             sx += rows[i, k] * x0[k]
         b[i] = right[i] * (sf - w2[i] * sx)

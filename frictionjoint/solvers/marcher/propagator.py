@@ -529,6 +529,16 @@ class ConfigData:
             return self._W
         return _inverse(*self._inverse)
 
+    def diagonal_mass_inverse(self) -> bool:
+        """Whether ``N = I`` (no stuck rigid slider) and ``M^-1`` (:attr:`mr_inv_nt`) is diagonal
+        (lumped masses): its diagonal then serves as the matrix. Counted once per configuration."""
+        diag = getattr(self, "_diagonal", None)
+        if diag is None:
+            mint = self.mr_inv_nt
+            diag = self._diagonal = bool(not self.rigid_stuck.size
+                                         and np.count_nonzero(mint) == np.count_nonzero(np.diagonal(mint)))
+        return diag
+
     def modal_w2(self) -> np.ndarray:
         """``w^2`` of each kept classical mode (p,), the product of its pair's roots ``lam other``
         (:func:`_half_modes`), real; built on first use."""
@@ -721,10 +731,7 @@ class Interval:
         ``eps cond(K) |x0|`` that every piece's start brought anew (splitting a period's march at a
         time that is no event moved its end by 6.9e-12 of the motion at 200 DOFs, 7e-15 now)."""
         minv = self.config.mr_inv_nt
-        diag = getattr(self.config, "_diagonal_mass", None)
-        if diag is None:
-            diag = self.config._diagonal_mass = bool(np.count_nonzero(minv) == np.count_nonzero(np.diagonal(minv)))
-        return np.diagonal(minv) * self.f_const if diag else minv @ self.f_const
+        return np.diagonal(minv) * self.f_const if self.config.diagonal_mass_inverse() else minv @ self.f_const
 
     def _prepare(self):
         """Modal coefficients (or the augmented matrix), computed on first use only."""
@@ -737,9 +744,11 @@ class Interval:
         y0 = self._y0
         if config.modal and m:
             hp, hm, terms = config.modal_forcing(w)
+            # the constant load from the modal identity (:meth:`_mass_load`): classical, N = I
+            modal_load = config._inverse is not None and not config.rigid_stuck.size
             if piece_kernels.ENABLED and not (terms[0][3] or terms[1][3] or terms[2][3]):
                 # plain modal piece: one compiled call (same arithmetic as below); y0, b0 = [0, .]
-                if config._inverse is not None and not config.rigid_stuck.size:
+                if modal_load:
                     rows, _, right = config._inverse
                     out = piece_kernels.coefficients_modal(rows, right, config.modal_w2(), config.lam, y0[m:],
                                                            self._mass_load(), self.x0, hp, hm, w, self.t0)
@@ -756,7 +765,7 @@ class Interval:
                 return
             wi = config.velocity_inverse()  # y0, b0 = [0, .]
             self.eta0 = wi @ y0[m:]
-            if config._inverse is not None and not config.rigid_stuck.size:
+            if modal_load:
                 rows, _, right = config._inverse
                 self.beta0 = right * (rows @ self._mass_load() - config.modal_w2() * (rows @ self.x0))
             else:
