@@ -173,7 +173,8 @@ def library(script: str, module: str):
 def fresh_bundle(script: str) -> None:
     """Before ``script`` (an FMU script's ``__file__``) imports the bundle: drop a loaded bundle whose
     archive no longer exists or that is another library than this FMU's (another identity), with
-    all its modules, and put ``script``'s archive first on ``sys.path``."""
+    all its modules, and import the package from ``script``'s archive (its modules then come from
+    there, by the package's ``__path__``: the archive is not put on ``sys.path``)."""
     archive = _archive(script)
     loaded = sys.modules.get(BUNDLE)
     if loaded is not None:
@@ -182,8 +183,18 @@ def fresh_bundle(script: str) -> None:
             return
     for name in [n for n in sys.modules if n == BUNDLE or n.startswith(BUNDLE + ".")]:
         del sys.modules[name]
-    # first: another FMU's archive (or an FMU's resources folder) further on holds the same package;
-    # the archives of freed FMUs are forgotten
-    sys.path[:] = [archive] + [p for p in sys.path if p != archive
-                               and not (isinstance(p, str) and p.endswith(ARCHIVE) and not os.path.exists(p))]
     importlib.invalidate_caches()
+    if not os.path.isfile(archive):  # none to be found: the import says so
+        return
+    import zipimport
+
+    spec = zipimport.zipimporter(archive).find_spec(BUNDLE)
+    if spec is None:
+        raise ImportError(f"{archive} holds no package {BUNDLE}", name=BUNDLE)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[BUNDLE] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[BUNDLE]
+        raise
