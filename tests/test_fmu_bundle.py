@@ -118,3 +118,17 @@ def test_identity_is_that_of_the_files_the_bundle_carries(tmp_path):
     data = target.read_bytes()
     target.write_bytes(data[:-1] + bytes([data[-1] ^ 1]))
     assert identity(str(copy))["sha256"] != ident["sha256"]
+
+
+def test_a_library_edited_after_this_process_started_is_not_taken_for_the_bundle(tmp_path):
+    """The modules a process has imported may be older than the files the identity reads: files
+    modified after the process started (Linux) make the FMU take its bundle."""
+    from frictionjoint.fmi import bundle_loader
+
+    if bundle_loader._process_start() is None:
+        pytest.skip("the process start time is not known here (no /proc)")
+    (tmp_path / "a.py").write_text("x = 1\n")
+    assert bundle_loader._edited_since_start(str(tmp_path))
+    old = bundle_loader._process_start() - 3600.0
+    os.utime(tmp_path / "a.py", (old, old))
+    assert not bundle_loader._edited_since_start(str(tmp_path))

@@ -25,7 +25,7 @@ is shared, as before.
 
 Standard library only: the build copies this file into every FMU as the top-level module
 ``_frictionjoint_loader``, which stays usable from a freed FMU's folder (it is loaded whole and
-imports nothing later).
+later imports nothing but the standard library's ``zipfile`` and ``zipimport``).
 """
 import fnmatch
 import hashlib
@@ -127,10 +127,38 @@ def _installed_folder():
     return paths[0] if len(paths) == 1 and os.path.isdir(paths[0]) else None
 
 
+def _process_start():
+    """When this process started [s since the epoch], to about a second (Linux: ``/proc``), or None."""
+    try:
+        with open("/proc/self/stat", encoding="ascii") as fh:
+            ticks = int(fh.read().rsplit(")", 1)[1].split()[19])  # field 22, starttime
+        with open("/proc/stat", encoding="ascii") as fh:
+            boot = next(int(line.split()[1]) for line in fh if line.startswith("btime "))
+        return boot + ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, StopIteration, AttributeError):
+        return None
+
+
+def _edited_since_start(folder: str) -> bool:
+    """Whether a file of the library in ``folder`` may have changed since this process started (its
+    modification time is later, to a 2 s margin); False where the start is not known."""
+    start = _process_start()
+    if start is None:
+        return False
+    for dirpath, dirnames, filenames in os.walk(folder):
+        dirnames[:] = [d for d in dirnames if not _excluded(d)]
+        for name in filenames:
+            if not _excluded(name) and os.stat(os.path.join(dirpath, name)).st_mtime > start - 2.0:
+                return True
+    return False
+
+
 def installed_is_bundle(script: str) -> bool:
     """Whether the installed ``frictionjoint`` is the very library bundled with the FMU of
     ``script`` (an FMU script's ``__file__``): same identity (:func:`identity`), and not
-    :data:`FORCE_BUNDLE`."""
+    :data:`FORCE_BUNDLE`. Where this process has imported it already, its files must also be
+    older than the process (Linux): else the modules in memory may be older than the files the
+    identity is computed from (a library edited while a session ran, and an FMU built from it)."""
     if os.environ.get(FORCE_BUNDLE, "").strip() not in ("", "0"):
         return False
     own = _read_identity(_archive(script))
@@ -138,6 +166,8 @@ def installed_is_bundle(script: str) -> bool:
     if own is None or folder is None:
         return False
     try:
+        if INSTALLED in sys.modules and _edited_since_start(folder):
+            return False
         return identity(folder) == own
     except OSError:
         return False
