@@ -132,7 +132,7 @@ class FMUSystem:
         components = {str(k): Path(v) for k, v in dict(self.components).items()}
         if not components:
             raise ParameterError("components must name at least one FMU")
-        variables = {}
+        variables, restorable = {}, set()
         for name, path in components.items():
             if "." in name or not name:
                 raise ParameterError(f"component names must be non-empty and without '.', got {name!r}")
@@ -140,6 +140,8 @@ class FMUSystem:
                 raise ParameterError(f"components[{name!r}]: FMU {str(path)!r} not found")
             md = read_model_description(str(path))
             variables[name] = {v.name: v for v in md.modelVariables}
+            if md.coSimulation is not None and md.coSimulation.canGetAndSetFMUstate:
+                restorable.add(name)
         connections = []
         for pair in self.connections:
             if len(pair) != 2:
@@ -168,6 +170,7 @@ class FMUSystem:
         object.__setattr__(self, "connections", tuple(connections))
         object.__setattr__(self, "parameters", parameters)
         object.__setattr__(self, "_variables", variables)
+        object.__setattr__(self, "_restorable", frozenset(restorable))  # can get and set their FMU state
         pool = {}
         object.__setattr__(self, "_pool", pool)
         object.__setattr__(self, "_lock", threading.Lock())
@@ -289,8 +292,9 @@ class FMUSystem:
         """The initialised components over ``n_steps`` steps: the outputs at every communication
         point, (n_steps + 1, n_outputs)."""
         record = np.empty((n_steps + 1, len(outputs)))
-        self._transfer(insts, transfer)
-        record[0] = self._read(insts, outputs)
+        move, read = self._transfer(insts, transfer), self._read(insts, outputs)
+        move()
+        record[0] = read()
         steps = range(1, n_steps + 1)
         if progress:
             from tqdm import tqdm
@@ -300,10 +304,10 @@ class FMUSystem:
             if locator is None:
                 for inst in insts.values():
                     inst.step(h)
-                self._transfer(insts, transfer)
+                move()
             else:
                 locator.step(t0 + (n - 1) * h, t0 + n * h)
-            record[n] = self._read(insts, outputs)
+            record[n] = read()
         return record
 
     def _event_indicators(self, locate_events) -> list:
@@ -313,14 +317,12 @@ class FMUSystem:
             raise ParameterError(f"locate_events must be True, False or None, got {locate_events!r}")
         if locate_events is False:
             return []
-        from fmpy import read_model_description
-
         targets = {t for _, t in self.connections}
         found, why = [], None
-        for comp, path in self.components.items():
+        for comp in self.components:
             variables = self._variables[comp]
             names = [n for n in EVENT_INDICATORS if n in variables and variables[n].causality == "output"]
-            if not read_model_description(str(path)).coSimulation.canGetAndSetFMUstate:
+            if comp not in self._restorable:
                 why = why or f"component {comp!r} cannot get and set its FMU state"
             if not names:
                 continue
@@ -332,36 +334,27 @@ class FMUSystem:
             raise ParameterError(f"locate_events=True: {why or 'no component reports event indicators'}")
         return [] if why else found
 
-    def _transfer(self, insts, transfer: str) -> None:
-        """Transfer the connections: ``"sequential"``, each source read after every earlier
-        connection's target is set; ``"jacobi"``, every source read before any target is set. A
-        component's outputs depend only on its own inputs and state, so the values a component is
-        read (one FMI call for all its sources) or set (one call per type) in one batch are those of
-        one connection at a time: sets are kept until their component is read or the end."""
-        pairs = [(split_port(s), split_port(t)) for s, t in self.connections]
-        sources = {}
-        for (sc, sv), _ in pairs:
-            sources.setdefault(sc, []).append(sv)
-        pending, read = {}, {}
-
-        def flush(comp):
-            values = pending.pop(comp, None)
-            if values:
-                insts[comp].set(values)
-                read.pop(comp, None)
-
-        for (sc, sv), (tc, tv) in pairs:
-            if transfer == "sequential":
-                flush(sc)
-            if sc not in read:
-                read[sc] = dict(zip(sources[sc], insts[sc].get(sources[sc])))
-            pending.setdefault(tc, {})[tv] = read[sc][sv]
-        for comp in list(pending):
-            flush(comp)
+    def _transfer(self, insts, transfer: str) -> "_Transfer":
+        """The connections' transfer over the instances ``insts`` (:class:`_Transfer`): call it."""
+        return _Transfer(self.connections, insts, transfer)
 
     @staticmethod
-    def _read(insts, outputs) -> list:
-        return [float(insts[c].get([v])[0]) for c, v in map(split_port, outputs)]
+    def _read(insts, outputs):
+        """A function of no arguments giving the values of ``outputs`` (one FMI call per component)."""
+        by_comp = {}
+        for pos, (c, v) in enumerate(map(split_port, outputs)):
+            by_comp.setdefault(c, []).append((pos, v))
+        readers = [(insts[c].reader([v for _, v in items]), [pos for pos, _ in items])
+                   for c, items in by_comp.items()]
+
+        def read():
+            out = [0.0] * len(outputs)
+            for reader, positions in readers:
+                for pos, value in zip(positions, reader()):
+                    out[pos] = float(value)
+            return out
+
+        return read
 
     def to_ssp(self, path, name: str = "system") -> Path:
         """Write the system as an SSP archive (:func:`frictionjoint.fmi.ssp.write_ssp`)."""
@@ -387,6 +380,48 @@ def _free_instances(insts: dict) -> None:
         raise errors[0]
 
 
+class _Transfer:
+    """The connections' transfer (see :meth:`FMUSystem.simulate`), compiled once per run into FMI
+    calls: ``"sequential"``, each source read after every earlier connection's target is set;
+    ``"jacobi"``, every source read before any target is set. A component's outputs depend only on
+    its own inputs and state, so the values a component is read (one call for all its sources) or
+    set (one call) in one batch are those of one connection at a time: sets are kept until their
+    component is read or the end, and each takes its values from the read that its connections
+    saw."""
+
+    def __init__(self, connections, insts, transfer: str):
+        pairs = [(split_port(s), split_port(t)) for s, t in connections]
+        sources = {}
+        for (sc, sv), _ in pairs:
+            sources.setdefault(sc, []).append(sv)
+        ops, pending, read = [], {}, {}  # read: component -> its latest read's slot
+
+        def flush(comp):
+            items = pending.pop(comp, None)
+            if items:
+                ops.append((None, insts[comp].writer([v for v, _ in items]), [src for _, src in items]))
+                read.pop(comp, None)
+
+        for (sc, sv), (tc, tv) in pairs:
+            if transfer == "sequential":
+                flush(sc)
+            if sc not in read:
+                read[sc] = len([op for op in ops if op[0] is not None])
+                ops.append((insts[sc].reader(sources[sc]), None, None))
+            pending.setdefault(tc, []).append((tv, (read[sc], sources[sc].index(sv))))
+        for comp in list(pending):
+            flush(comp)
+        self._ops = ops
+
+    def __call__(self) -> None:
+        slots = []
+        for reader, writer, refs in self._ops:
+            if reader is not None:
+                slots.append(reader())
+            else:
+                writer([slots[k][i] for k, i in refs])
+
+
 class _EventLocator:
     """The master's steps cut at events (see the module docstring): :meth:`step` advances every
     component from ``t`` to ``t_end`` and leaves the connections transferred at ``t_end``."""
@@ -394,14 +429,16 @@ class _EventLocator:
     def __init__(self, system, insts, transfer, indicators):
         self.system, self.insts, self.transfer, self.indicators = system, insts, transfer, indicators
         self.count = 0
+        self._move = system._transfer(insts, transfer)
+        self._readers = [insts[comp].reader(names + [m for pair in extra for m in pair if m is not None])
+                         for comp, names, extra in indicators]
         self._carry = None  # the indicators read at the end of the last step, where nothing was set since
 
     def _read(self):
         """Indicator values, rates and integrals (NaN: none) of every event component, flat."""
         g, r, q = [], [], []
-        for comp, names, extra in self.indicators:
-            wanted = [m for pair in extra for m in pair if m is not None]
-            values = self.insts[comp].get(names + wanted)
+        for (comp, names, extra), reader in zip(self.indicators, self._readers):
+            values = reader()
             g += values[:len(names)]
             it = iter(values[len(names):])
             for rate, integral in extra:
@@ -414,7 +451,7 @@ class _EventLocator:
         for name, inst in self.insts.items():
             inst.restore(saved[name])
             inst.step_between(t, s)
-        self.system._transfer(self.insts, self.transfer)
+        self._move()
         self._at = s
 
     def step(self, t: float, t_end: float) -> None:
@@ -429,7 +466,7 @@ class _EventLocator:
             try:
                 for inst in self.insts.values():
                     inst.step_between(t, t_end)
-                self.system._transfer(self.insts, self.transfer)
+                self._move()
                 end = self._read()
                 cut = self._event(saved, t, t_end, start if fresh else None, end)
                 if cut is None:
@@ -438,7 +475,7 @@ class _EventLocator:
                 if self._at != cut:  # (the root finder's last evaluation is mostly there)
                     self._advance(saved, t, cut)
                 if self.transfer == "jacobi":  # the structure gets the joint's outputs at its new input
-                    self.system._transfer(self.insts, self.transfer)
+                    self._move()
             finally:
                 for name, inst in self.insts.items():
                     inst.free(saved[name])
