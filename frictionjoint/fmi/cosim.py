@@ -65,7 +65,7 @@ MAX_EVENTS_PER_STEP = 100
 
 
 def joint_connections(structure: str, joint: str, dof: str, coupling: str = "semi-implicit",
-                      events: bool = False) -> list:
+                      events: bool = True) -> list:
     """Connections between a ``LinearStructure`` FMU component and a displacement-driven joint FMU
     component (JenkinsJoint, IwanJoint, MicroslipJoint) acting at the structure's port ``dof``.
 
@@ -80,7 +80,9 @@ def joint_connections(structure: str, joint: str, dof: str, coupling: str = "sem
     events : bool
         Also connect the structure's velocity ``v_<dof>`` to the joint's ``velocity``, which the
         joint needs to report its status and event indicators for a master that locates events
-        (:meth:`FMUSystem.simulate`, ``locate_events``).
+        (:meth:`FMUSystem.simulate`, ``locate_events``, which then locates them by default).
+        False: the fixed-step coupling of a host that does not (the joint's tangent stiffness at a
+        reversal then follows its last move, as without the velocity).
 
     Returns
     -------
