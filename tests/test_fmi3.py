@@ -15,6 +15,9 @@ from fmpy import extract, instantiate_fmu, read_model_description, simulate_fmu
 import frictionjoint as fj
 from frictionjoint.fmi.build import FMUS, FMUS3, build_fmus, validate
 
+# they build and run FMUs: fmu and slow, as the users of the fmus fixture (tests/conftest.py)
+pytestmark = [pytest.mark.fmu, pytest.mark.slow]
+
 #: README's oscillator (m = k = 1, P0 = 1 N): pure slip (no stops), stick-slip, long sticks
 CASES = {
     "slip": dict(slip_force=0.5, force_amplitude=1.0, omega=1.5),
