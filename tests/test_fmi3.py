@@ -179,15 +179,21 @@ def test_whole_steps_where_the_host_does_not_allow_early_return(built):
         assert grid == fmi2  # bit for bit
 
 
-def test_fmu_state_rollback_and_serialisation(built):
-    p = CASES["stick-slip"]
-    s, vr = _instance(built["CoulombOscillator"])
-    s.setFloat64([vr[k] for k in p], list(p.values()))
+def _three_steps(s, vr, params):
+    """Initialise and take three 1 s steps (whole, or to an event); returns the time reached."""
+    s.setFloat64([vr[k] for k in params], list(params.values()))
     s.enterInitializationMode(startTime=0.0)
     s.exitInitializationMode()
     t = 0.0
     for _ in range(3):
         t = s.doStep(t, 1.0)[3]
+    return t
+
+
+def test_fmu_state_rollback_and_serialisation(built):
+    p = CASES["stick-slip"]
+    s, vr = _instance(built["CoulombOscillator"])
+    t = _three_steps(s, vr, p)
     state = s.getFMUState()
     blob = s.serializeFMUState(state)
     first = s.doStep(t, 5.0)  # an early return inside
@@ -201,13 +207,7 @@ def test_fmu_state_rollback_and_serialisation(built):
     s.freeFMUState(state)
     s.terminate()
     s.reset()  # a new run of the same instance: the host's flags still hold (the wrapper sets them again)
-    s.setFloat64([vr[k] for k in p], list(p.values()))
-    s.enterInitializationMode(startTime=0.0)
-    s.exitInitializationMode()
-    t = 0.0
-    for _ in range(3):
-        t = s.doStep(t, 1.0)[3]
-    assert s.doStep(t, 5.0) == first
+    assert s.doStep(_three_steps(s, vr, p), 5.0) == first
     s.terminate()
     s.freeInstance()
 
