@@ -329,3 +329,19 @@ def test_build_fmus_command_fmi3(tmp_path):
         with pytest.raises(SystemExit) as exc:
             main(["build-fmus", "--fmi-version", "3", "--out", str(tmp_path), *bad])
         assert exc.value.code == 2
+
+
+def test_fmi3_component_in_an_ssp_and_refused_by_the_fmi2_master(built, tmp_path):
+    """An FMU system with an FMI 3 joint: written as SSP (its Float64 ports as SSP 1.0 Real
+    connectors), and this library's FMI 2 master refuses it by name instead of failing inside fmpy."""
+    from frictionjoint.errors import ParameterError
+    from frictionjoint.fmi.cosim import FMUSystem
+
+    s = FMUSystem({"osc": built["fmi2 CoulombOscillator"][2], "j": built["JenkinsJoint"][2]},
+                  [("osc.x", "j.u")], parameters={"j": {"slip_force": 0.5}})
+    ssp = s.to_ssp(tmp_path / "mixed.ssp")
+    with zipfile.ZipFile(ssp) as z:
+        ssd = z.read("SystemStructure.ssd").decode()
+    assert 'name="u"' in ssd and "ssc:Real" in ssd and "Float64" not in ssd
+    with pytest.raises(ParameterError, match="component 'j' is an FMI 3.0 FMU"):
+        s.simulate(1.0, 0.1, ["osc.x"])

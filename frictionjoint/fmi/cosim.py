@@ -134,7 +134,7 @@ class FMUSystem:
         components = {str(k): Path(v) for k, v in dict(self.components).items()}
         if not components:
             raise ParameterError("components must name at least one FMU")
-        variables, restorable = {}, set()
+        variables, restorable, versions = {}, set(), {}
         for name, path in components.items():
             if "." in name or not name:
                 raise ParameterError(f"component names must be non-empty and without '.', got {name!r}")
@@ -144,6 +144,8 @@ class FMUSystem:
             variables[name] = {v.name: v for v in md.modelVariables}
             if md.coSimulation is not None and md.coSimulation.canGetAndSetFMUstate:
                 restorable.add(name)
+            if not str(md.fmiVersion).startswith("2."):
+                versions[name] = md.fmiVersion
         connections = []
         for pair in self.connections:
             if len(pair) != 2:
@@ -173,6 +175,7 @@ class FMUSystem:
         object.__setattr__(self, "parameters", parameters)
         object.__setattr__(self, "_variables", variables)
         object.__setattr__(self, "_restorable", frozenset(restorable))  # can get and set their FMU state
+        object.__setattr__(self, "_not_fmi2", versions)  # component -> its FMI version, where not 2.0
         pool = {}
         object.__setattr__(self, "_pool", pool)
         object.__setattr__(self, "_lock", threading.Lock())
@@ -264,6 +267,11 @@ class FMUSystem:
         """
         if transfer not in ("sequential", "jacobi"):
             raise ParameterError(f"transfer must be 'sequential' or 'jacobi', got {transfer!r}")
+        if self._not_fmi2:
+            comp, version = next(iter(self._not_fmi2.items()))
+            raise ParameterError(f"component {comp!r} is an FMI {version} FMU: this master runs FMI 2.0 "
+                                 "co-simulation FMUs (an FMI 3 FMU runs in an FMI 3 host, e.g. fmpy's "
+                                 "simulate_fmu; to_ssp writes it for an SSP host)")
         h = check_positive("step", step)
         t0 = check_real("start_time", start_time)
         n_steps = _step_count(t0, check_real("stop_time", stop_time), h)
