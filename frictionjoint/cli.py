@@ -17,7 +17,7 @@ exact periodic steady state at every frequency), prints the table beside Den Har
 form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
 (``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition; FMI 3.0
-FMUs with early return at stick/slip events with ``--fmi-version 3``);
+FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included);
 ``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
 ``bench`` runs the work-precision benchmark of the source tree (``benchmarks/harness.py``) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
@@ -366,8 +366,9 @@ def _add_tools(sub) -> None:
                          "or .json, see frictionjoint.system_file; e.g. models/two_dof_chain_system.toml), "
                          "named after its 'name'; with --system and no --only, only these FMUs are built")
     bf.add_argument("--fmi-version", type=int, choices=(2, 3), default=2,
-                    help="3: FMI 3.0 co-simulation FMUs of " + ", ".join(FMUS3) + " as <name>Fmi3.fmu (pythonfmu3), "
-                         "returning early at each stick/slip event where the host allows it (x86_64-linux binary)")
+                    help="3: FMI 3.0 co-simulation FMUs of " + ", ".join(FMUS3) + " (and of each --system) as "
+                         "<name>Fmi3.fmu (pythonfmu3), returning early at each stick/slip event where the host "
+                         "allows it (x86_64-linux binary)")
     bf.add_argument("--no-early-return", action="store_true",
                     help="--fmi-version 3: pythonfmu3's stock binaries (Linux and Windows x86_64), no early return "
                          "or event mode declared")
@@ -522,8 +523,8 @@ def _build_fmus(args, parser) -> int:
         if unknown:
             parser.error(f"--only: unknown FMU(s) {unknown} for --fmi-version {args.fmi_version}; choose from "
                          f"{sorted(table)}")
-    if args.fmi_version == 3 and (args.structure or args.system):
-        parser.error("--structure and --system build FMI 2.0 FMUs only (--fmi-version 2)")
+    if args.fmi_version == 3 and args.structure:
+        parser.error("--structure builds FMI 2.0 FMUs only (--fmi-version 2)")
     for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system,
                            fmi_version=args.fmi_version, early_return=not args.no_early_return):
         print(f"built and validated {path}")

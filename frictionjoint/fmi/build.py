@@ -8,7 +8,8 @@ run time and a host's own ``frictionjoint`` can neither shadow it nor be shadowe
 FMI 3.0 (``fmi_version=3``, :data:`FMUS3`): the oscillator and the displacement-driven joints as
 ``<name>Fmi3.fmu`` -- a model identifier of their own, so that an FMI 2 and an FMI 3 FMU of one model
 can sit in one host (one shared library name per identifier on Windows, one name per component in
-an SSP) -- with early return at their stick/slip events (:mod:`.slaves3`). Early return needs
+an SSP) -- and friction systems (``systems=``) as ``<system name>Fmi3.fmu`` (model identifier
+``FrictionSystemFmi3``, as the FMI 2 ones' is ``FrictionSystem``), with early return at their stick/slip events (:mod:`.slaves3`). Early return needs
 pythonfmu3's wrapper patched (``fmi3_wrapper/early_return.patch``); the package ships that binary for
 x86_64-linux only (``fmi3_wrapper/build_wrapper.py`` rebuilds it). Such an FMU carries that binary
 alone and declares ``mightReturnEarlyFromDoStep`` and ``hasEventMode``; with ``early_return=False`` it
@@ -26,7 +27,8 @@ from pathlib import Path
 
 from .bundle_loader import BUNDLE
 
-__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT", "build_fmus", "postprocess",
+__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+           "SYSTEM_SCRIPT3", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
 BUNDLE_NAME = BUNDLE  # the name the FMU scripts and their loader import
@@ -56,6 +58,8 @@ BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
 STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
 #: the script of a friction system FMU (one per system definition, built by ``systems=``)
 SYSTEM_SCRIPT = "fj_friction_system_fmu.py"
+#: the script of an FMI 3.0 friction system FMU (``systems=`` with ``fmi_version=3``)
+SYSTEM_SCRIPT3 = "fj3_friction_system_fmu.py"
 
 
 def default_source_dir() -> Path:
@@ -182,8 +186,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         of the whole friction system (:mod:`frictionjoint.fmi.system_slave`) carrying the
         definition in its resources.
     fmi_version : {2, 3}
-        3: the FMI 3.0 FMUs of :data:`FMUS3` (``names`` among them), as ``<name>Fmi3.fmu``; structures
-        and systems are FMI 2 only.
+        3: the FMI 3.0 FMUs of :data:`FMUS3` (``names`` among them) and of ``systems``, as
+        ``<name>Fmi3.fmu``; structures are FMI 2 only.
     early_return : bool
         FMI 3: early return at events with the patched wrapper (x86_64-linux); False: pythonfmu3's stock
         binaries, whole steps (see the module docstring).
@@ -209,7 +213,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
     # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
     # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT)}
+    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT,
+                                      SYSTEM_SCRIPT3)}
 
     def ours(m):
         return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
@@ -219,7 +224,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            jobs = (_jobs3(names, out, tmp, bundle) if fmi_version == 3
+            jobs = (_jobs3(names, systems, out, tmp, bundle) if fmi_version == 3
                     else _jobs(names, structures, systems, out, tmp, bundle))
             for script_name, dest, project_files in jobs:
                 built.append(_build_one(source / script_name, dest, project_files, check, fmi_version, early_return))
@@ -235,8 +240,8 @@ def _names(names, structures, systems, fmi_version: int) -> list:
     """The names of :data:`FMUS` (``fmi_version`` 3: :data:`FMUS3`) to build (see :func:`build_fmus`)."""
     if fmi_version not in (2, 3):
         raise ValueError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
-    if fmi_version == 3 and (structures or systems):
-        raise ValueError("structures and systems are built as FMI 2.0 FMUs only (fmi_version=2)")
+    if fmi_version == 3 and structures:
+        raise ValueError("structures are built as FMI 2.0 FMUs only (fmi_version=2)")
     table = FMUS3 if fmi_version == 3 else FMUS
     names = ([] if structures or systems else list(table)) if names is None else list(names)
     for n in names:
@@ -245,17 +250,33 @@ def _names(names, structures, systems, fmi_version: int) -> list:
     return names
 
 
-def _jobs3(names, out: Path, tmp: Path, bundle: list) -> list:
-    """``(script name, destination, project files)`` of each FMI 3 FMU: the bundle and pythonfmu's Python
-    sources (the FMI 3 slaves bind the FMI 2 ones, which import pythonfmu; pythonfmu3 puts its own into
-    every FMU, as pythonfmu does into the FMI 2 ones), so that an FMU needs no pythonfmu installed."""
+def _jobs3(names, systems, out: Path, tmp: Path, bundle: list) -> list:
+    """``(script name, destination, project files)`` of each FMI 3 FMU (the named ones, then one per
+    system definition): the bundle and pythonfmu's Python sources (the FMI 3 slaves bind the FMI 2 ones,
+    which import pythonfmu; pythonfmu3 puts its own into every FMU, as pythonfmu does into the FMI 2
+    ones), so that an FMU needs no pythonfmu installed."""
     import pythonfmu
 
     pkg = tmp / "fmi3" / "pythonfmu"
     pkg.mkdir(parents=True)
     for f in Path(pythonfmu.__file__).parent.glob("*.py"):
         shutil.copy2(f, pkg)
-    return [(FMUS3[n], out / f"{n}Fmi3.fmu", [*bundle, pkg]) for n in names]
+    return ([(FMUS3[n], out / f"{n}Fmi3.fmu", [*bundle, pkg]) for n in names]
+            + _system_jobs(systems, SYSTEM_SCRIPT3, "Fmi3", out, tmp, [*bundle, pkg]))
+
+
+def _system_jobs(systems, script: str, suffix: str, out: Path, tmp: Path, files: list) -> list:
+    """The jobs of one friction system FMU per system definition (``script``, ``<name><suffix>.fmu``,
+    ``files`` and the definition, written into ``tmp``)."""
+    from .system_slave import SYSTEM_RESOURCE
+
+    jobs = []
+    for d in systems:
+        data = tmp / ("system_" + d.name + suffix) / SYSTEM_RESOURCE
+        data.parent.mkdir()
+        d.to_json(data)
+        jobs.append((script, out / f"{d.name}{suffix}.fmu", [*files, data]))
+    return jobs
 
 
 def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> list:
@@ -264,7 +285,6 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> lis
     ``LinearStructure`` FMU per structure definition and one friction system FMU per system
     definition (the definitions written into ``tmp``)."""
     from .slaves import BLADE_RESOURCE, STRUCTURE_RESOURCE
-    from .system_slave import SYSTEM_RESOURCE
 
     jobs = []
     for n in names:
@@ -282,12 +302,7 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> lis
         data.parent.mkdir()
         d.to_json(data)
         jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
-    for d in systems:
-        data = tmp / ("system_" + d.name) / SYSTEM_RESOURCE
-        data.parent.mkdir()
-        d.to_json(data)
-        jobs.append((SYSTEM_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
-    return jobs
+    return jobs + _system_jobs(systems, SYSTEM_SCRIPT, "", out, tmp, bundle)
 
 
 def _build_one(script: Path, dest: Path, project_files, check: bool, fmi_version: int = 2,

@@ -9,10 +9,11 @@ written twice. What FMI 3 adds:
   true`` with ``lastSuccessfulTime`` the event's instant; the state there is the event's, after its
   rules. The oscillator stops at each event of its exact march
   (:meth:`~frictionjoint.stepping.OscillatorRun.advance` with ``stop_at_event``): the instants are the
-  library's. A displacement-driven joint holds its inputs over a step, ``u`` and its rate
-  ``velocity``, so ``u`` moves as ``u + velocity tau`` inside it: it stops where the nearest slider
-  that sticks reaches its slip force (``_DrivenSlave._stop_at_slip``) and stands there (``u`` is then
-  that point); a slipping slider sticks only where the velocity reverses, at a step's start.
+  library's; so does a whole friction system (:meth:`~frictionjoint.fmi.system_slave.SystemRun.advance`
+  with ``stop_at_event``: the event-driven marcher's ``max_events``). A displacement-driven joint holds
+  its inputs over a step, ``u`` and its rate ``velocity``, so ``u`` moves as ``u + velocity tau`` inside
+  it: it stops where the nearest slider that sticks reaches its slip force
+  (``_DrivenSlave._stop_at_slip``) and stands there (``u`` is then that point); a slipping slider sticks only where the velocity reverses, at a step's start.
   Without the host's permission a step is whole, as the FMI 2 FMU's (the same numbers).
 - **Event mode.** Where the host uses it (``eventModeUsed``), an early return also asks for event
   handling (``eventHandlingNeeded``); the event was handled inside ``do_step``, so
@@ -39,11 +40,11 @@ from typing import NamedTuple
 from pythonfmu3 import (Boolean, Fmi3Causality, Fmi3Initial, Fmi3Slave, Fmi3Status, Fmi3Variability, Float64,
                         Int32)
 
-from . import slaves
+from . import slaves, system_slave
 from .wrapper import _lending_references
 
 __all__ = ["CoulombOscillatorSlave3", "JenkinsJointSlave3", "IwanJointSlave3", "MicroslipJointSlave3",
-           "StepResult"]
+           "SystemSlave3", "StepResult"]
 
 _TYPES = {float: Float64, int: Int32, bool: Boolean}
 #: the methods pythonfmu3's wrapper calls on the instance (their exceptions lend references)
@@ -216,3 +217,10 @@ class MicroslipJointSlave3(_Slave3):
     """FMI 3 microslip joint (:class:`~frictionjoint.fmi.slaves.MicroslipJointSlave`)."""
 
     _binds = slaves.MicroslipJointSlave
+
+
+class SystemSlave3(_Slave3):
+    """FMI 3 friction system (:class:`~frictionjoint.fmi.system_slave.SystemSlave`: the system definition
+    in the FMU's resources, its events exact inside ``do_step``; early return just after each)."""
+
+    _binds = system_slave.SystemSlave
