@@ -17,6 +17,7 @@ from frictionjoint.errors import ParameterError
 from frictionjoint.fmi.system_slave import SystemRun
 from frictionjoint.solvers.marcher.events import EventLog, Marcher
 from frictionjoint.system_file import load_system_definition
+from test_fmi3 import _instance, host_loop  # (tests/ is on the path: tests/conftest.py)
 
 ROOT = Path(__file__).resolve().parents[1]
 CHAIN = ROOT / "models" / "two_dof_chain_system.toml"
@@ -62,45 +63,11 @@ def chain(tmp_path_factory):
     return {n: (read_model_description(str(p)), extract(str(p)), p) for n, p in paths.items()}
 
 
-def _instance(entry, allowed=True, event_mode=False):
-    from fmpy import instantiate_fmu
-
-    md, folder, _ = entry
-    s = instantiate_fmu(folder, md, fmi_type="CoSimulation", early_return_allowed=allowed,
-                        event_mode_used=event_mode)
-    return s, {v.name: v.valueReference for v in md.modelVariables}
-
-
-def host_loop(entry, divisions, allowed=True, event_mode=False):
-    """An FMI 3 host on fmpy's FMU3Slave: steps to the grid n T/divisions, continues from an early return;
-    returns (early-return instants, [OUTPUTS] on the grid, event_count at the end)."""
-    s, vr = _instance(entry, allowed, event_mode)
-    s.enterInitializationMode(startTime=0.0)
-    s.exitInitializationMode()
-    if event_mode:
-        s.updateDiscreteStates()
-        s.enterStepMode()
-    h = T / divisions
-    t, n, events, grid = 0.0, 0, [], []
-    refs = [vr[k] for k in OUTPUTS]
-    while n < PERIODS * divisions:
-        target = (n + 1) * h
-        handling, _, early, last = s.doStep(t, target - t)
-        if early:
-            assert t <= last < target and handling == event_mode
-            events.append(last)
-            t = last
-            if event_mode:
-                s.enterEventMode()
-                s.updateDiscreteStates()
-                s.enterStepMode()
-        else:
-            t, n = target, n + 1
-            grid.append(s.getFloat64(refs))
-    count = s.getInt32([vr["event_count"]])[0]
-    s.terminate()
-    s.freeInstance()
-    return events, grid, count
+def run(entry, divisions, allowed=True, event_mode=False):
+    """tests/test_fmi3.py's FMI 3 host on fmpy's FMU3Slave over PERIODS periods at T/divisions: (early-return
+    instants, [OUTPUTS] on the grid, event_count at the end)."""
+    events, grid, count = host_loop(entry, {}, PERIODS * T, T / divisions, allowed, event_mode, OUTPUTS)
+    return events, [list(g[1:]) for g in grid], count
 
 
 @pytest.mark.parametrize("event_mode", [False, True])
@@ -108,7 +75,7 @@ def host_loop(entry, divisions, allowed=True, event_mode=False):
 @pytest.mark.fmu
 @pytest.mark.slow
 def test_every_event_is_an_early_return_at_its_instant(chain, divisions, event_mode):
-    events, grid, count = host_loop(chain["fmi3"], divisions, event_mode=event_mode)
+    events, grid, count = run(chain["fmi3"], divisions, event_mode=event_mode)
     ref_events, rows, ref_count = reference(divisions)
     assert len(events) == len(ref_events) > 20
     assert max(abs(a - b) for a, b in zip(events, ref_events)) <= EVENT_TOL
@@ -165,7 +132,7 @@ def test_whole_steps_without_permission_are_the_fmi2_fmus(chain):
     numbers bit for bit."""
     from fmpy import instantiate_fmu
 
-    events, grid, _ = host_loop(chain["fmi3"], 20, allowed=False)
+    events, grid, _ = run(chain["fmi3"], 20, allowed=False)
     assert events == []
     md, folder, _ = chain["fmi2"]
     s = instantiate_fmu(folder, md, fmi_type="CoSimulation")
