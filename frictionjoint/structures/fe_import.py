@@ -54,12 +54,14 @@ Checks, each a one-line :class:`~frictionjoint.errors.ParameterError` that names
   gyroscopic term) is off by order one.
 * mass positive definite: every diagonal entry > 0, then the pivots of ``L D L^T`` of the
   diagonally scaled mass (unit diagonal), from SuperLU (``scipy.sparse.linalg.splu`` in
-  symmetric mode with diagonal pivots, a fill-reducing ordering of ``A + A^T``): by Sylvester's
-  law of inertia the mass is positive definite if and only if every pivot is > 0; a pivot below
-  1e-13 (of the unit diagonal) means the mass is singular to rounding and is rejected too. This
-  is a sparse factorisation (no Cholesky needed, none in scipy) at the cost of one sparse solve's
-  set-up: the 50,000-DOF model of ``docs/fe-models.md`` in about a second. The smallest
-  eigenvalue by ``eigsh`` would need the same factorisation (shift-invert) or many Lanczos steps.
+  symmetric mode with diagonal pivots, no column ordering) after a reverse Cuthill-McKee
+  ordering (``scipy.sparse.csgraph``): by Sylvester's law of inertia the mass is positive
+  definite if and only if every pivot is > 0; a pivot below 1e-13 (of the unit diagonal) means
+  the mass is singular to rounding and is rejected too. A slender body (a blade) has a narrow band
+  in that order: on the 50,000-DOF lattice of ``docs/fe-models.md`` with a solid mesh's
+  pattern it took 2.6-3.8 s (SuperLU's own minimum-degree ordering 15 s); the smallest
+  eigenvalue by ``eigsh(which="SA")`` took 2.6 s on the lattice's mass and 106 s with that
+  pattern (and shift-invert needs the factorisation anyway). No sparse Cholesky is in scipy.
 * stiffness: every diagonal entry >= 0 (its definiteness is checked where the dense
   :class:`~frictionjoint.LinearStructure` is made, :meth:`FEModel.to_structure`).
 """
@@ -342,7 +344,9 @@ def _check_symmetric(label: str, a: sp.csr_array, names: tuple) -> None:
 
 
 def _check_positive_definite(label: str, a: sp.csr_array, names: tuple) -> None:
-    """One line if the mass is not positive definite: L D L^T pivots of its scaled form (module docstring)."""
+    """One line if the mass is not positive definite: the L D L^T pivots of its scaled form in
+    reverse Cuthill-McKee order (module docstring)."""
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
     from scipy.sparse.linalg import splu
 
     diag = a.diagonal()
@@ -350,20 +354,20 @@ def _check_positive_definite(label: str, a: sp.csr_array, names: tuple) -> None:
         i = int(np.argmin(diag))
         raise ParameterError(f"{label} is not positive definite: its diagonal entry at {names[i]} is {diag[i]:.6g}")
     s = sp.diags_array(1.0 / np.sqrt(diag))
-    scaled = (s @ (0.5 * (a + a.T)) @ s).tocsc()
+    scaled = (s @ (0.5 * (a + a.T)) @ s).tocsr()
+    order = reverse_cuthill_mckee(scaled, symmetric_mode=True)
     try:
-        lu = splu(scaled, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+        lu = splu(scaled[order][:, order].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
                   options={"SymmetricMode": True})
     except RuntimeError:  # an exactly zero pivot: singular
         raise ParameterError(f"{label} is not positive definite: it is singular") from None
-    if not np.array_equal(lu.perm_r, lu.perm_c):  # pragma: no cover - SuperLU kept to the diagonal
-        raise ParameterError(f"{label}: the L D L^T test pivoted off the diagonal; the mass is not positive definite")
+    if not (np.array_equal(lu.perm_r, lu.perm_c) and np.array_equal(lu.perm_c, np.arange(len(order)))):
+        raise ParameterError(f"{label}: the L D L^T test pivoted off the diagonal: the mass is not positive definite")
     pivots = lu.U.diagonal()
     k = int(np.argmin(pivots))
     if not pivots[k] > PIVOT_TOLERANCE:
-        i = int(np.flatnonzero(lu.perm_c == k)[0])
         raise ParameterError(f"{label} is not positive definite: pivot {pivots[k]:.3g} of its scaled L D L^T "
-                             f"at {names[i]} (all must be > {PIVOT_TOLERANCE:g})")
+                             f"at {names[order[k]]} (all must be > {PIVOT_TOLERANCE:g})")
 
 
 # ----------------------------------------------------------------------------------- readers

@@ -12,6 +12,7 @@ decimal writes exactly, for the formats that carry 17 digits.
 
     python tests/data/fe_import/make_files.py            # the test files, into this folder
     python tests/data/fe_import/make_files.py /tmp/big 167 10 10   # 50,100 DOFs, for timing
+    python tests/data/fe_import/make_files.py --time /tmp/big     # read them: seconds per step
 """
 from __future__ import annotations
 
@@ -197,7 +198,55 @@ def write_bad(folder: Path, m, k, dofs):
     write_sets(folder / "bad.sets.csv", {"flank": [int(dofs[0, 0]), 99999]})
 
 
+def time_reads(folder: Path):
+    """Seconds to parse each format's files, to check the model (symmetry and the mass's
+    L D L^T), and the whole read_fe_model (best of ``repeat``), printed as a table."""
+    import time
+
+    from frictionjoint.structures import fe_import as fe
+
+    def best(call, repeat=3):
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            out = call()
+            times.append(time.perf_counter() - t0)
+        return min(times), out
+
+    dofs, sets = folder / "lattice.dofs.csv", folder / "lattice.sets.csv"
+    cases = {"matrix_market": (folder / "lattice_M.mtx", folder / "lattice_K.mtx", dofs),
+             "harwell_boeing": (folder / "lattice_M.rsa", folder / "lattice_K.rua", dofs),
+             "nastran_dmig (small field)": ((folder / "lattice_small.pch", "MAAX"),
+                                            (folder / "lattice_small.pch", "KAAX"), None),
+             "nastran_dmig (large field)": ((folder / "lattice_large.pch", "MAAX"),
+                                            (folder / "lattice_large.pch", "KAAX"), None),
+             "nastran_dmig (free field)": ((folder / "lattice_free.bdf", "MAAX"), (folder / "lattice_free.bdf", "KAAX"),
+                                           None),
+             "nastran_op4 (ASCII, sparse)": ((folder / "lattice.op4", "MAA"), (folder / "lattice.op4", "KAA"), dofs),
+             "abaqus_matrix_input": (folder / "lattice_MASS2.mtx", folder / "lattice_STIF2.mtx", None)}
+    print(f"{'format':30s} {'read_fe_model [s]':>18s}")
+    for name, (mass, stiffness, table) in cases.items():
+        seconds, model = best(lambda: fe.read_fe_model(mass, stiffness, dofs=table, node_sets=sets), repeat=1)
+        print(f"{name:30s} {seconds:18.2f}")
+    m, k, names = model.mass, model.stiffness, model.dof_names
+    t_sym, _ = best(lambda: (fe._check_symmetric("mass", m, names), fe._check_symmetric("stiffness", k, names)))
+    t_pd, _ = best(lambda: fe._check_positive_definite("mass", m, names))
+    t_csv, _ = best(lambda: fe.read_dof_table(dofs))
+    # a mass with the stiffness's pattern, as a solid mesh's consistent mass has, and node ids in
+    # no particular order: K + 0.1 diag(K), its DOFs shuffled
+    shuffle = np.random.default_rng(1).permutation(k.shape[0])
+    solid = (k + sp.diags_array(0.1 * k.diagonal())).tocsr()[shuffle][:, shuffle]
+    t_solid, _ = best(lambda: fe._check_positive_definite("mass", solid, names), repeat=1)
+    t_all, _ = best(lambda: fe.FEModel(m, k, None, model.dofs, model.node_sets))
+    print(f"{model.n_dof} DOFs, {k.nnz} stiffness and {m.nnz} mass entries; checks (best of 3): symmetry of both "
+          f"{t_sym:.2f} s, mass L D L^T {t_pd:.2f} s, all checks of FEModel {t_all:.2f} s; DOF table CSV {t_csv:.2f} s; "
+          f"L D L^T of a mass with the stiffness's pattern, DOFs shuffled: {t_solid:.2f} s")
+
+
 if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--time":
+        time_reads(Path(sys.argv[2]))
+        sys.exit()
     if len(sys.argv) > 1:  # a big model for timing: folder nx ny nz
         folder, nx, ny, nz = Path(sys.argv[1]), *map(int, sys.argv[2:5])
     else:
