@@ -278,3 +278,22 @@ def test_structure_definition_fe_errors(tmp_path):
         StructureDefinition.from_dict(base, folder=tmp_path)
     dmig = {"fe": {"mass": ["lattice_small.pch", "MAAX"], "stiffness": ["lattice_small.pch", "KAAX"]}}
     assert StructureDefinition.from_dict(dmig, folder=DATA).structure.n_dof == 48
+
+
+def test_unreadable_and_complex_files_give_one_line(tmp_path):
+    import scipy.io
+
+    scipy.io.mmwrite(str(tmp_path / "c.mtx"), sp.coo_matrix(np.array([[1 + 1j, 0], [0, 1]])))
+    (tmp_path / "p.mtx").write_text("%%MatrixMarket matrix coordinate pattern general\n2 2 2\n1 1\n2 2\n")
+    (tmp_path / "short.mtx").write_text("%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 1.0\n")
+    (tmp_path / "k.matrix").write_text("not\na Harwell-Boeing file\n")
+    (tmp_path / "d.csv").write_text("node,direction\n1,1\n1,2\n")
+    cases = {"c.mtx": "a Matrix Market file of complex entries", "p.mtx": "of pattern entries",
+             "short.mtx": "not a readable matrix_market file", "k.matrix": "not a readable harwell_boeing file"}
+    for name, words in cases.items():
+        with pytest.raises(ParameterError) as info:
+            read_fe_model(tmp_path / name, tmp_path / name, dofs=tmp_path / "d.csv")
+        message = str(info.value)
+        assert "\n" not in message and message.startswith(str(tmp_path / name)) and words in message, message
+    with pytest.raises(ParameterError, match="mass must be a matrix of real numbers"):
+        FEModel(np.eye(2) * (1 + 1j), np.eye(2), None, [[1, 1], [1, 2]])

@@ -269,6 +269,8 @@ class FEModel:
 def _as_csr(label: str, value, n: int | None) -> sp.csr_array:
     """``value`` as a square real CSR array of size ``n`` (if given), finite, duplicates summed."""
     try:
+        if np.iscomplexobj(value.data if sp.issparse(value) else np.asarray(value)):
+            raise TypeError("complex")
         a = sp.csr_array(value, dtype=float) if sp.issparse(value) else sp.csr_array(np.asarray(value, dtype=float))
     except (TypeError, ValueError):
         raise ParameterError(f"{label} must be a matrix of real numbers") from None
@@ -515,6 +517,10 @@ def _read_plain(fmt: str, path: Path, name: str | None):
         if fmt == "matrix_market":
             import scipy.io
 
+            field = scipy.io.mminfo(path)[4]
+            if field not in ("real", "integer", "double"):
+                raise ParameterError(f"{path}: a Matrix Market file of {field} entries; a mass, stiffness or "
+                                     f"damping matrix is real")
             return sp.csr_array(scipy.io.mmread(path))
         if fmt == "harwell_boeing":
             return _read_harwell_boeing(path)
@@ -522,7 +528,7 @@ def _read_plain(fmt: str, path: Path, name: str | None):
     except ParameterError:
         raise
     except (ValueError, TypeError, OSError, IndexError, EOFError) as exc:
-        raise ParameterError(f"{path}: not a readable {fmt} file ({exc})") from None
+        raise ParameterError(f"{path}: not a readable {fmt} file ({' '.join(str(exc).split())})") from None
 
 
 def _read_harwell_boeing(path: Path) -> sp.csr_array:
