@@ -8,6 +8,7 @@ Subcommands::
                         [--direction up|down|both] [--output NAME ...] [--compare analytic]
                         [--csv FILE] [--plot PNG]
     frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
+                             [--fmi-version {2,3}] [--no-early-return]
     frictionjoint host-env
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
@@ -15,7 +16,8 @@ Subcommands::
 exact periodic steady state at every frequency), prints the table beside Den Hartog's closed
 form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
-(``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition);
+(``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition; FMI 3.0
+FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included);
 ``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
 ``bench`` runs the work-precision benchmark of the source tree (``benchmarks/harness.py``) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
@@ -33,7 +35,7 @@ import numpy as np
 
 from . import __version__
 from .errors import ParameterError, check_bool
-from .fmi.build import FMUS
+from .fmi.build import FMUS, FMUS3
 from .frequencies import omega_range, parse_range
 from .stepping import OSCILLATOR_OUTPUTS
 from .sweep import BLADE_SETTINGS
@@ -363,6 +365,13 @@ def _add_tools(sub) -> None:
                     help="also build one FMU of a whole friction system from each system definition (.toml "
                          "or .json, see frictionjoint.system_file; e.g. models/two_dof_chain_system.toml), "
                          "named after its 'name'; with --system and no --only, only these FMUs are built")
+    bf.add_argument("--fmi-version", type=int, choices=(2, 3), default=2,
+                    help="3: FMI 3.0 co-simulation FMUs of " + ", ".join(FMUS3) + " (and of each --system) as "
+                         "<name>Fmi3.fmu (pythonfmu3), returning early at each stick/slip event where the host "
+                         "allows it (x86_64-linux binary)")
+    bf.add_argument("--no-early-return", action="store_true",
+                    help="--fmi-version 3: pythonfmu3's stock binaries (Linux and Windows x86_64), no early return "
+                         "or event mode declared")
 
     _command(
         sub, "host-env", _host_env, csv=None, out=None,
@@ -508,11 +517,16 @@ def _build_fmus(args, parser) -> int:
     from .fmi.build import build_fmus, default_source_dir
 
     out = args.out or str(default_source_dir() / "build")
+    table = FMUS3 if args.fmi_version == 3 else FMUS
     if args.only:
-        unknown = [n for n in args.only if n not in FMUS]
+        unknown = [n for n in args.only if n not in table]
         if unknown:
-            parser.error(f"--only: unknown FMU(s) {unknown}; choose from {sorted(FMUS)}")
-    for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system):
+            parser.error(f"--only: unknown FMU(s) {unknown} for --fmi-version {args.fmi_version}; choose from "
+                         f"{sorted(table)}")
+    if args.fmi_version == 3 and args.structure:
+        parser.error("--structure builds FMI 2.0 FMUs only (--fmi-version 2)")
+    for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system,
+                           fmi_version=args.fmi_version, early_return=not args.no_early_return):
         print(f"built and validated {path}")
     return 0
 

@@ -187,22 +187,25 @@ class OscillatorRun:
         """Current time [s]."""
         return self.t
 
-    def advance(self, t_end: float) -> None:
-        """March exactly to ``t_end`` [s]; events inside are located exactly."""
+    def advance(self, t_end: float, stop_at_event: bool = False) -> bool:
+        """March exactly to ``t_end`` [s]; events inside are located exactly. With ``stop_at_event``,
+        stop just after the first event before ``t_end`` (its rules applied). Returns whether it stopped
+        there (:attr:`t` < ``t_end``)."""
         k = self._kernel
         if self._resettle and self.v == 0.0:
             self.status = self._settle(self.status)
         self._resettle = False
         if t_end <= self.t:
-            return
+            return False
         shift = self._shift
         fs = k.slip_force
         on_piece = self._on_piece if self.harmonics else self._on_piece_energy
         res = k.march(self.t, self.x - shift, self.v, t_end, status=self.status if fs > 0 else None,
-                      on_piece=on_piece, v_scale=self.v_scale)
+                      on_piece=on_piece, v_scale=self.v_scale, max_events=1 if stop_at_event else None)
         self.t, self.x, self.v, self.status, self.v_scale = res.t, res.x + shift, res.v, res.status, res.v_scale
         self.event_count += res.n_events
         self.stop_count += res.events["stick"]
+        return res.t < t_end
 
     def _on_piece_energy(self, ta, xa, va, s, tb, xb, vb):
         if s != 0 and self._kernel.slip_force > 0:

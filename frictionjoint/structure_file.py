@@ -16,6 +16,27 @@ A definition is a TOML or JSON file (SI units)::
     omega = 1.2                          # [rad/s]
     force_amplitude = { x2 = 1.0 }       # [N], force amplitude * cos(omega t) per DOF
 
+The matrices may instead come from the files an FE code exports: an ``[fe]`` table in place of
+``dofs``, ``mass``, ``stiffness`` and ``damping`` (read by
+:func:`frictionjoint.structures.fe_import.read_fe_model`; DOF names ``n<node>_u<d>`` for the
+translations and ``n<node>_r<d>`` for the rotations, e.g. ``n131_u3``)::
+
+    ports = ["n101_u1"]
+    [fe]
+    format = "matrix_market"             # optional: from the files' suffixes; or harwell_boeing,
+                                         # nastran_dmig, nastran_op4, abaqus_matrix_input
+    mass = "blade_M.mtx"                 # [kg]; ["blade.pch", "MAAX"] names a matrix of a file
+    stiffness = "blade_K.mtx"            # [N/m]
+    damping = "blade_C.mtx"              # [N s/m], optional
+    rayleigh = [0.0, 2e-6]               # optional, instead of damping: C = alpha M + beta K [1/s, s]
+    dofs = "blade.dofs.csv"              # the DOF table (node,direction); not for DMIG and Abaqus
+                                         # files, which carry theirs
+    node_sets = "blade.sets.csv"         # optional (set,node); or a table { tip = [131] }
+
+Relative paths are from the definition file's folder. The structure is made dense
+(:meth:`~frictionjoint.structures.fe_import.FEModel.to_structure`, at most 2,000 DOFs): a larger
+model is reduced first.
+
 :func:`load_structure_definition` reads one; :meth:`StructureDefinition.to_json` writes the
 normalised form that ``LinearStructure.fmu`` carries in its resources.
 """
@@ -106,14 +127,31 @@ class StructureDefinition:
         return path
 
     @classmethod
-    def from_dict(cls, data: dict) -> "StructureDefinition":
-        """A definition from plain data (the file format above)."""
+    def from_dict(cls, data: dict, folder=None) -> "StructureDefinition":
+        """A definition from plain data (the file format above).
+
+        Parameters
+        ----------
+        data : dict
+            The definition.
+        folder : path, optional
+            Where the relative paths of an ``[fe]`` table start (the current folder if omitted).
+
+        Returns
+        -------
+        StructureDefinition
+        """
         data = dict(data)
         known = {"name", "source", "dofs", "mass", "stiffness", "damping", "ports", "outputs", "excitation",
-                 "indefinite_stiffness"}
+                 "indefinite_stiffness", "fe"}
         unknown = set(data) - known
         if unknown:
             raise ParameterError(f"unknown keys {sorted(unknown)} in a structure definition; allowed: {sorted(known)}")
+        if "fe" in data:
+            clash = sorted({"dofs", "mass", "stiffness", "damping"} & set(data))
+            if clash:
+                raise ParameterError(f"a structure definition with [fe] takes its matrices from the files; remove {clash}")
+            data.update(_fe_matrices(data["fe"], Path(folder) if folder is not None else Path(".")))
         for key in ("dofs", "mass", "stiffness"):
             if key not in data:
                 raise ParameterError(f"a structure definition needs {key!r}")
@@ -157,4 +195,44 @@ def load_structure_definition(path) -> StructureDefinition:
         data = json.loads(path.read_text())
     else:
         raise ParameterError(f"structure definition file must end in .toml or .json, got {str(path)!r}")
-    return StructureDefinition.from_dict(data)
+    return StructureDefinition.from_dict(data, folder=path.parent)
+
+
+def _fe_matrices(fe, folder: Path) -> dict:
+    """``dofs``, ``mass``, ``stiffness``, ``damping`` of an ``[fe]`` table (module docstring)."""
+    from .structures.fe_import import read_fe_model
+
+    if not isinstance(fe, dict):
+        raise ParameterError(f"[fe] must be a table, got {fe!r}")
+    known = {"format", "mass", "stiffness", "damping", "rayleigh", "dofs", "node_sets"}
+    unknown = set(fe) - known
+    if unknown:
+        raise ParameterError(f"unknown keys {sorted(unknown)} in [fe]; allowed: {sorted(known)}")
+    for key in ("mass", "stiffness"):
+        if key not in fe:
+            raise ParameterError(f"[fe] needs {key!r}")
+    if "damping" in fe and "rayleigh" in fe:
+        raise ParameterError("[fe] takes damping or rayleigh, not both")
+
+    def place(value):  # a path, or [path, matrix name]
+        if isinstance(value, str):
+            return folder / value
+        if isinstance(value, list) and len(value) == 2 and all(isinstance(v, str) for v in value):
+            return (folder / value[0], value[1])
+        raise ParameterError(f"[fe] matrices are a path or [path, matrix name], got {value!r}")
+
+    sets = fe.get("node_sets")
+    model = read_fe_model(place(fe["mass"]), place(fe["stiffness"]),
+                          place(fe["damping"]) if "damping" in fe else None,
+                          dofs=folder / fe["dofs"] if isinstance(fe.get("dofs"), str) else fe.get("dofs"),
+                          node_sets=folder / sets if isinstance(sets, str) else sets, format=fe.get("format"))
+    structure = model.to_structure()
+    damping = structure.damping
+    if "rayleigh" in fe:
+        r = fe["rayleigh"]
+        if not (isinstance(r, list) and len(r) == 2):
+            raise ParameterError(f"[fe] rayleigh must be [alpha, beta], got {r!r}")
+        alpha, beta = (check_real(f"[fe] rayleigh[{i}]", v) for i, v in enumerate(r))
+        damping = alpha * structure.mass + beta * structure.stiffness
+    return {"dofs": list(structure.dof_names), "mass": structure.mass, "stiffness": structure.stiffness,
+            "damping": damping}

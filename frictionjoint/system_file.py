@@ -23,7 +23,9 @@ communication step (:mod:`frictionjoint.fmi.system_slave`)::
     # dovetail (flat flanks, frictionjoint.DovetailRoot): tangential_dof and/or radial_dof (the
     # root's DOFs) instead of dof; centrifugal_force [N], flank_angle [rad], friction_coefficient,
     # normal_stiffness, tangential_stiffness [N/m], normal_damping [N s/m] (default 0) and
-    # normal_load_variation (true/false, default false).
+    # normal_load_variation (true/false, default false); a root that rocks on its flanks also
+    # rocking_dof (the root's rotation [rad]) and flank_half_width (each flank's contact point from
+    # the root's centre line [m], > 0).
 
     [excitation]                         # optional; default: the structure definition's
     omega = 1.2                          # [rad/s]
@@ -75,9 +77,13 @@ JOINT_TYPES = {
 #: real parameters that may be left out: type -> name -> default
 _DEFAULTS = {"dovetail": {"normal_damping": 0.0}}
 #: options that are no FMU parameter: type -> name -> (default, check)
-_OPTIONS = {"iwan": {"n_sliders": (50, check_count)}, "dovetail": {"normal_load_variation": (False, check_bool)}}
+_OPTIONS = {"iwan": {"n_sliders": (50, check_count)},
+            "dovetail": {"normal_load_variation": (False, check_bool),
+                         "flank_half_width": (None, lambda name, v: None if v is None else check_positive(name, v))}}
 #: where a joint acts: type -> its keys (the others: exactly one of dof and direction)
-_ATTACH = {"dovetail": ("tangential_dof", "radial_dof")}
+_ATTACH = {"dovetail": ("tangential_dof", "radial_dof", "rocking_dof")}
+#: attachment keys that do not attach alone: type -> keys
+_SECONDARY = {"dovetail": ("rocking_dof",)}
 _ATTACH_DEFAULT = ("dof", "direction")
 
 
@@ -91,7 +97,8 @@ def _element(kind: str, attach: dict, values: dict, options: dict):
     if kind == "iwan":
         return Iwan.segalman(values["slip_force"], values["stiffness"], values["chi"], values["beta"],
                              n_sliders=options["n_sliders"], **attach)
-    return DovetailRoot(**values, **attach, normal_load_variation=options["normal_load_variation"])
+    return DovetailRoot(**values, **attach, normal_load_variation=options["normal_load_variation"],
+                        flank_half_width=options["flank_half_width"])
 
 
 def _dof_names(structure: LinearStructure, key: str, names) -> tuple:
@@ -110,8 +117,9 @@ def _attachment(kind: str, data: dict, where: str) -> dict:
     as a table DOF name -> coefficient)."""
     if kind in _ATTACH:
         attach = {k: str(data[k]) for k in _ATTACH[kind] if k in data}
-        if not attach:
-            raise ParameterError(f"{where} ({kind}) needs {' or '.join(map(repr, _ATTACH[kind]))} (DOF names)")
+        primary = [k for k in _ATTACH[kind] if k not in _SECONDARY.get(kind, ())]
+        if not any(k in attach for k in primary):
+            raise ParameterError(f"{where} ({kind}) needs {' or '.join(map(repr, primary))} (DOF names)")
         return attach
     if ("dof" in data) == ("direction" in data):
         raise ParameterError(f"{where} ({kind}) needs one of 'dof' (a DOF name) and 'direction' (a table "
@@ -166,7 +174,8 @@ class Joint:
     def to_dict(self) -> dict:
         """The joint's table (the file format)."""
         attach = {k: dict(v) if isinstance(v, dict) else v for k, v in self.attach.items()}
-        return {"name": self.name, "type": self.type, **attach, **self.values, **self.options}
+        return {"name": self.name, "type": self.type, **attach, **self.values,
+                **{k: v for k, v in self.options.items() if v is not None}}
 
     def on(self, structure: LinearStructure) -> "Joint":
         """The joint with its DOFs checked on ``structure`` and given by name."""

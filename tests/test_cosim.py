@@ -38,7 +38,8 @@ def chain_fmus(tmp_path_factory, fmus):
 
 def system(chain_fmus, coupling):
     return FMUSystem({"chain": chain_fmus["chain"], "j1": chain_fmus["joint"], "j2": chain_fmus["joint"]},
-                     joint_connections("chain", "j1", "x1", coupling) + joint_connections("chain", "j2", "x2", coupling))
+                     joint_connections("chain", "j1", "x1", coupling, events=False)
+                     + joint_connections("chain", "j2", "x2", coupling, events=False))
 
 
 def exact(definition, division):

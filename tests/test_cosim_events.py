@@ -67,6 +67,9 @@ def test_located_events_give_the_exact_solution_at_every_step(chain, transfer):
 
 
 def test_locate_events_defaults_to_where_it_can_and_false_is_the_fixed_step_master(chain):
+    # joint_connections connects the velocity by default, so that the default master locates
+    assert ("chain.v_x1", "j1.velocity") in joint_connections("chain", "j1", "x1")
+    assert all("velocity" not in t for _, t in joint_connections("chain", "j1", "x1", events=False))
     located = system(chain).simulate(PERIODS * T, T / 50, ["chain.x_x1", "chain.x_x2"])
     assert "events located" in located.host and error(located, chain["exact"], 50) <= TOL
     fixed = system(chain).simulate(PERIODS * T, T / 50, ["chain.x_x2", "chain.x_x1"], locate_events=False)

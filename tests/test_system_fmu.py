@@ -340,6 +340,51 @@ def test_a_joint_between_two_dofs():
 
 
 @pytest.mark.parametrize("variation", [False, True])
+def test_a_rocking_dovetail_root(variation):
+    """A dovetail root that rocks on its flanks (rocking_dof, flank_half_width: the blade models'
+    root) on a three-DOF root (tangential X, radial Y, rotation R): the file's joint is the
+    library's DovetailRoot, and the run at T/20 is within TOL of fj.simulate."""
+    data = {"structure": {"dofs": ["X", "Y", "R"], "mass": np.diag([1.0, 1.0, 2e-4]).tolist(),
+                          "stiffness": [[100.0, 0.0, 1.0], [0.0, 100.0, 0.0], [1.0, 0.0, 5.0]],
+                          "damping": (0.002 * np.array([[100.0, 0.0, 1.0], [0.0, 100.0, 0.0],
+                                                        [1.0, 0.0, 5.0]])).tolist()},
+            "joints": [{"name": "root", "type": "dovetail", "tangential_dof": "X", "radial_dof": "Y",
+                        "rocking_dof": "R", "flank_half_width": 0.01,
+                        "centrifugal_force": 10.0, "flank_angle": 0.5, "friction_coefficient": 0.3,
+                        "normal_stiffness": 1000.0, "tangential_stiffness": 500.0,
+                        "normal_load_variation": variation}],
+            "excitation": {"omega": 8.0, "force_amplitude": {"X": 8.0}}}
+    d = SystemDefinition.from_dict(data)
+    assert SystemDefinition.from_dict(json.loads(json.dumps(d.to_dict()))).to_dict() == d.to_dict()
+    assert "flank_half_width" in d.joints[0].to_dict() and "root_flank_half_width" not in d.parameters()
+    period = 2 * math.pi / 8.0
+    t = period / 20 * np.arange(20 * 2 + 1)
+    root = fj.DovetailRoot(10.0, 0.5, 0.3, 1000.0, 500.0, tangential_dof="X", radial_dof="Y", rocking_dof="R",
+                           flank_half_width=0.01, normal_load_variation=variation)
+    system = fj.FrictionSystem(d.structure, [root], omega=8.0, excitation=[fj.HarmonicForce("X", 8.0)])
+    ref = fj.simulate(system, t[-1], t_eval=t, record=("x", "energy"))
+    np.testing.assert_array_equal(fj.simulate(d.system(), t[-1], t_eval=t, record=("x",)).x, ref.x)
+    run = SystemRun(d, {})
+    x, e = [], []
+    for tk in t:
+        run.advance(tk)
+        x.append(run.state.x.copy())
+        e.append(run.output("dissipated_energy"))
+    assert len(run.log) > 10
+    assert np.max(np.abs(np.array(x).T - ref.x), axis=1).max() <= TOL * np.max(np.abs(ref.x))
+    assert np.max(np.abs(np.array(e) - ref.dissipated_friction)) <= TOL * ref.dissipated_friction[-1]
+    data["joints"][0]["flank_half_width"] = -1.0
+    with pytest.raises(ParameterError, match="flank_half_width"):
+        SystemDefinition.from_dict(data)
+    data["joints"][0].pop("flank_half_width")
+    with pytest.raises(ParameterError, match="rocking_dof and flank_half_width go together"):
+        SystemDefinition.from_dict(data)
+    data["joints"][0].pop("tangential_dof"), data["joints"][0].pop("radial_dof")
+    with pytest.raises(ParameterError, match=r"needs 'tangential_dof' or 'radial_dof'"):
+        SystemDefinition.from_dict(data)
+
+
+@pytest.mark.parametrize("variation", [False, True])
 def test_a_dovetail_root(variation):
     """A flat-flank dovetail root on a two-DOF root (tangential X, radial Y), with and without
     normal-load variation (lift-off): the file's system is the library's, and the run at T/20 is

@@ -1,10 +1,22 @@
-"""Build the FMUs with pythonfmu, post-process their model descriptions, validate with fmpy.
+"""Build the FMUs with pythonfmu (FMI 2.0) or pythonfmu3 (FMI 3.0), post-process their model
+descriptions, validate with fmpy.
 
 The library is bundled into each FMU's ``resources/`` under the name ``_frictionjoint_bundle`` (one
 zip archive) with its identity, so an FMU needs only Python with numpy and scipy at run time and a host's own
 ``frictionjoint`` can neither shadow it nor be shadowed by it; where the host's installed
 ``frictionjoint`` is the very same library (the same identity), the FMU runs that one, with its
 compiled kernels (:mod:`.bundle_loader`).
+
+FMI 3.0 (``fmi_version=3``, :data:`FMUS3`): the oscillator and the displacement-driven joints as
+``<name>Fmi3.fmu`` -- a model identifier of their own, so that an FMI 2 and an FMI 3 FMU of one model
+can sit in one host (one shared library name per identifier on Windows, one name per component in
+an SSP) -- and friction systems (``systems=``) as ``<system name>Fmi3.fmu`` (model identifier
+``FrictionSystemFmi3``, as the FMI 2 ones' is ``FrictionSystem``), with early return at their stick/slip events (:mod:`.slaves3`). Early return needs
+pythonfmu3's wrapper patched (``fmi3_wrapper/early_return.patch``); the package ships that binary for
+x86_64-linux only (``fmi3_wrapper/build_wrapper.py`` rebuilds it). Such an FMU carries that binary
+alone and declares ``mightReturnEarlyFromDoStep`` and ``hasEventMode``; with ``early_return=False`` it
+carries pythonfmu3's stock binaries (x86_64-linux and x86_64-windows), declares neither and its
+steps are whole.
 """
 from __future__ import annotations
 
@@ -17,7 +29,8 @@ from pathlib import Path
 
 from .bundle_loader import ARCHIVE, BUNDLE, EXCLUDED, IDENTITY, identity
 
-__all__ = ["FMUS", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT", "build_fmus", "postprocess",
+__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+           "SYSTEM_SCRIPT3", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
 BUNDLE_NAME = BUNDLE  # the name the FMU scripts and their loader import
@@ -30,6 +43,16 @@ FMUS = {
     "DovetailRoot": "fj_dovetail_root_fmu.py",
     "BladeDovetail": "fj_blade_dovetail_fmu.py",
 }
+#: FMI 3.0 FMUs (``fmi_version=3``): FMU name (as in :data:`FMUS`) -> script; built as ``<name>Fmi3.fmu``
+FMUS3 = {
+    "CoulombOscillator": "fj3_coulomb_oscillator_fmu.py",
+    "JenkinsJoint": "fj3_jenkins_joint_fmu.py",
+    "IwanJoint": "fj3_iwan_joint_fmu.py",
+    "MicroslipJoint": "fj3_microslip_joint_fmu.py",
+}
+#: pythonfmu3's wrapper with early return (``fmi3_wrapper/early_return.patch``): FMI 3 platform -> binary
+FMI3_BINARIES = {"x86_64-linux": Path(__file__).resolve().parent / "fmi3_wrapper" / "binaries" / "x86_64-linux"
+                 / "libpythonfmu-export.so"}
 #: FMUs that carry a blade model definition in their resources: FMU name -> the definition
 #: (a name in the repository's ``models/``)
 BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
@@ -37,6 +60,8 @@ BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
 STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
 #: the script of a friction system FMU (one per system definition, built by ``systems=``)
 SYSTEM_SCRIPT = "fj_friction_system_fmu.py"
+#: the script of an FMI 3.0 friction system FMU (``systems=`` with ``fmi_version=3``)
+SYSTEM_SCRIPT3 = "fj3_friction_system_fmu.py"
 
 
 def default_source_dir() -> Path:
@@ -102,6 +127,51 @@ def postprocess(fmu: Path) -> None:
     # Outputs, Derivatives, InitialUnknowns: keep the schema order
     structure.append(init)
     items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    _rewrite(fmu, items)
+
+
+def postprocess3(fmu: Path, early_return: bool = True) -> None:
+    """An FMI 3 FMU's capability flags (pythonfmu3 0.3.4 writes ``canHandleVariableCommunicationStepSize``
+    with the value of the option before it), and with ``early_return`` the patched wrapper: its
+    x86_64-linux binary (:data:`FMI3_BINARIES`) replaces pythonfmu3's binaries, ``sources/`` get the
+    patch, and the FMU declares ``mightReturnEarlyFromDoStep`` and ``hasEventMode``; without, pythonfmu3's
+    binaries stay and neither is declared."""
+    from .fmi3_wrapper.build_wrapper import PATCH, apply_patch
+
+    fmu = Path(fmu)
+    with zipfile.ZipFile(fmu) as z:
+        items = {name: z.read(name) for name in z.namelist()}
+    root = ET.fromstring(items["modelDescription.xml"])
+    cs = root.find("CoSimulation")
+    flags = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePerProcess="false",
+                 canGetAndSetFMUState="true", canSerializeFMUState="true",
+                 canHandleVariableCommunicationStepSize="true", mightReturnEarlyFromDoStep=str(early_return).lower(),
+                 hasEventMode=str(early_return).lower())
+    for key, value in flags.items():
+        cs.set(key, value)
+    items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    if early_return:
+        ident = cs.get("modelIdentifier")
+        items = {name: data for name, data in items.items() if not name.startswith("binaries/")}
+        for platform, binary in FMI3_BINARIES.items():
+            if not binary.is_file():
+                raise FileNotFoundError(f"the patched FMI 3 wrapper {binary} is missing (see "
+                                        "fmi3_wrapper/build_wrapper.py; early_return=False builds without it)")
+            items[f"binaries/{platform}/{ident}.so"] = binary.read_bytes()
+        with tempfile.TemporaryDirectory(prefix="frictionjoint_fmi3_src_") as tmpd:
+            src = Path(tmpd)
+            names = [n for n in items if n.startswith("sources/src/") and not n.endswith("/")]
+            for name in names:
+                (src / name).parent.mkdir(parents=True, exist_ok=True)
+                (src / name).write_bytes(items[name])
+            apply_patch(PATCH, src / "sources" / "src")
+            for name in names:
+                items[name] = (src / name).read_bytes()
+    _rewrite(fmu, items)
+
+
+def _rewrite(fmu: Path, items: dict) -> None:
+    """Write ``items`` (archive name -> bytes) as the FMU ``fmu``, replacing it."""
     tmp = fmu.with_suffix(".tmp")
     with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
         for name, data in items.items():
@@ -116,7 +186,8 @@ def validate(fmu: Path) -> list[str]:
     return list(validate_fmu(str(fmu)))
 
 
-def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=(), systems=()) -> list[Path]:
+def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=(), systems=(),
+               fmi_version: int = 2, early_return: bool = True) -> list[Path]:
     """Build, post-process and (optionally) validate the FMUs.
 
     Parameters
@@ -137,6 +208,12 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         System definitions (:mod:`frictionjoint.system_file`): each becomes ``<name>.fmu``, one FMU
         of the whole friction system (:mod:`frictionjoint.fmi.system_slave`) carrying the
         definition in its resources.
+    fmi_version : {2, 3}
+        3: the FMI 3.0 FMUs of :data:`FMUS3` (``names`` among them) and of ``systems``, as
+        ``<name>Fmi3.fmu``; structures are FMI 2 only.
+    early_return : bool
+        FMI 3: early return at events with the patched wrapper (x86_64-linux); False: pythonfmu3's stock
+        binaries, whole steps (see the module docstring).
 
     Returns
     -------
@@ -151,10 +228,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
 
     structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
     systems = [s if isinstance(s, SystemDefinition) else load_system_definition(s) for s in systems]
-    names = ([] if structures or systems else list(FMUS)) if names is None else list(names)
-    for n in names:
-        if n not in FMUS:
-            raise ValueError(f"names must be among {sorted(FMUS)}, got {n!r}")
+    names = _names(names, structures, systems, fmi_version)
     built = []
     # the builder imports each script, and so the bundle: set aside a bundle this process has
     # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
@@ -162,7 +236,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
     # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
     # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT)}
+    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT,
+                                      SYSTEM_SCRIPT3)}
 
     def ours(m):
         return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
@@ -172,8 +247,10 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            for script_name, dest, project_files in _jobs(names, structures, systems, out, tmp, bundle):
-                built.append(_build_one(source / script_name, dest, project_files, check))
+            jobs = (_jobs3(names, systems, out, tmp, bundle) if fmi_version == 3
+                    else _jobs(names, structures, systems, out, tmp, bundle))
+            for script_name, dest, project_files in jobs:
+                built.append(_build_one(source / script_name, dest, project_files, check, fmi_version, early_return))
         finally:
             sys.path.remove(str(tmp))
             for mod in [m for m in sys.modules if ours(m)]:
@@ -182,13 +259,55 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     return built
 
 
+def _names(names, structures, systems, fmi_version: int) -> list:
+    """The names of :data:`FMUS` (``fmi_version`` 3: :data:`FMUS3`) to build (see :func:`build_fmus`)."""
+    if fmi_version not in (2, 3):
+        raise ValueError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
+    if fmi_version == 3 and structures:
+        raise ValueError("structures are built as FMI 2.0 FMUs only (fmi_version=2)")
+    table = FMUS3 if fmi_version == 3 else FMUS
+    names = ([] if structures or systems else list(table)) if names is None else list(names)
+    for n in names:
+        if n not in table:
+            raise ValueError(f"names must be among {sorted(table)} for fmi_version={fmi_version}, got {n!r}")
+    return names
+
+
+def _jobs3(names, systems, out: Path, tmp: Path, bundle: list) -> list:
+    """``(script name, destination, project files)`` of each FMI 3 FMU (the named ones, then one per
+    system definition): the bundle and pythonfmu's Python sources (the FMI 3 slaves bind the FMI 2 ones,
+    which import pythonfmu; pythonfmu3 puts its own into every FMU, as pythonfmu does into the FMI 2
+    ones), so that an FMU needs no pythonfmu installed."""
+    import pythonfmu
+
+    pkg = tmp / "fmi3" / "pythonfmu"
+    pkg.mkdir(parents=True)
+    for f in Path(pythonfmu.__file__).parent.glob("*.py"):
+        shutil.copy2(f, pkg)
+    return ([(FMUS3[n], out / f"{n}Fmi3.fmu", [*bundle, pkg]) for n in names]
+            + _system_jobs(systems, SYSTEM_SCRIPT3, "Fmi3", out, tmp, [*bundle, pkg]))
+
+
+def _system_jobs(systems, script: str, suffix: str, out: Path, tmp: Path, files: list) -> list:
+    """The jobs of one friction system FMU per system definition (``script``, ``<name><suffix>.fmu``,
+    ``files`` and the definition, written into ``tmp``)."""
+    from .system_slave import SYSTEM_RESOURCE
+
+    jobs = []
+    for d in systems:
+        data = tmp / ("system_" + d.name + suffix) / SYSTEM_RESOURCE
+        data.parent.mkdir()
+        d.to_json(data)
+        jobs.append((script, out / f"{d.name}{suffix}.fmu", [*files, data]))
+    return jobs
+
+
 def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> list:
     """``(script name, destination, project files)`` of each FMU to build: the named FMUs (with
     their blade model definition in the resources where :data:`BLADE_MODELS` gives one), one
     ``LinearStructure`` FMU per structure definition and one friction system FMU per system
     definition (the definitions written into ``tmp``)."""
     from .slaves import BLADE_RESOURCE, STRUCTURE_RESOURCE
-    from .system_slave import SYSTEM_RESOURCE
 
     jobs = []
     for n in names:
@@ -206,23 +325,23 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> lis
         data.parent.mkdir()
         d.to_json(data)
         jobs.append((STRUCTURE_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
-    for d in systems:
-        data = tmp / ("system_" + d.name) / SYSTEM_RESOURCE
-        data.parent.mkdir()
-        d.to_json(data)
-        jobs.append((SYSTEM_SCRIPT, out / f"{d.name}.fmu", [*bundle, data]))
-    return jobs
+    return jobs + _system_jobs(systems, SYSTEM_SCRIPT, "", out, tmp, bundle)
 
 
-def _build_one(script: Path, dest: Path, project_files, check: bool) -> Path:
+def _build_one(script: Path, dest: Path, project_files, check: bool, fmi_version: int = 2,
+               early_return: bool = True) -> Path:
     """Build one FMU from ``script`` to ``dest``, post-process it and, with ``check``, validate it
     (:class:`~frictionjoint.errors.FMUError` listing the problems)."""
     from ..errors import FMUError
 
     if not script.is_file():
         raise FileNotFoundError(f"FMU script {script} not found (source_dir)")
-    path = _pythonfmu_build(script, dest, project_files)
-    postprocess(path)
+    if fmi_version == 3:
+        path = _pythonfmu3_build(script, dest, project_files)
+        postprocess3(path, early_return)
+    else:
+        path = _pythonfmu_build(script, dest, project_files)
+        postprocess(path)
     if check:
         problems = validate(path)
         if problems:
@@ -237,3 +356,14 @@ def _pythonfmu_build(script: Path, dest: Path, project_files) -> Path:
     return Path(FmuBuilder.build_FMU(script, dest=dest, project_files=project_files, needsExecutionTool="false",
                                      canGetAndSetFMUstate="true", canSerializeFMUstate="true",
                                      canHandleVariableCommunicationStepSize="true"))
+
+
+def _pythonfmu3_build(script: Path, dest: Path, project_files) -> Path:
+    """pythonfmu3's builder (it names the FMU after the script's class) to ``dest``; the capability
+    flags are :func:`postprocess3`'s."""
+    from pythonfmu3.builder import FmuBuilder
+
+    path = Path(FmuBuilder.build_FMU(script, dest=dest.parent, project_files=project_files))
+    if path != dest:
+        path.replace(dest)
+    return dest

@@ -42,7 +42,8 @@ INSTALLED = "frictionjoint"  # the package name of the installed library
 #: the file, in the bundle's folder, that holds its identity (:func:`identity`)
 IDENTITY = "identity.json"
 #: what the bundle leaves out of the library's folder (at every depth), and :func:`identity` too
-EXCLUDED = ("__pycache__", "*.pyc", "cli.py", "__main__.py")
+#: (``fmi3_wrapper``: the patched FMI 3 wrapper's binary and its build, for the build only)
+EXCLUDED = ("__pycache__", "*.pyc", "cli.py", "__main__.py", "fmi3_wrapper")
 #: set to 1: every FMU runs its bundled library, even where the installed one is the same
 FORCE_BUNDLE = "FRICTIONJOINT_FMU_BUNDLED"
 

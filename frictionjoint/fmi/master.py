@@ -8,6 +8,7 @@ process: the slaves balance the reference-counting defects of pythonfmu's native
 """
 from __future__ import annotations
 
+import math
 import shutil
 from pathlib import Path
 
@@ -136,6 +137,55 @@ class FMUInstance:
             for (pos, _), val in zip(items, vals):
                 out[pos] = conv(val)
         return out
+
+    def reader(self, names):
+        """A function of no arguments returning the values of ``names`` (as :meth:`get`), for a
+        master that reads the same variables many times: where all are Real, one FMI call into
+        value-reference and value arrays made once."""
+        names = list(names)
+        groups = self._by_type(names)
+        if list(groups) != ["Real"]:
+            return lambda: self.get(names)
+        from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+
+        n = len(names)
+        vrs = (fmi2ValueReference * n)(*[self.vr[name] for name in names])
+        values = (fmi2Real * n)()
+        fmu = self._fmu
+
+        def read():
+            try:
+                fmu.fmi2GetReal(fmu.component, vrs, n, values)
+            except Exception:  # noqa: BLE001 -- the call again, through _call, for its message
+                return self.get(names)
+            return values[:]
+
+        return read
+
+    def writer(self, names):
+        """A function setting ``names`` to a sequence of values (as :meth:`set`), for a master that
+        sets the same variables many times: where all are Real, one FMI call from arrays made
+        once (a value that is not a finite real number goes through :meth:`set`'s check)."""
+        names = list(names)
+        groups = self._by_type(names)
+        if list(groups) != ["Real"]:
+            return lambda values: self.set(dict(zip(names, values)))
+        from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+
+        n = len(names)
+        vrs = (fmi2ValueReference * n)(*[self.vr[name] for name in names])
+        array = fmi2Real * n
+        fmu = self._fmu
+
+        def write(values):
+            if not all(isinstance(v, float) and math.isfinite(v) for v in values):
+                return self.set(dict(zip(names, values)))
+            try:
+                fmu.fmi2SetReal(fmu.component, vrs, n, array(*values))
+            except Exception:  # noqa: BLE001 -- the call again, through _call, for its message
+                self.set(dict(zip(names, values)))
+
+        return write
 
     # ---------------------------------------------------------------- stepping
     def step(self, h: float) -> None:

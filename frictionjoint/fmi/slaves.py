@@ -84,6 +84,14 @@ class _Declaration(NamedTuple):
     method: Optional[str] = None
     args: tuple = ()
 
+    def start_args(self, exact) -> dict:
+        """Keyword arguments of its variable: a parameter carries ``initial`` = ``exact`` (the binding's
+        Initial.exact) and a start, an input a start only, an output neither."""
+        if self.causality is Fmi2Causality.output:
+            return {}
+        return dict(initial=exact, start=self.start) if self.causality is Fmi2Causality.parameter else dict(
+            start=self.start)
+
 
 #: (slave class, declarations) -> pythonfmu variables, built once (see _Slave.vars)
 _VARIABLES: dict = {}
@@ -105,6 +113,9 @@ class _Slave(BalancedSlave):
 
     author = "frictionjoint developers"
     description = ""
+    #: stop a step just after its first event (the FMI 3 binding, :mod:`.slaves3`, sets it where the host
+    #: allows early return); :attr:`early_stop` is then the time it stopped at, None after a whole step
+    stop_at_event = False
 
     def __init__(self, **kwargs):
         self._declared = []
@@ -112,6 +123,7 @@ class _Slave(BalancedSlave):
         self.start_time = 0.0
         self._ready = False
         self._terminated = False
+        self.early_stop = None
 
     # -- declarations ------------------------------------------------------
     def _parameter(self, name, start, description, kind=float):
@@ -139,12 +151,8 @@ class _Slave(BalancedSlave):
         if table is None:
             table = OrderedDict()
             for vr, d in enumerate(self._declared):
-                # FMI 2.0: parameters carry initial="exact" and a start, inputs a start only
-                extra = ({} if d.causality is Fmi2Causality.output else
-                         dict(initial=Fmi2Initial.exact, start=d.start) if d.causality is Fmi2Causality.parameter
-                         else dict(start=d.start))
                 var = _TYPES[d.kind](d.name, causality=d.causality, variability=d.variability,
-                                     description=d.description, **extra)
+                                     description=d.description, **d.start_args(Fmi2Initial.exact))
                 var.value_reference = vr
                 table[vr] = var
             _VARIABLES[key] = table
@@ -244,6 +252,7 @@ class _Slave(BalancedSlave):
         if not self._ready:
             return self._refuse("do_step on an instance that was not initialised (see the error of "
                                 "exitInitializationMode)")
+        self.early_stop = None
         return self._do_step(current_time, step_size)
 
     def _get_fmu_state(self):
@@ -315,6 +324,9 @@ class _RunSlave(_Slave):
         run = self._run
         start = run.snapshot()
         try:
+            if self.stop_at_event and run.advance(t_end, stop_at_event=True):  # at most one event's work
+                self.early_stop = run.t
+                return True
             if t_end > run.t and (t_end - run.t) * self._cycle_rate() > self.max_cycles:
                 return self._long_step(t_end)
             run.advance(t_end)
@@ -590,7 +602,33 @@ class _DrivenSlave(_Slave):
             return self._refuse(f"input velocity must be finite, got {self.velocity!r}")
         self._committed = self._slips(u, float(self.velocity))
         self._sliders.update(u)
+        if self.stop_at_event and self.velocity != 0.0:
+            self._stop_at_slip(current_time, step_size)
         return True
+
+    def _stop_at_slip(self, current_time, step_size) -> None:
+        """Early return (FMI 3, :attr:`stop_at_event`): under the held inputs ``u`` moves as ``u +
+        velocity tau`` over the step, so the first event inside it is the instant the nearest slider that
+        sticks now reaches its slip force (a slipping one sticks only where the velocity reverses, which
+        the host sets at a step's start). If that falls inside the step, the joint stops there: ``u``
+        becomes that slider's limit, the sliders move to it and :attr:`early_stop` is its time. A limit
+        reached within 16 rounding units of the step's start counts as reached there (the slider slips in
+        the step as the play operator moves it): a host whose u(t) at the last stop rounds a little short
+        of the limit it was told would otherwise get a second stop an instant later."""
+        stuck = self._committed == 0
+        if not stuck.any():
+            return
+        sl, velocity = self._sliders, float(self.velocity)
+        limits = sl.w[stuck] + (1.0 if velocity > 0.0 else -1.0) * sl.reach[stuck]
+        t_stops = current_time + (limits - self.u) / velocity
+        later = np.flatnonzero(t_stops - current_time > 16 * np.finfo(float).eps * np.abs(t_stops))
+        if later.size == 0:
+            return
+        i = later[np.argmin(t_stops[later])]
+        if t_stops[i] < current_time + step_size:
+            self.u = float(limits[i])
+            sl.update(self.u)
+            self.early_stop = float(t_stops[i])
 
     def _snapshot(self):
         if not self._ready:

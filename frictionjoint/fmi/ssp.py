@@ -20,7 +20,9 @@ PARAMETER_SET = "initialValues"
 _NS = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
        "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
        "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues"}
-_TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
+#: a model variable's type (fmpy: FMI 2's, or FMI 3's) -> the SSP 1.0 connector and parameter type
+_TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String",
+          "Float64": "Real", "Float32": "Real", "Int32": "Integer"}
 
 
 def _el(parent, tag, **attrib):

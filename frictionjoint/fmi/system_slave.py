@@ -24,8 +24,8 @@ from ..errors import ParameterError, check_real
 from ..solvers.marcher.eventlog import MarchState
 from ..solvers.marcher.events import EventLog, Marcher
 from ..solvers.marcher.response import piece_slip
-from ..structures.blade_run import BladeRun
 from ..system_file import SystemDefinition
+from ..threads import owns_blas_threads
 from .slaves import _RunSlave
 
 __all__ = ["SystemRun", "SystemSlave", "SYSTEM_RESOURCE"]
@@ -101,14 +101,25 @@ class SystemRun:
             x1 = itv.state(tau_end)[0][:, 0]
             self.dissipated_energy += piece_slip(self.system, itv, tau_end, x1 - itv.x0)[1]
 
-    def _march(self, t_end: float) -> None:
-        """March exactly to ``t_end`` (after the current time), accumulating the outputs."""
-        self.itv = self.marcher.march(self.state, t_end, self.log, on_interval=self._on_interval, itv=self.itv)
-        self.t = t_end
+    def _march(self, t_end: float, max_events=None) -> None:
+        """March exactly to ``t_end`` (after the current time), accumulating the outputs; with
+        ``max_events``, stop just after that many events (:meth:`Marcher.march`)."""
+        self.itv = self.marcher.march(self.state, t_end, self.log, on_interval=self._on_interval, itv=self.itv,
+                                      max_events=max_events)
+        self.t = self.state.t if self.state.t < t_end else t_end
 
-    #: March exactly to time ``t`` [s] (>= the current time; events inside): the blade run's
-    #: (its checks, then :meth:`_march`)
-    advance = BladeRun.advance
+    @owns_blas_threads
+    def advance(self, t: float, stop_at_event: bool = False) -> bool:
+        """March exactly to time ``t`` [s] (>= the current time; events inside). With
+        ``stop_at_event``, stop just after the first event before ``t`` (its rules applied; FMI 3
+        early return). Returns whether it stopped there (:attr:`t` < ``t``); marching on from there
+        to ``t`` gives the state of the march without the stop, bit for bit."""
+        t = check_real("t", t)
+        if t < self.t:
+            raise ParameterError(f"t must be >= the current time {self.t!r}, got {t!r}")
+        if t > self.t:
+            self._march(t, 1 if stop_at_event else None)
+        return self.t < t
 
     def joint_forces(self) -> np.ndarray:
         """Each joint's force at the current time [N], restoring convention (the sum of its

@@ -703,7 +703,7 @@ class Marcher:
 
     def march(self, state: MarchState, t_end: float, log: EventLog | None = None,
               on_interval: Callable[[Interval, float], object] | None = None,
-              itv: Interval | None = None) -> Interval:
+              itv: Interval | None = None, max_events: int | None = None) -> Interval:
         """March ``state`` (in place) to ``t_end``; return the interval valid at ``t_end``.
 
         ``on_interval(itv, tau_end)`` is called for every closed-form piece, so callers evaluate
@@ -727,20 +727,29 @@ class Marcher:
         itv : Interval, optional
             An interval valid at ``state.t`` (e.g. returned by a previous :meth:`march` or
             :meth:`settle`), reused instead of settling again if its ``t0`` equals ``state.t``.
+        max_events : int, optional
+            Stop just after this many events (an event function reaching zero inside the march,
+            not a switching time of the held external forces), their rules applied: ``state.t``
+            is then that event's instant (below ``t_end`` unless the event is at it), the returned
+            interval the one settled there, and marching on from it (``itv=``) is the march
+            without the stop, bit for bit.
 
         Returns
         -------
         Interval
-            The closed-form piece valid at ``t_end`` (settled there).
+            The closed-form piece valid at ``t_end`` (settled there), or at the event it stopped at.
         """
+        if max_events is not None and (isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer))
+                                       or max_events < 1):
+            raise ParameterError(f"max_events must be an integer >= 1 (or None), got {max_events!r}")
         if state.v_scale is not None:  # the state carries the velocity scale of its run
             self.v_scale = state.v_scale
         try:
-            return self._march(state, t_end, log, on_interval, itv)
+            return self._march(state, t_end, log, on_interval, itv, max_events)
         finally:
             state.v_scale = self.v_scale
 
-    def _march(self, state, t_end, log, on_interval, itv):
+    def _march(self, state, t_end, log, on_interval, itv, max_events=None):
         if itv is None or itv.t0 != state.t:
             itv = self.settle(state, log)
         zero_steps = 0
@@ -749,7 +758,8 @@ class Marcher:
         if omega > 0:
             max_pieces = MAX_PIECES_PER_PERIOD * (1.0 + max(t_end - state.t, 0.0) * omega / (2 * math.pi))
         pieces = 0
-        while state.t < t_end:
+        events_left = math.inf if max_events is None else max_events
+        while state.t < t_end and events_left > 0:
             pieces += 1
             if pieces > max_pieces:
                 raise ConvergenceError(
@@ -793,4 +803,6 @@ class Marcher:
             if not (np.isfinite(state.x).all() and np.isfinite(state.v).all()):
                 raise ConvergenceError(f"non-finite state at t = {state.t!r}")
             itv = self.settle(state, log, trigger)
+            if trigger is not None:
+                events_left -= 1
         return itv

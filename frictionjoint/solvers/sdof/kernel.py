@@ -771,7 +771,8 @@ class SdofCoulomb:
 
     # ------------------------------------------------------------------- march
     def march(self, t0: float, x0: float, v0: float, t_end: float, status: Optional[int] = None,
-              on_piece: Optional[Callable] = None, v_scale: Optional[float] = None) -> SdofResult:
+              on_piece: Optional[Callable] = None, v_scale: Optional[float] = None,
+              max_events: Optional[int] = None) -> SdofResult:
         """March exactly from ``(t0, x0, v0)`` to ``t_end``, event by event.
 
         Parameters
@@ -794,6 +795,8 @@ class SdofCoulomb:
         v_scale : float, optional
             Velocity scale of the event tolerances at the start (``|v0|`` if omitted); a
             returned :attr:`SdofResult.v_scale` continues a march exactly.
+        max_events : int, optional
+            Stop just after this many events after ``t0`` (their rules applied): ``res.t < t_end``.
 
         Returns
         -------
@@ -816,8 +819,8 @@ class SdofCoulomb:
                 counts[1] += 1
             s = new
         zero_steps = 0
-        budget, n_pieces = self._budget(t, t_end), 0
-        while t < t_end:
+        budget, n_pieces, first = self._budget(t, t_end), 0, sum(counts)  # (a settle at t0 is at t0)
+        while t < t_end and (max_events is None or sum(counts) - first < max_events):
             n_pieces += 1
             if n_pieces > budget:
                 raise EventBudgetError(self._budget_message(budget, t0, t_end, "stick/slip events"))

@@ -1,0 +1,12 @@
+"""FMU script: JenkinsJointFmi3.fmu, FMI 3.0 (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
+
+from pythonfmu3 import Fmi3Slave  # (pythonfmu3's builder and wrapper find the class by this base's name)
+
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+JenkinsJointSlave3 = library(__file__, "fmi.slaves3").JenkinsJointSlave3
+
+
+class JenkinsJointFmi3(JenkinsJointSlave3, Fmi3Slave):
+    """Displacement-driven Jenkins joint (FMI 3, early return at stick/slip events)."""
