@@ -297,3 +297,14 @@ def test_unreadable_and_complex_files_give_one_line(tmp_path):
         assert "\n" not in message and message.startswith(str(tmp_path / name)) and words in message, message
     with pytest.raises(ParameterError, match="mass must be a matrix of real numbers"):
         FEModel(np.eye(2) * (1 + 1j), np.eye(2), None, [[1, 1], [1, 2]])
+
+
+def test_symmetric_harwell_boeing_with_both_triangles_is_refused(tmp_path, reference):
+    """A symmetric (RSA) file stores one triangle; both (as an old ANSYS defect wrote) would double."""
+    m, k, dofs, _ = reference[False]
+    make_files.write_harwell_boeing(tmp_path / "k.rua", k, symmetric=False)
+    text = (tmp_path / "k.rua").read_text().splitlines(keepends=True)
+    text[2] = "RSA" + text[2][3:]
+    (tmp_path / "k.rsa").write_text("".join(text))
+    with pytest.raises(ParameterError, match=r"k.rsa: a symmetric \(RSA\) file stores one triangle"):
+        read_fe_model(DATA / "lattice_M.rsa", tmp_path / "k.rsa", dofs=DOFS)

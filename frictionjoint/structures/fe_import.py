@@ -541,7 +541,10 @@ def _read_harwell_boeing(path: Path) -> sp.csr_array:
     if kind in ("RSA", "ISA"):
         lines[2] = kind[0] + "UA" + lines[2][3:]
         a = sp.csr_array(scipy.io.hb_read(io.StringIO("".join(lines))))
-        return (a + sp.triu(a, k=1).T + sp.tril(a, k=-1).T).tocsr()
+        upper, lower = sp.triu(a, k=1), sp.tril(a, k=-1)
+        if upper.nnz and lower.nnz:
+            raise ParameterError(f"{path}: a symmetric ({kind}) file stores one triangle; this one has entries in both")
+        return (a + upper.T + lower.T).tocsr()
     return sp.csr_array(scipy.io.hb_read(io.StringIO("".join(lines))))
 
 
