@@ -168,6 +168,7 @@ DMIG_BAD = {
     "a complex matrix": (_small("DMIG", "M", "0", "6", "3", "3"), "complex"),
     "a rectangular form": (_small("DMIG", "M", "0", "2", "2", "2"), "form IFO=2"),
     "a scalar point": (HEADER6 + _small("DMIG", "M", "1", "0", "", "1", "0", "1."), "scalar points"),
+    "a point id below 1": (HEADER6 + _small("DMIG", "M", "1", "1", "", "-1", "1", "1."), "point id -1 is not"),
     "an integer for a real": (HEADER6 + _small("DMIG", "M", "1", "1", "", "1", "1", "1"), "not a real number"),
     "a column before its header": (_small("DMIG", "M", "1", "1", "", "1", "1", "1."), "before its header"),
     "a stray continuation": (_small("+", "1", "1", "1."), "no entry before it"),
@@ -242,6 +243,9 @@ def test_sidecar_files_are_checked(tmp_path):
     path.write_text("node,direction\n1,1\n1,7\n")
     with pytest.raises(ParameterError, match=r"direction 7 of node 1 \(row 2\) is not in 1..6"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path), files={"dofs": path})
+    path.write_text("node,direction\n1,1\n-2,1\n")
+    with pytest.raises(ParameterError, match=r"node id -2 \(row 2\) is not a positive integer"):
+        FEModel(np.eye(2), np.eye(2), None, read_dof_table(path))
     path.write_text("node,direction\n1,1\n1,1\n")
     with pytest.raises(ParameterError, match=r"\(node 1, direction 1\) appears more than once"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path))
