@@ -556,7 +556,8 @@ def _read_op4(path: Path, name: str | None) -> sp.csr_array:
     try:
         from pyyeti.nastran import op4
     except ImportError:
-        raise ParameterError(f"{path}: reading OP4 files needs pyyeti (pip install pyyeti)") from None
+        raise ParameterError(f"{path}: reading OP4 files needs pyyeti (pip install pyyeti, or "
+                             "frictionjoint[nastran])") from None
     matrices = op4.read(str(path), sparse=True)
     return sp.csr_array(_pick(path, {k.upper(): v for k, v in matrices.items()}, name))
 
