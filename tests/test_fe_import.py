@@ -312,3 +312,19 @@ def test_symmetric_harwell_boeing_with_both_triangles_is_refused(tmp_path, refer
     (tmp_path / "k.rsa").write_text("".join(text))
     with pytest.raises(ParameterError, match=r"k.rsa: a symmetric \(RSA\) file stores one triangle"):
         read_fe_model(DATA / "lattice_M.rsa", tmp_path / "k.rsa", dofs=DOFS)
+
+
+def test_system_definition_with_an_inline_fe_structure():
+    """A system definition whose inline [structure] names FE files: the paths are the system
+    definition's folder's, and the structure is the files'."""
+    from frictionjoint.system_file import SystemDefinition
+
+    data = {"structure": {"fe": {"format": "matrix_market", "mass": "lattice_M.mtx", "stiffness": "lattice_K.mtx",
+                                 "dofs": "lattice.dofs.csv"}},
+            "joints": [{"name": "j", "type": "jenkins", "dof": "n101_u1", "tangential_stiffness": 1e3,
+                        "slip_force": 1.0}],
+            "excitation": {"omega": 50.0, "force_amplitude": {"n131_u3": 1.0}}}
+    d = SystemDefinition.from_dict(data, folder=DATA)
+    s = read_fe_model(DATA / "lattice_M.mtx", DATA / "lattice_K.mtx", dofs=DOFS).to_structure()
+    np.testing.assert_array_equal(d.structure.stiffness, s.stiffness)
+    assert d.structure.dof_names == s.dof_names
