@@ -372,7 +372,7 @@ def _structure(value, folder) -> StructureDefinition:
     if not isinstance(value, dict):
         raise ParameterError(f"structure must be a file name or a table, got {value!r}")
     try:
-        return StructureDefinition.from_dict({"name": "Structure", **value})
+        return StructureDefinition.from_dict({"name": "Structure", **value}, folder=folder)
     except ParameterError as exc:
         raise ParameterError(f"[structure]: {exc}") from None
 

@@ -168,6 +168,7 @@ DMIG_BAD = {
     "a complex matrix": (_small("DMIG", "M", "0", "6", "3", "3"), "complex"),
     "a rectangular form": (_small("DMIG", "M", "0", "2", "2", "2"), "form IFO=2"),
     "a scalar point": (HEADER6 + _small("DMIG", "M", "1", "0", "", "1", "0", "1."), "scalar points"),
+    "a point id below 1": (HEADER6 + _small("DMIG", "M", "1", "1", "", "-1", "1", "1."), "point id -1 is not"),
     "an integer for a real": (HEADER6 + _small("DMIG", "M", "1", "1", "", "1", "1", "1"), "not a real number"),
     "a column before its header": (_small("DMIG", "M", "1", "1", "", "1", "1", "1."), "before its header"),
     "a stray continuation": (_small("+", "1", "1", "1."), "no entry before it"),
@@ -242,6 +243,9 @@ def test_sidecar_files_are_checked(tmp_path):
     path.write_text("node,direction\n1,1\n1,7\n")
     with pytest.raises(ParameterError, match=r"direction 7 of node 1 \(row 2\) is not in 1..6"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path), files={"dofs": path})
+    path.write_text("node,direction\n1,1\n-2,1\n")
+    with pytest.raises(ParameterError, match=r"node id -2 \(row 2\) is not a positive integer"):
+        FEModel(np.eye(2), np.eye(2), None, read_dof_table(path))
     path.write_text("node,direction\n1,1\n1,1\n")
     with pytest.raises(ParameterError, match=r"\(node 1, direction 1\) appears more than once"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path))
@@ -297,3 +301,30 @@ def test_unreadable_and_complex_files_give_one_line(tmp_path):
         assert "\n" not in message and message.startswith(str(tmp_path / name)) and words in message, message
     with pytest.raises(ParameterError, match="mass must be a matrix of real numbers"):
         FEModel(np.eye(2) * (1 + 1j), np.eye(2), None, [[1, 1], [1, 2]])
+
+
+def test_symmetric_harwell_boeing_with_both_triangles_is_refused(tmp_path, reference):
+    """A symmetric (RSA) file stores one triangle; both (as an old ANSYS defect wrote) would double."""
+    m, k, dofs, _ = reference[False]
+    make_files.write_harwell_boeing(tmp_path / "k.rua", k, symmetric=False)
+    text = (tmp_path / "k.rua").read_text().splitlines(keepends=True)
+    text[2] = "RSA" + text[2][3:]
+    (tmp_path / "k.rsa").write_text("".join(text))
+    with pytest.raises(ParameterError, match=r"k.rsa: a symmetric \(RSA\) file stores one triangle"):
+        read_fe_model(DATA / "lattice_M.rsa", tmp_path / "k.rsa", dofs=DOFS)
+
+
+def test_system_definition_with_an_inline_fe_structure():
+    """A system definition whose inline [structure] names FE files: the paths are the system
+    definition's folder's, and the structure is the files'."""
+    from frictionjoint.system_file import SystemDefinition
+
+    data = {"structure": {"fe": {"format": "matrix_market", "mass": "lattice_M.mtx", "stiffness": "lattice_K.mtx",
+                                 "dofs": "lattice.dofs.csv"}},
+            "joints": [{"name": "j", "type": "jenkins", "dof": "n101_u1", "tangential_stiffness": 1e3,
+                        "slip_force": 1.0}],
+            "excitation": {"omega": 50.0, "force_amplitude": {"n131_u3": 1.0}}}
+    d = SystemDefinition.from_dict(data, folder=DATA)
+    s = read_fe_model(DATA / "lattice_M.mtx", DATA / "lattice_K.mtx", dofs=DOFS).to_structure()
+    np.testing.assert_array_equal(d.structure.stiffness, s.stiffness)
+    assert d.structure.dof_names == s.dof_names

@@ -297,6 +297,9 @@ def _dof_table(label: str, dofs, n: int) -> np.ndarray:
         raise ParameterError(f"{label}: the DOF table must be (n_dof, 2) integers (node id, direction)")
     if table.shape[0] != n:
         raise ParameterError(f"{label}: the DOF table has {table.shape[0]} rows, the matrices {n}")
+    bad = np.flatnonzero(table[:, 0] < 1)
+    if bad.size:
+        raise ParameterError(f"{label}: node id {table[bad[0], 0]} (row {bad[0] + 1}) is not a positive integer")
     bad = np.flatnonzero((table[:, 1] < 1) | (table[:, 1] > 6))
     if bad.size:
         raise ParameterError(f"{label}: direction {table[bad[0], 1]} of node {table[bad[0], 0]} (row {bad[0] + 1}) "
@@ -375,8 +378,9 @@ def _check_positive_definite(label: str, a: sp.csr_array, names: tuple) -> None:
 # ----------------------------------------------------------------------------------- readers
 
 
-def read_fe_model(mass, stiffness, damping=None, *, dofs=None, node_sets=None, format: str | None = None,
-                  source: str | None = None) -> FEModel:
+def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, damping: str | Path | tuple | None = None,
+                  *, dofs: str | Path | np.ndarray | None = None, node_sets: str | Path | Mapping | None = None,
+                  format: str | None = None, source: str | None = None) -> FEModel:
     """Read an FE model's matrices, DOF table and node sets (module docstring for the formats).
 
     Parameters
@@ -457,7 +461,7 @@ def _format(path: Path, given: str | None) -> str:
     return fmt
 
 
-def read_dof_table(path) -> np.ndarray:
+def read_dof_table(path: str | Path) -> np.ndarray:
     """The DOF table of a CSV file with the header ``node,direction`` (``#`` starts a comment).
 
     Parameters
@@ -476,7 +480,7 @@ def read_dof_table(path) -> np.ndarray:
         raise ParameterError(f"{path}: the DOF table must hold integers ({exc})") from None
 
 
-def read_node_sets(path) -> dict:
+def read_node_sets(path: str | Path) -> dict:
     """Node sets from a CSV file with the header ``set,node`` (``#`` starts a comment).
 
     Parameters
@@ -541,7 +545,10 @@ def _read_harwell_boeing(path: Path) -> sp.csr_array:
     if kind in ("RSA", "ISA"):
         lines[2] = kind[0] + "UA" + lines[2][3:]
         a = sp.csr_array(scipy.io.hb_read(io.StringIO("".join(lines))))
-        return (a + sp.triu(a, k=1).T + sp.tril(a, k=-1).T).tocsr()
+        upper, lower = sp.triu(a, k=1), sp.tril(a, k=-1)
+        if upper.nnz and lower.nnz:
+            raise ParameterError(f"{path}: a symmetric ({kind}) file stores one triangle; this one has entries in both")
+        return (a + upper.T + lower.T).tocsr()
     return sp.csr_array(scipy.io.hb_read(io.StringIO("".join(lines))))
 
 
@@ -549,7 +556,8 @@ def _read_op4(path: Path, name: str | None) -> sp.csr_array:
     try:
         from pyyeti.nastran import op4
     except ImportError:
-        raise ParameterError(f"{path}: reading OP4 files needs pyyeti (pip install pyyeti)") from None
+        raise ParameterError(f"{path}: reading OP4 files needs pyyeti (pip install pyyeti, or "
+                             "frictionjoint[nastran])") from None
     matrices = op4.read(str(path), sparse=True)
     return sp.csr_array(_pick(path, {k.upper(): v for k, v in matrices.items()}, name))
 
@@ -710,6 +718,8 @@ def _read_dmig(path: Path) -> dict:
 
 def _grid_key(grid: str, component: str, where: str) -> int:
     node, direction = _integer(grid, where), _integer(component or "0", where)
+    if node < 1:
+        raise ParameterError(f"{where}: point id {node} is not a positive integer")
     if not 1 <= direction <= 6:
         raise ParameterError(f"{where}: component {direction} of point {node}: only grid points' components "
                              f"1..6 are read (no scalar points)")
@@ -730,6 +740,9 @@ def _read_abaqus(path: Path) -> _Entries:
     if np.any(ids != np.round(ids)):
         raise ParameterError(f"{path}: node and DOF fields must be integers")
     ids = ids.astype(np.int64)
+    bad = np.flatnonzero((ids[:, [0, 2]] < 1).any(axis=1))
+    if bad.size:
+        raise ParameterError(f"{path}: data line {bad[0] + 1} has a node id that is not a positive integer")
     bad = np.flatnonzero((ids[:, [1, 3]] < 1).any(axis=1) | (ids[:, [1, 3]] > 6).any(axis=1))
     if bad.size:
         raise ParameterError(f"{path}: data line {bad[0] + 1} has a DOF outside 1..6 (only displacements and "
