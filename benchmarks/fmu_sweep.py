@@ -1,11 +1,10 @@
-"""Cost of the FMU layer: the same stepped-sine sweep through CoulombOscillator.fmu (fmpy) and
-directly on the library model, in the same process, with the error against Den Hartog.
+"""Cost of the FMU layer: the same computation through an FMU (fmpy) and directly on the library,
+in the same process, for the Coulomb oscillator, the blade on its dovetail and a linear structure.
 
-Three ways to sweep the Coulomb oscillator (m = k = P0 = 1, F/P0 = 0.5, r = 0.6 ... 2.2 up,
-100 points):
+Coulomb oscillator (m = k = P0 = 1, F/P0 = 0.5, r = 0.6 ... 2.2 up, 100 points), three ways:
 
-- ``sweep(fmu)``: frictionjoint.sweep.sweep through the FMU (fmpy master): the FMU starts on
-  the periodic orbit (parameter ``start_on_orbit``: the kernel's shooting with its exact
+- ``sweep(fmu)``: frictionjoint.sweep.sweep through CoulombOscillator.fmu (fmpy master): the FMU
+  starts on the periodic orbit (parameter ``start_on_orbit``: the kernel's shooting with its exact
   Jacobian, the previous point's orbit as the guess), one communication step of a period checks
   it returns to its start and gives the exact Fourier integrals and peak;
 - ``sweep('CoulombOscillator')``: the same algorithm on the library's stepping object
@@ -14,8 +13,22 @@ Three ways to sweep the Coulomb oscillator (m = k = P0 = 1, F/P0 = 0.5, r = 0.6 
   the baseline of the ratio (target <= 1.5x).
 
 Errors against Den Hartog at the stop-free points: amplitude, first-harmonic phase of x, and of
-the friction force (a square wave F sgn(v): phase = Den Hartog's peak phase - pi/2). Each method is
-timed best-of-N, interleaved. Usage:
+the friction force (a square wave F sgn(v): phase = Den Hartog's peak phase - pi/2).
+
+Blade (models/ti64_compressor_blade.toml on its dovetail, centrifugal force 46 N, 13 frequencies
+1600 ... 2200 rad/s up): ``sweep(BladeDovetail.fmu)`` (per point a reset that starts on the orbit,
+from the previous point's, and one period) against ``sweep('ti64_compressor_blade')``, the
+library's sweep (the baseline, target <= 1.5x); the largest differences of their first harmonics
+and of the harmonics' amplitudes.
+
+Linear structure (models/two_dof_chain.toml as ``LinearStructure`` FMU, ``--structure``): a run of
+200 communication steps of T/50 with the joint inputs held at 0 (load, initialise, step, read
+x1 and x2 at each step, free) against the library's
+:class:`~frictionjoint.solvers.marcher.held.HeldPortStructure` stepped the same (the baseline);
+the largest difference of the displacements.
+
+Each FMU sweep or run includes loading and freeing its FMU (a sweep's one instance). Each method
+is timed best-of-N, interleaved. Usage:
 
     python benchmarks/fmu_sweep.py [--repeat N] [--out DIR]
 """
@@ -27,6 +40,7 @@ import os
 import platform
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -36,15 +50,72 @@ from frictionjoint.sweep import oscillator_sweep, sweep
 
 PARAMS = dict(mass=1.0, stiffness=1.0, slip_force=0.5, force_amplitude=1.0)
 OMEGAS = np.linspace(0.6, 2.2, 100)
+BLADE = "ti64_compressor_blade"
+BLADE_PARAMS = {"centrifugal_force": 46.0}
+BLADE_OMEGAS = np.linspace(1600.0, 2200.0, 13)
+STRUCTURE = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain.toml"
+STRUCTURE_STEPS = 200  # of T/50: four periods
+
+
+def _best(runs: dict, repeat: int) -> tuple[dict, dict]:
+    """Best time [s] and last result of each callable in ``runs``, run ``repeat`` times interleaved."""
+    best = {name: float("inf") for name in runs}
+    results = {}
+    for _ in range(repeat):
+        for name, fn in runs.items():
+            t0 = time.perf_counter()
+            results[name] = fn()
+            best[name] = min(best[name], time.perf_counter() - t0)
+    return best, results
+
+
+def structure_runs(fmu: str):
+    """The structure's run through its FMU and through the library (see the module docstring):
+    ``name -> callable`` returning the (steps, 2) displacements."""
+    from frictionjoint.fmi.master import FMUInstance
+    from frictionjoint.solvers.marcher.held import HeldPortStructure
+    from frictionjoint.structure_file import load_structure_definition
+
+    d = load_structure_definition(STRUCTURE)
+    h = 2 * math.pi / d.omega / 50
+    dofs = [d.structure.dof_index(n) for n in d.outputs]
+
+    def through_fmu():
+        inst = FMUInstance(fmu)
+        try:
+            inst.initialize()
+            xs = []
+            for n in range(1, STRUCTURE_STEPS + 1):
+                inst.step_to(n * h)
+                xs.append(inst.get([f"x_{name}" for name in d.outputs]))
+            return np.array(xs)
+        finally:
+            inst.close()
+
+    def in_library():
+        body = HeldPortStructure(d.structure, d.ports, d.force_vector(), omega=d.omega, t0=0.0)
+        zero = [0.0] * len(d.ports)
+        xs = []
+        for n in range(1, STRUCTURE_STEPS + 1):
+            body.t = (n - 1) * h
+            body.advance(n * h - body.t, zero, zero, zero)
+            xs.append(body.x[dofs].copy())
+        return np.array(xs)
+
+    return {"run(fmu)": through_fmu, "HeldPortStructure": in_library}
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="best of N runs (default 3)")
-    ap.add_argument("--out", default=None, help="folder for the built FMU (default: a temporary one)")
+    ap.add_argument("--out", default=None, help="folder for the built FMUs (default: a temporary one)")
     args = ap.parse_args(argv)
     out = args.out or tempfile.mkdtemp(prefix="fj-bench-")
-    fmu = str(build_fmus(out, names=["CoulombOscillator"])[0])
+    from frictionjoint.structure_file import load_structure_definition
+
+    built = {p.stem: str(p) for p in build_fmus(out, names=["CoulombOscillator", "BladeDovetail"])}
+    structure_fmu = str(build_fmus(out, structures=[load_structure_definition(STRUCTURE)])[0])
+    fmu = built["CoulombOscillator"]
     runs = {
         "sweep(fmu)": lambda: sweep(fmu, OMEGAS, PARAMS, outputs=("x", "friction_force")),
         "sweep('CoulombOscillator')": lambda: sweep("CoulombOscillator", OMEGAS, PARAMS,
@@ -52,18 +123,12 @@ def main(argv=None):
         "oscillator_sweep": lambda: oscillator_sweep(PARAMS["mass"], PARAMS["stiffness"], PARAMS["slip_force"],
                                                      PARAMS["force_amplitude"], OMEGAS),
     }
-    best = {name: float("inf") for name in runs}
-    results = {}
-    for _ in range(args.repeat):
-        for name, fn in runs.items():
-            t0 = time.perf_counter()
-            results[name] = fn()
-            best[name] = min(best[name], time.perf_counter() - t0)
+    best, results = _best(runs, args.repeat)
     base = best["oscillator_sweep"]
     fr_fmu, fr_lib = results["sweep(fmu)"], results["sweep('CoulombOscillator')"]
     print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}, best of {args.repeat}")
-    print(f"# {len(OMEGAS)} points, F/P0 = 0.5, r = {OMEGAS[0]:g} ... {OMEGAS[-1]:g}")
+    print(f"# Coulomb oscillator: {len(OMEGAS)} points, F/P0 = 0.5, r = {OMEGAS[0]:g} ... {OMEGAS[-1]:g}")
     print(f"{'method':>28} {'time [s]':>9} {'per point [ms]':>15} {'max amp. error':>15} {'periods':>8} {'ratio':>7}")
     for name, fr in results.items():
         amp_err, _ = fr.max_error()
@@ -84,6 +149,37 @@ def main(argv=None):
         ph_f = max(ph_f, abs(_wrap(ff["phase"][i] - (sol.peak_phase - math.pi / 2))))
     print(f"FMU first-harmonic phase error against Den Hartog (stop-free points): x {ph_x:.1e} rad, "
           f"friction force {ph_f:.1e} rad (target <= 1e-10)")
+
+    blade_fmu = built["BladeDovetail"]
+    runs = {"sweep(BladeDovetail.fmu)": lambda: sweep(blade_fmu, BLADE_OMEGAS, BLADE_PARAMS),
+            f"sweep('{BLADE}')": lambda: sweep(BLADE, BLADE_OMEGAS, BLADE_PARAMS)}
+    sweep(BLADE, BLADE_OMEGAS[:2], BLADE_PARAMS)  # the compiled kernels loaded before the timing
+    best, results = _best(runs, args.repeat)
+    a, b = results["sweep(BladeDovetail.fmu)"], results[f"sweep('{BLADE}')"]
+    base = best[f"sweep('{BLADE}')"]
+    print(f"# blade {BLADE}: {len(BLADE_OMEGAS)} points, centrifugal force {BLADE_PARAMS['centrifugal_force']:g} N, "
+          f"omega = {BLADE_OMEGAS[0]:g} ... {BLADE_OMEGAS[-1]:g} rad/s")
+    print(f"{'method':>28} {'time [s]':>9} {'per point [ms]':>15} {'converged':>10} {'ratio':>7}")
+    for name, fr in results.items():
+        print(f"{name:>28} {best[name]:9.3f} {1e3 * best[name] / len(BLADE_OMEGAS):15.1f} "
+              f"{int(fr.converged.sum()):>10d} {best[name] / base:7.2f}")
+    harm = np.max(np.abs(a.response - b.response) / np.abs(b.response))
+    amp = np.max(np.abs(np.abs(a.response) - np.abs(b.response)) / np.abs(b.response))
+    print(f"blade FMU sweep: {best['sweep(BladeDovetail.fmu)'] / base:.2f}x the library's sweep per point "
+          f"(target <= 1.5x); largest difference FMU vs library: first harmonic {harm:.1e}, "
+          f"its amplitude {amp:.1e} (target <= 1e-12), relative")
+
+    runs = structure_runs(structure_fmu)
+    best, results = _best(runs, args.repeat)
+    base = best["HeldPortStructure"]
+    xs = results["HeldPortStructure"]
+    diff = np.max(np.abs(results["run(fmu)"] - xs)) / np.max(np.abs(xs))
+    print(f"# linear structure {STRUCTURE.name} (--structure): {STRUCTURE_STEPS} steps of T/50, joint inputs 0")
+    print(f"{'method':>28} {'time [s]':>9} {'per step [ms]':>15} {'ratio':>7}")
+    for name in runs:
+        print(f"{name:>28} {best[name]:9.3f} {1e3 * best[name] / STRUCTURE_STEPS:15.3f} {best[name] / base:7.2f}")
+    print(f"structure FMU run: {best['run(fmu)'] / base:.2f}x the library's; largest displacement difference "
+          f"{diff:.1e} of the largest displacement")
 
 
 def _wrap(a: float) -> float:

@@ -1,9 +1,11 @@
-"""FMU script: IwanJointFmi3.fmu, FMI 3.0 (thin adapter; physics in the bundled frictionjoint)."""
-from _frictionjoint_loader import fresh_bundle
+"""FMU script: IwanJointFmi3.fmu, FMI 3.0 (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
 
-fresh_bundle(__file__)  # this FMU's library, not a freed one's (frictionjoint.fmi.bundle_loader)
 from pythonfmu3 import Fmi3Slave  # (pythonfmu3's builder and wrapper find the class by this base's name)
-from _frictionjoint_bundle.fmi.slaves3 import IwanJointSlave3
+
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+IwanJointSlave3 = library(__file__, "fmi.slaves3").IwanJointSlave3
 
 
 class IwanJointFmi3(IwanJointSlave3, Fmi3Slave):

@@ -1,8 +1,9 @@
 """FMU script: a friction system FMU (thin adapter; the system is data in the FMU's resources)."""
-from _frictionjoint_loader import fresh_bundle
+from _frictionjoint_loader import library
 
-fresh_bundle(__file__)  # this FMU's library, not a freed one's (frictionjoint.fmi.bundle_loader)
-from _frictionjoint_bundle.fmi.system_slave import SystemSlave
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+SystemSlave = library(__file__, "fmi.system_slave").SystemSlave
 
 
 class FrictionSystem(SystemSlave):

@@ -1,8 +1,9 @@
-"""FMU script: IwanJoint.fmu (thin adapter; physics in the bundled frictionjoint)."""
-from _frictionjoint_loader import fresh_bundle
+"""FMU script: IwanJoint.fmu (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
 
-fresh_bundle(__file__)  # this FMU's library, not a freed one's (frictionjoint.fmi.bundle_loader)
-from _frictionjoint_bundle.fmi.slaves import IwanJointSlave
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+IwanJointSlave = library(__file__, "fmi.slaves").IwanJointSlave
 
 
 class IwanJoint(IwanJointSlave):

@@ -1,8 +1,9 @@
 """FMU script: LinearStructure.fmu (thin adapter; the structure is data in the FMU's resources)."""
-from _frictionjoint_loader import fresh_bundle
+from _frictionjoint_loader import library
 
-fresh_bundle(__file__)  # this FMU's library, not a freed one's (frictionjoint.fmi.bundle_loader)
-from _frictionjoint_bundle.fmi.slaves import LinearStructureSlave
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+LinearStructureSlave = library(__file__, "fmi.slaves").LinearStructureSlave
 
 
 class LinearStructure(LinearStructureSlave):

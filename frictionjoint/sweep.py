@@ -475,7 +475,8 @@ def _is_blade_fmu(model) -> bool:
 
 def _blade_fmu_sweep(path, omegas, parameters, direction, outputs, progress) -> OutputSweep:
     """:func:`sweep` of ``BladeDovetail.fmu`` through fmpy: per frequency one (re)initialisation
-    that starts on the periodic orbit (the FMU's shooting), then one communication step of a
+    that starts on the periodic orbit (the FMU's shooting, from the previous point's orbit where the
+    FMU has ``start_from_last_orbit``, as the library's sweep), then one communication step of a
     period, in which the FMU integrates the tip's first harmonic exactly; the orbit is accepted
     when the tip's displacement and velocity come back to their start values to 1e-8 of the
     harmonic (the FMU's own check of periodicity, through the FMI interface only)."""
@@ -491,7 +492,11 @@ def _blade_fmu_sweep(path, omegas, parameters, direction, outputs, progress) -> 
     ws = np.sort(ws) if direction == "up" else np.sort(ws)[::-1]
     inst = FMUInstance(path)
     try:
-        params = _fmu_parameters(inst, path, parameters, sweeps=("omega", "start_on_orbit"))
+        continued = "start_from_last_orbit" in inst.vr  # (an FMU built before it starts from rest)
+        params = _fmu_parameters(inst, path, parameters,
+                                 sweeps=("omega", "start_on_orbit") + (("start_from_last_orbit",) if continued else ()))
+        if continued:
+            params["start_from_last_orbit"] = True
         response, converged, diss, messages = [], [], [], []
         for w in tqdm(ws, desc="sweep", unit="pt", file=sys.stderr, disable=not progress, leave=False):
             inst.initialize(dict(params, omega=float(w), start_on_orbit=True))

@@ -955,9 +955,23 @@ class LinearStructureSlave(_Slave):
                 setattr(self, f"joint_{kind}_{dof}", value)
 
 
+#: the blade model definitions read from FMU resources in this process: the file's bytes -> the
+#: definition (one slave is constructed at every reset; the definition is built once)
+_BLADE_MODELS: dict = {}
+
+
 class BladeDovetailSlave(_RunSlave):
     """A blade model definition on its dovetail root (the definition in the FMU's resources),
-    marched exactly inside ``do_step`` (:class:`~frictionjoint.structures.blade_run.BladeRun`)."""
+    marched exactly inside ``do_step`` (:class:`~frictionjoint.structures.blade_run.BladeRun`).
+
+    What does not change between the resets of a sweep is built once: the definition (per file
+    contents) and its reduced assembly (per process, :func:`~frictionjoint.structures.blade_run._reduced`).
+    With ``start_from_last_orbit`` the shooting starts from the orbit this instance found at its
+    last initialisation with the same other parameters (the sweep's continuation), kept through
+    ``fmi2Reset`` (which constructs the slave anew) on the slave's class: pythonfmu's wrapper holds
+    the class for the process (the first ``fmi2Instantiate``'s, for every instance of the FMU
+    script), so the orbits are keyed by the instance's name and unpacked resources folder.
+    """
 
     description = ("Blade (Craig-Bampton beam, rotating) on a dovetail root with two flat flanks under the "
                    "centrifugal load, harmonic tip force; exact event-driven stick/slip (and lift-off with "
@@ -969,13 +983,31 @@ class BladeDovetailSlave(_RunSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._model = load_blade_model(os.path.join(kwargs["resources"], BLADE_RESOURCE))
+        path = os.path.join(kwargs["resources"], BLADE_RESOURCE)
+        with open(path, "rb") as f:
+            data = f.read()
+        self._model = _BLADE_MODELS.get(data)
+        if self._model is None:
+            if len(_BLADE_MODELS) >= 8:
+                _BLADE_MODELS.clear()
+            self._model = _BLADE_MODELS[data] = load_blade_model(path)
         self._declare_run(blade_parameters(self._model),
                           "extra force at the tip, added to the harmonic one, held over a step [N]", BLADE_OUTPUTS)
 
     def _initialise(self):
         params = {k: getattr(self, k) for k in blade_parameters(self._model)}
-        self._run = BladeRun(self._model, params, start_time=self.start_time, tip_force=self.tip_force)
+        # this instance's last orbit, for the same parameters but omega
+        key = (self.instance_name, self.resources, repr(sorted((k, v) for k, v in params.items() if k != "omega")))
+        memory = type(self).__dict__.get("_last_orbits")
+        if memory is None:
+            memory = {}
+            setattr(type(self), "_last_orbits", memory)
+        guess = memory.get(key) if params["start_from_last_orbit"] else None
+        self._run = BladeRun(self._model, params, start_time=self.start_time, tip_force=self.tip_force,
+                             orbit_guess=guess)
+        if len(memory) >= 8:
+            memory.clear()
+        memory[key] = self._run.orbit_state
         freqs = self._run.system.structure.natural_frequencies()
         positive = freqs[freqs > 0]
         self._natural = float(positive[0]) if positive.size else 0.0

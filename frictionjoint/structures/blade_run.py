@@ -11,11 +11,18 @@ With ``start_on_orbit`` the run starts on the periodic steady state (the library
 :func:`~frictionjoint.solvers.marcher.steady.periodic_response`, exact Jacobian), so that one period marched
 from the start gives the steady first harmonic: a sweep through the FMU
 (:func:`frictionjoint.sweep.sweep` of ``BladeDovetail.fmu``) and the library's sweep of the same
-definition (:meth:`BladeAssembly.frequency_response`) answer the same.
+definition (:meth:`BladeAssembly.frequency_response`) answer the same. As that sweep, a run may start
+its shooting from the previous point's orbit (``orbit_guess``; the FMU keeps it between its
+initialisations with ``start_from_last_orbit``), from rest where that does not converge.
+
+What a run builds that depends on the definition, ``n_modes`` and ``rotor_speed`` only (the blade's
+finite elements and their Craig-Bampton reduction) is built once per process (:func:`_reduced`):
+an FMU's instance is constructed anew at every reset, and a sweep resets once per frequency.
 """
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 
 import numpy as np
 
@@ -69,7 +76,34 @@ def blade_parameters(model) -> dict:
                                 "amplitude of the tip force tip_force_amplitude cos(omega t) [N]"),
         "start_on_orbit": (False, "start on the periodic steady state (shooting at initialisation): no "
                                   "transient to march; output orbit_found"),
+        "start_from_last_orbit": (False, "with start_on_orbit: the shooting starts from the orbit this instance "
+                                         "found at its last initialisation with the same other parameters (a "
+                                         "stepped sweep's continuation), from rest where there is none or it does "
+                                         "not converge from there; false: from rest"),
     }
+
+
+#: (definition, n_modes, rotor_speed) -> the definition's assembly (:meth:`BladeAssembly.from_model`),
+#: the most recently used :data:`_REDUCED_SIZE` (see :func:`_reduced`)
+_REDUCED: OrderedDict = OrderedDict()
+_REDUCED_SIZE = 8
+
+
+def _reduced(model, n_modes: int, rotor_speed: float) -> BladeAssembly:
+    """``BladeAssembly.from_model(model, n_modes, rotor_speed=rotor_speed)``, built once per process
+    for each definition (its contents, wherever it was read from), ``n_modes`` and ``rotor_speed``:
+    the blade's finite elements and their reduction (~8 ms of the default blade; a run does not
+    change the assembly, :meth:`BladeAssembly.with_root` makes a new one)."""
+    # the definition's contents as written (repr of floats is exact: equal keys, equal numbers)
+    key = (repr((model.blade_parameters, model.root, model.excitation)), int(n_modes), float(rotor_speed))
+    asm = _REDUCED.get(key)
+    if asm is None:
+        asm = _REDUCED[key] = BladeAssembly.from_model(model, n_modes=int(n_modes), rotor_speed=rotor_speed)
+        while len(_REDUCED) > _REDUCED_SIZE:
+            _REDUCED.popitem(last=False)
+    else:
+        _REDUCED.move_to_end(key)
+    return asm
 
 
 class BladeRun:
@@ -86,9 +120,21 @@ class BladeRun:
         Start time [s]; the excitation is ``cos(omega t)`` in absolute time.
     tip_force : float
         Extra force at the tip [N], held until changed by :meth:`hold`.
+    orbit_guess : (2 n_dof + n,) ndarray, optional
+        With ``start_on_orbit``: the state at ``t = 0`` of a nearby orbit (the previous sweep
+        point's :attr:`orbit_state`) from which the shooting starts, from rest where it does not
+        converge from there (as :func:`~frictionjoint.system_sweeps.system_sweep`); default: from
+        rest.
+
+    Attributes
+    ----------
+    orbit_state : ndarray or None
+        With ``start_on_orbit``: the orbit's state at ``t = 0`` (its ``initial_state``), None if no
+        orbit was found.
     """
 
-    def __init__(self, model, parameters: dict, start_time: float = 0.0, tip_force: float = 0.0):
+    def __init__(self, model, parameters: dict, start_time: float = 0.0, tip_force: float = 0.0,
+                 orbit_guess=None):
         self.parameters = p = run_parameters(blade_parameters(model), parameters)
         omega = check_positive("omega", p["omega"])
         speed = check_positive("rotor_speed", p["rotor_speed"])
@@ -98,7 +144,8 @@ class BladeRun:
         n_modes = p["n_modes"]
         if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 0:
             raise ParameterError(f"n_modes must be an integer >= 0, got {n_modes!r}")
-        asm = BladeAssembly.from_model(model, n_modes=int(n_modes), rotor_speed=speed)
+        check_bool("start_from_last_orbit", p["start_from_last_orbit"])  # the FMU's: it keeps orbit_guess
+        asm = _reduced(model, int(n_modes), speed)
         changes = dict(friction_coefficient=p["friction_coefficient"], flank_angle=p["flank_angle"],
                        normal_load_variation=check_bool("normal_load_variation",
                                                              p["normal_load_variation"]))
@@ -117,12 +164,22 @@ class BladeRun:
         self._root_map = root._root_map(self.system.structure)
         self.t = check_real("start_time", start_time)
         self.orbit_found = False
+        self.orbit_state = None
         n = self.system.n_dof
         x0 = v0 = np.zeros(n)
         w0 = None
         if check_bool("start_on_orbit", p["start_on_orbit"]):
-            orbit = periodic_response(self.system, marcher=self.marcher, peaks=False)  # its state only
+            orbit = None
+            z = None if orbit_guess is None else np.asarray(orbit_guess, dtype=float)
+            if z is not None and z.ndim == 1 and z.size >= 2 * n and np.all(np.isfinite(z)):
+                # the guess as system_sweep gives it (the previous orbit's state at t = 0); rest is
+                # the other guess (see there)
+                orbit = periodic_response(self.system, z[:n], z[n:2 * n], z[2 * n:] if z.size > 2 * n else None,
+                                          marcher=self.marcher, peaks=False)
+            if orbit is None or not orbit.converged:
+                orbit = periodic_response(self.system, marcher=self.marcher, peaks=False)  # its state only
             if orbit.converged and orbit.initial_state is not None:
+                self.orbit_state = orbit.initial_state.copy()
                 z = orbit.initial_state
                 x0, v0 = z[:n], z[n:2 * n]
                 w0 = self._slider_positions(x0, z[2 * n:])
