@@ -1,0 +1,386 @@
+"""A blade as a 3D elastic solid: quadratic hexahedra assembled sparse by scikit-fem (issue 30, part 2).
+
+Frame and signs, as :class:`~frictionjoint.structures.BeamBlade`'s. ``x`` is the radial (span)
+axis ``s``: the root face at ``x = 0`` sits at radius ``R`` = ``hub_radius`` from the rotation
+axis, the tip face at ``x = L``. The rotation axis is parallel to ``z`` through ``(x, y) = (-R,
+0)``; the blade spins at ``rotor_speed`` ``Omega`` [rad/s] about it. At the root the chord
+(``width``) lies along ``y``, in the plane of rotation, and the thickness along ``z``, along the
+rotation axis: BeamBlade's ``"flapwise"`` bending is bending in ``z`` (out of the plane of
+rotation, ``I = b h^3 / 12``) and its ``"chordwise"`` bending is bending in ``y`` (in the plane
+of rotation, ``I = h b^3 / 12``). The cross-section at ``s`` is the rectangle ``width c(s) x
+thickness`` centred on the ``x`` axis, with ``c(s) = 1 + (taper - 1) s / L`` (``taper``: chord at
+the tip / chord at the root; the thickness is uniform), turned about ``x`` by ``twist s / L``
+(``twist`` [rad]: the tip's angle to the root's, positive from ``y`` towards ``z``).
+
+Elements. Triquadratic 27-node Lagrange hexahedra (scikit-fem's ``ElementHex2``, full 3 x 3 x 3
+Gauss integration) on a structured ``n_span x n_chord x n_thickness`` grid of trilinear
+hexahedra. Why: a quadratic displacement field holds pure bending exactly, the anticlastic Poisson
+terms included (``u = -kappa x z``, ``w = kappa (x^2 + nu (z^2 - y^2)) / 2``), so an element that is
+long and thin carries a constant bending moment without the parasitic shear strain that locks
+linear hexahedra, and one element through the thickness bends correctly (the transverse normal
+strain is linear through it: no Poisson thickness locking either). Under a moment that varies
+along an element a mild shear locking remains, and the edges of the clamped root face are
+singular lines of the 3D solution: the frequencies converge from above at about second order in
+the element size (tests/test_solid_blade.py: the a / h = 100 square plate 1 x 1 x 0.01 with
+8 x 8 x 1, 12 x 12 x 1 and 16 x 16 x 1 elements is within 2.4 %, 1.1 % and 0.6 % of the converged
+Kirchhoff plate; a blade of L / h = 100, L / b = 20 with 40 x 2 x 1 within 0.4 % of the beam).
+Full integration is kept on purpose: uniformly reduced 2 x 2 x 2 integration removes the locking
+but leaves 27 zero-energy modes per element (33 zero eigenvalues in a free single element, 81 in
+a free 4 x 4 x 1 plate, measured), and a blend of the two lets those modes down among the
+physical ones; a root whose contact patches carry the blade must not have them. The 20-node
+serendipity element with reduced integration converges no faster here. Tetrahedra need several
+layers through the thickness and many more DOFs for the same accuracy. The twist enters through
+the trilinear element geometry (each element's edges are straight): the twist per element
+should be small (the error is that of approximating the helicoid by bilinear patches).
+
+Rotation, in the frame that rotates with the blade (as BeamBlade's):
+
+- centrifugal stiffening: the steady stress ``sigma0`` of the clamped blade under its centrifugal
+  body force ``rho Omega^2 (R + x, y, 0)`` (a linear elastic static solution, the blade's shape
+  undeformed: BeamBlade's ``T(s)`` is its resultant) gives the geometric stiffness
+  ``K_G = int sigma0_ij (d_i u_k)(d_j v_k) dV``;
+- spin softening ``-Omega^2 M_s``, ``M_s = int rho (u_x v_x + u_y v_y) dV``: the mass of the
+  motion in the plane of rotation;
+- Coriolis coupling is left out (as in BeamBlade and the rotating-beam tables).
+
+:attr:`SolidBlade.stiffness` is ``K_E + K_G - Omega^2 M_s``; the natural frequencies are those
+with the root face clamped. The matrices are ``scipy.sparse`` CSR arrays, ordered node by node
+(nodes sorted by ``x``, then ``y``, then ``z`` of the undeformed reference grid; directions x, y,
+z), and :attr:`SolidBlade.fe_model` is the :class:`~frictionjoint.structures.FEModel` with the DOF
+table and the node sets ``"root"`` and ``"tip"`` (the faces), as an FE code's export would be.
+"""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import ParameterError, check_count, check_nonnegative, check_poisson_ratio, check_positive, check_real
+from ..structure import LinearStructure
+from .fe_import import FEModel
+
+__all__ = ["SolidBlade", "MAX_DENSE_DOF"]
+
+#: largest number of DOFs :attr:`SolidBlade.structure` makes dense (LinearStructure checks its
+#: matrices with dense eigenvalues: seconds at 2,000 DOFs); larger blades are reduced first
+MAX_DENSE_DOF = 2000
+
+# 3 x 3 x 3 Gauss points: scikit-fem's intorder 5 on hexahedra (exact for the mass on an affine element)
+_INTORDER = 5
+
+
+def _elements(n_elements, length, width):
+    """``(n_span, n_chord, n_thickness)`` from an int (span; chord in proportion, >= 2; one layer
+    through the thickness) or a triple."""
+    if isinstance(n_elements, (int, np.integer)) and not isinstance(n_elements, (bool, np.bool_)):
+        n = check_count("n_elements", n_elements, 1)
+        return n, max(2, round(n * width / length)), 1
+    try:
+        counts = tuple(n_elements)
+    except TypeError:
+        counts = ()
+    if len(counts) != 3:
+        raise ParameterError(f"n_elements must be an integer >= 1 or a triple (n_span, n_chord, n_thickness), "
+                             f"got {n_elements!r}")
+    return tuple(check_count(f"n_elements[{i}]", c, 1) for i, c in enumerate(counts))
+
+
+class SolidBlade:
+    """A straight plate-like rotating blade as a 3D elastic solid (27-node hexahedra, sparse).
+
+    Parameters
+    ----------
+    length : float
+        Span ``L`` [m], > 0.
+    width : float
+        Chord ``b`` at the root [m], > 0.
+    thickness : float
+        ``h`` [m], > 0.
+    youngs_modulus : float
+        ``E`` [Pa], > 0.
+    poisson_ratio : float
+        ``nu`` [-], in (-1, 0.5).
+    density : float
+        ``rho`` [kg/m^3], > 0.
+    twist : float
+        Angle of the tip's cross-section to the root's [rad], linear over the span (positive from
+        ``y`` towards ``z``), in (-pi, pi).
+    taper : float
+        Chord at the tip / chord at the root [-], > 0.
+    n_elements : int or (int, int, int)
+        Elements along the span, the chord and the thickness; an int ``n`` is ``(n, max(2,
+        round(n b / L)), 1)``. One element through the thickness bends correctly (module
+        docstring); the frequencies converge from above at about second order in the element
+        size: the square plate (a / h = 100) with 16 x 16 x 1 is within 0.6 % of the converged
+        Kirchhoff plate; keep the elements' span length within a few thicknesses.
+    rotor_speed : float
+        ``Omega`` [rad/s], >= 0.
+    hub_radius : float
+        ``R``: radius of the root face from the rotation axis [m], >= 0.
+    rayleigh : (float, float)
+        Viscous damping ``C = alpha M + beta K_E`` [1/s, s] (``K_E`` the elastic stiffness), both
+        >= 0.
+
+    Attributes
+    ----------
+    mass, stiffness : (n_dof, n_dof) scipy.sparse.csr_array
+        ``M`` [kg] and ``K_E + K_G - Omega^2 M_s`` [N/m], every node's DOFs (the root's included).
+    elastic_stiffness, geometric_stiffness, softening : (n_dof, n_dof) scipy.sparse.csr_array
+        ``K_E``, ``K_G`` and ``Omega^2 M_s`` [N/m] (the last two zero without rotation).
+    nodes : (n_nodes, 3) ndarray
+        Node coordinates [m], in the node order (node id = row + 1).
+    """
+
+    def __init__(self, length: float, width: float, thickness: float, youngs_modulus: float,
+                 poisson_ratio: float, density: float, *, twist: float = 0.0, taper: float = 1.0,
+                 n_elements=20, rotor_speed: float = 0.0, hub_radius: float = 0.0,
+                 rayleigh: tuple = (0.0, 0.0)) -> None:
+        self.length = check_positive("length", length)
+        self.width = check_positive("width", width)
+        self.thickness = check_positive("thickness", thickness)
+        self.youngs_modulus = check_positive("youngs_modulus", youngs_modulus)
+        self.poisson_ratio = check_poisson_ratio("poisson_ratio", poisson_ratio)
+        self.density = check_positive("density", density)
+        self.twist = check_real("twist", twist)
+        if not abs(self.twist) < math.pi:
+            raise ParameterError(f"twist must be in (-pi, pi) rad, got {twist!r}")
+        self.taper = check_positive("taper", taper)
+        self.n_elements = _elements(n_elements, self.length, self.width)
+        self.rotor_speed = check_nonnegative("rotor_speed", rotor_speed)
+        self.hub_radius = check_nonnegative("hub_radius", hub_radius)
+        try:
+            alpha, beta = (float(v) for v in rayleigh)
+        except (TypeError, ValueError):
+            raise ParameterError(f"rayleigh must be a pair (alpha, beta) of numbers >= 0, got {rayleigh!r}") from None
+        self.rayleigh = (check_nonnegative("rayleigh alpha", alpha), check_nonnegative("rayleigh beta", beta))
+        self._assemble()
+
+    # ------------------------------------------------------------------ geometry and assembly
+    def _mesh(self):
+        from skfem import MeshHex
+
+        ns, nc, nt = self.n_elements
+        mesh = MeshHex.init_tensor(np.linspace(0.0, self.length, ns + 1),
+                                   np.linspace(-0.5 * self.width, 0.5 * self.width, nc + 1),
+                                   np.linspace(-0.5 * self.thickness, 0.5 * self.thickness, nt + 1))
+        x, y, z = mesh.p
+        y = y * (1.0 + (self.taper - 1.0) * x / self.length)
+        angle = self.twist * x / self.length
+        p = np.array([x, y * np.cos(angle) - z * np.sin(angle), y * np.sin(angle) + z * np.cos(angle)])
+        return MeshHex(p, mesh.t)
+
+    def _assemble(self):
+        from skfem import Basis, BilinearForm, ElementHex2, ElementVector, LinearForm, asm
+        from skfem.helpers import dot, grad
+        from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+        basis = Basis(self._mesh(), ElementVector(ElementHex2()), intorder=_INTORDER)
+        rho, om2, radius = self.density, self.rotor_speed ** 2, self.hub_radius
+        lam, mu = lame_parameters(self.youngs_modulus, self.poisson_ratio)
+
+        @BilinearForm
+        def mass(u, v, w):
+            return rho * dot(u, v)
+
+        @BilinearForm
+        def in_plane_mass(u, v, w):
+            return rho * (u[0] * v[0] + u[1] * v[1])
+
+        @LinearForm
+        def centrifugal(v, w):
+            return rho * om2 * ((radius + w.x[0]) * v[0] + w.x[1] * v[1])
+
+        @BilinearForm
+        def geometric(u, v, w):
+            return np.einsum("ij...,ki...,kj...", w.sigma, grad(u), grad(v))
+
+        # the nodes: scikit-fem numbers a vector element's DOFs in triples (x, y, z) at one point
+        locs = basis.doflocs[:, ::3]
+        order = np.lexsort(self._reference_grid(locs)[::-1])  # by x, then y, then z
+        perm = (3 * order[:, None] + np.arange(3)).ravel()  # new DOF -> scikit-fem DOF
+
+        def arranged(a):
+            a = sp.csr_array(a)[perm][:, perm]
+            a.sort_indices()
+            return sp.csr_array(0.5 * (a + a.T))
+
+        k_e = asm(linear_elasticity(lam, mu), basis)
+        m = asm(mass, basis)
+        n = basis.N
+        root = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
+        if om2 > 0.0:
+            # the steady stress of the clamped, undeformed blade under its centrifugal load
+            free = np.setdiff1d(np.arange(n), root)
+            u = np.zeros(n)
+            u[free] = _factor(sp.csc_array(k_e[free][:, free]))(asm(centrifugal, basis)[free])
+            du = basis.interpolate(u).grad
+            strain = 0.5 * (du + np.swapaxes(du, 0, 1))
+            sigma = 2.0 * mu * strain + lam * np.einsum("ii...", strain) * np.eye(3)[:, :, None, None]
+            k_g = asm(geometric, basis, sigma=sigma)
+            soft = om2 * asm(in_plane_mass, basis)
+        else:
+            k_g = soft = sp.csr_array((n, n))
+        self.mass = arranged(m)
+        self.elastic_stiffness = arranged(k_e)
+        self.geometric_stiffness = arranged(k_g)
+        self.softening = arranged(soft)
+        self.stiffness = sp.csr_array(self.elastic_stiffness + self.geometric_stiffness - self.softening)
+        self.nodes = locs[:, order].T.copy()
+        self.nodes.setflags(write=False)
+        inverse = np.empty_like(order)
+        inverse[order] = np.arange(order.size)
+        self._root_nodes = np.unique(inverse[root // 3])
+        self._tip_nodes = np.unique(inverse[basis.get_dofs(lambda x: np.isclose(x[0], self.length)).all() // 3])
+
+    def _reference_grid(self, locs):
+        """Integer coordinates of the nodes ``locs`` (3, n_nodes) on the reference grid (before taper
+        and twist), two units apart: the node order is the same for every twist and taper."""
+        x = locs[0]
+        angle = self.twist * x / self.length
+        y = locs[1] * np.cos(angle) + locs[2] * np.sin(angle)
+        z = -locs[1] * np.sin(angle) + locs[2] * np.cos(angle)
+        y = y / (1.0 + (self.taper - 1.0) * x / self.length)
+        scale = 4 * max(self.n_elements)
+        return np.round(np.array([x / self.length, y / self.width, z / self.thickness]) * scale).astype(np.int64)
+
+    # ------------------------------------------------------------------ the model
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs, three per node (the root face's included)."""
+        return self.mass.shape[0]
+
+    @property
+    def damping(self) -> sp.csr_array:
+        """``C = alpha M + beta K_E`` [N s/m], sparse."""
+        alpha, beta = self.rayleigh
+        return sp.csr_array(alpha * self.mass + beta * self.elastic_stiffness)
+
+    @property
+    def dofs(self) -> np.ndarray:
+        """``(n_dof, 2)`` DOF table: node id (1 ... n_nodes) and direction (1, 2, 3: x, y, z)."""
+        n_nodes = self.n_dof // 3
+        return np.column_stack([np.repeat(np.arange(1, n_nodes + 1), 3), np.tile([1, 2, 3], n_nodes)])
+
+    @property
+    def node_sets(self) -> dict:
+        """``"root"``: the nodes of the root face (``s = 0``, clamped for the natural frequencies);
+        ``"tip"``: those of the tip face (``s = L``). Node ids."""
+        return {"root": tuple(int(i) + 1 for i in self._root_nodes), "tip": tuple(int(i) + 1 for i in self._tip_nodes)}
+
+    @functools.cached_property
+    def fe_model(self) -> FEModel:
+        """The blade as an :class:`~frictionjoint.structures.FEModel` (sparse mass, stiffness and
+        damping, the DOF table, the node sets), checked as an imported model is (the mass's
+        positive definiteness: about 3 s at 50,000 DOFs). Its DOF names are ``n<node>_u<d>``."""
+        damping = self.damping if any(self.rayleigh) else None
+        return FEModel(self.mass, self.stiffness, damping, dofs=self.dofs, node_sets=self.node_sets,
+                       source=repr(self))
+
+    @property
+    def dof_names(self) -> tuple:
+        """``n<node>_u<d>``: the names of :attr:`fe_model` (:func:`~frictionjoint.structures.dof_name`)."""
+        from .fe_import import dof_name
+
+        return tuple(dof_name(node, d) for node, d in self.dofs)
+
+    def dofs_of(self, set_name: str) -> np.ndarray:
+        """The matrix rows of a node set's DOFs (``"root"`` or ``"tip"``), node by node, x, y, z.
+
+        Parameters
+        ----------
+        set_name : str
+            ``"root"`` or ``"tip"``.
+
+        Returns
+        -------
+        (k,) ndarray of int
+        """
+        nodes = {"root": self._root_nodes, "tip": self._tip_nodes}.get(set_name)
+        if nodes is None:
+            raise ParameterError(f"set_name must be one of ['root', 'tip'], got {set_name!r}")
+        return (3 * nodes[:, None] + np.arange(3)).ravel()
+
+    @functools.cached_property
+    def structure(self) -> LinearStructure:
+        """The blade as a dense :class:`~frictionjoint.structure.LinearStructure` with every DOF
+        (the root face's included, for the root joints), for blades of at most
+        :data:`MAX_DENSE_DOF` DOFs; stiffness ``K_E + K_G - Omega^2 M_s`` (indefinite under
+        rotation until the joints hold the root). A larger blade is kept sparse: reduce it
+        (:attr:`mass`, :attr:`stiffness`, :attr:`fe_model`) first."""
+        if self.n_dof > MAX_DENSE_DOF:
+            raise ParameterError(f"the blade has {self.n_dof} DOFs, more than {MAX_DENSE_DOF} for a dense "
+                                 f"LinearStructure: reduce its sparse model (SolidBlade.mass, .stiffness, "
+                                 f".fe_model) first")
+        return LinearStructure(self.mass.toarray(), self.stiffness.toarray(), self.damping.toarray(),
+                               dof_names=self.dof_names, indefinite_stiffness=self.rotor_speed > 0)
+
+    # ------------------------------------------------------------------ modes
+    def _clamped(self):
+        free = np.setdiff1d(np.arange(self.n_dof), self.dofs_of("root"))
+        return free, sp.csc_array(self.stiffness[free][:, free]), sp.csc_array(self.mass[free][:, free])
+
+    def modes(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """The first ``n`` natural angular frequencies [rad/s] and mode shapes with the root face
+        clamped: sparse shift-invert Lanczos (``scipy.sparse.linalg.eigsh``) about 0, one sparse
+        factorisation of the clamped stiffness.
+
+        Parameters
+        ----------
+        n : int
+            How many, in ``[1, n_dof - root DOFs - 1]``.
+
+        Returns
+        -------
+        omega : (n,) ndarray
+            Ascending [rad/s].
+        shapes : (n_dof, n) ndarray
+            Mass-normalised mode shapes, zero at the root face.
+        """
+        free, k, m = self._clamped()
+        n = check_count("n", n, 1)
+        if n >= free.size:
+            raise ParameterError(f"n must be in [1, {free.size - 1}], got {n}")
+        solve = _factor(k)
+        op = spla.LinearOperator(k.shape, matvec=solve, dtype=float)
+        lam, vec = spla.eigsh(k, n, m, sigma=0.0, which="LM", OPinv=op)
+        idx = np.argsort(lam)
+        lam, vec = lam[idx], vec[:, idx]
+        if lam[0] < 0:
+            raise ParameterError(f"the clamped blade is unstable at rotor_speed = {self.rotor_speed!r} rad/s "
+                                 f"(omega^2 = {lam[0]:.3g})")
+        shapes = np.zeros((self.n_dof, n))
+        shapes[free] = vec / np.sqrt(np.einsum("ij,ij->j", vec, m @ vec))
+        return np.sqrt(lam), shapes
+
+    def natural_frequencies(self, n: int = 6) -> np.ndarray:
+        """The first ``n`` natural angular frequencies [rad/s] with the root face clamped, ascending
+        (every kind: flapwise, chordwise, torsion, axial; :meth:`modes` gives the shapes).
+
+        Parameters
+        ----------
+        n : int
+            How many, >= 1.
+
+        Returns
+        -------
+        (n,) ndarray
+        """
+        return self.modes(n)[0]
+
+    def __repr__(self) -> str:
+        return (f"SolidBlade(length={self.length!r}, width={self.width!r}, thickness={self.thickness!r}, "
+                f"twist={self.twist!r}, taper={self.taper!r}, n_elements={self.n_elements}, "
+                f"rotor_speed={self.rotor_speed!r}, hub_radius={self.hub_radius!r})")
+
+
+def _factor(a: sp.csc_array):
+    """A solver ``b -> a^-1 b`` for a symmetric positive definite sparse ``a``: SuperLU in symmetric
+    mode (diagonal pivots, minimum degree on ``a + a^T``), which a stiffness allows."""
+    try:
+        lu = spla.splu(a, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    except RuntimeError as exc:
+        raise ParameterError(f"the clamped blade's stiffness is singular: {exc}") from None
+    return lu.solve

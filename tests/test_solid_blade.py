@@ -1,0 +1,178 @@
+"""The solid blade (frictionjoint.structures.SolidBlade): the square cantilever plate against a
+Kirchhoff reference computed here and Leissa's table, the slender blade against BeamBlade
+(Euler-Bernoulli) rotating and not, the sparse model, twist and taper.
+
+Tolerances (each test says what it allows and why; errors are printed, run with ``-s``):
+
+- square plate, a / h = 100: against the converged Kirchhoff plate, 2.5 % on the 8 x 8 x 1 mesh
+  and 0.7 % on 16 x 16 x 1 (slow); against Leissa's table 1 % on 16 x 16 x 1. The 3D solid
+  converges from above, slowly: the edges of its clamped root face are singular lines of the
+  3D solution, and a quadratic element keeps a mild shear locking under a varying moment;
+- slender blade (L / b = 20, L / h = 100), 40 x 2 x 1: flapwise 1 % above the beam (3D root
+  clamping of the Poisson contraction and the mesh: +0.3 % converged), chordwise 0.2 % (Timoshenko
+  shear, -0.06 % converged).
+"""
+import numpy as np
+import pytest
+
+from benchmarks.solid_blade import LEISSA, kirchhoff_square_cantilever
+from frictionjoint.errors import ParameterError
+from frictionjoint.structures import BeamBlade, FEModel, SolidBlade
+from frictionjoint.structures.solid import MAX_DENSE_DOF
+
+STEEL = dict(youngs_modulus=200e9, poisson_ratio=0.3, density=7800.0)
+
+#: the converged Kirchhoff square cantilever plate (nu = 0.3), lambda = omega a^2 sqrt(rho h / D),
+#: Argyris triangles 32 x 32 x 2 (benchmarks/solid_blade.py: 3.47102, 8.50636, 21.28425, 27.19876,
+#: 30.95489; 16 x 16 x 2 agrees to 6e-5). Leissa,
+#: "Vibration of Plates", NASA SP-160 (1969), Table 4.50 (from a Ritz solution of few terms),
+#: tabulates 3.492, 8.525, 21.43, 27.33, 31.11: higher by 0.60, 0.22, 0.68, 0.48, 0.50 %.
+KIRCHHOFF = (3.4710, 8.5064, 21.284, 27.199, 30.955)
+
+
+def _plate(n):
+    a, h = 1.0, 0.01
+    blade = SolidBlade(a, a, h, **STEEL, n_elements=(n, n, 1))
+    d = STEEL["youngs_modulus"] * h ** 3 / (12 * (1 - STEEL["poisson_ratio"] ** 2))
+    return blade.natural_frequencies(5) * a ** 2 * np.sqrt(STEEL["density"] * h / d)
+
+
+def test_kirchhoff_reference_is_converged():
+    # the independent reference: C1 quintic triangles on the Kirchhoff plate, 16 x 16 x 2 (0.4 s)
+    lam = kirchhoff_square_cantilever(16)
+    print("Argyris 16x16:", lam, "Leissa / Argyris - 1:", np.array(LEISSA) / lam - 1)
+    assert np.max(np.abs(lam / KIRCHHOFF - 1)) <= 1e-4
+    assert np.all(np.array(LEISSA) / lam - 1 > 0) and np.max(np.array(LEISSA) / lam - 1) < 7e-3
+
+
+def test_square_plate_coarse():
+    lam = _plate(8)
+    err = lam / KIRCHHOFF - 1
+    print("solid 8x8x1:", lam, "error against Kirchhoff:", err)
+    assert np.all(err > 0) and np.max(err) <= 0.025  # from above (stiff): 0.96, 0.78, 2.4, 1.1, 1.9 %
+
+
+@pytest.mark.slow
+def test_square_plate_against_kirchhoff_and_leissa_with_mesh_convergence():
+    lams = {n: _plate(n) for n in (8, 12, 16)}
+    errs = {n: lam / KIRCHHOFF - 1 for n, lam in lams.items()}
+    for n in lams:
+        print(f"solid {n}x{n}x1:", lams[n], "error against Kirchhoff:", errs[n],
+              "against Leissa:", lams[n] / LEISSA - 1)
+    # monotone from above: each mesh stiffer than the next; 16 x 16 x 1 within 0.7 % of the
+    # Kirchhoff plate (0.36, 0.17, 0.59, 0.17, 0.37 %) and 1 % of Leissa's table
+    assert np.all(errs[8] > errs[12]) and np.all(errs[12] > errs[16]) and np.all(errs[16] > 0)
+    assert np.max(errs[16]) <= 7e-3
+    assert np.max(np.abs(lams[16] / LEISSA - 1)) <= 1e-2
+    # error ratio 12 -> 16 elements: ~1.6-1.9 (order ~ 2 in the element size)
+    ratio = errs[12] / errs[16]
+    print("error ratio 12 -> 16:", ratio)
+    assert np.all(ratio > 1.4)
+
+
+def _classified(blade, n=4):
+    """The first flapwise (tip moving along z) and chordwise (along y) frequencies."""
+    omega, shapes = blade.modes(n)
+    tip = np.abs(shapes[blade.dofs_of("tip")].reshape(-1, 3, n)).sum(axis=0)
+    kind = list(tip.argmax(axis=0))
+    return omega[kind.index(2)], omega[kind.index(1)]
+
+
+SLENDER = dict(length=1.0, width=0.05, thickness=0.01)
+
+
+@pytest.mark.parametrize("speed, hub", [(0.0, 0.0), (300.0, 0.5)])
+def test_slender_blade_against_beam_blade(speed, hub):
+    # BeamBlade (Euler-Bernoulli, E, I = b h^3 / 12 flapwise and h b^3 / 12 chordwise), itself
+    # within 3.3e-6 of the closed form / 1e-5 of the rotating-beam series (tests/test_blade.py)
+    beam = dict(SLENDER, youngs_modulus=STEEL["youngs_modulus"], density=STEEL["density"], rotor_speed=speed,
+                hub_radius=hub)
+    flap_ref = BeamBlade(**beam).natural_frequencies(1)[0]
+    chord_ref = BeamBlade(**beam, bending="chordwise").natural_frequencies(1)[0]
+    blade = SolidBlade(**SLENDER, **STEEL, n_elements=(40, 2, 1), rotor_speed=speed, hub_radius=hub)
+    flap, chord = _classified(blade)
+    print(f"Omega = {speed}: flapwise {flap:.4f} (beam {flap_ref:.4f}, {flap / flap_ref - 1:+.2e}), "
+          f"chordwise {chord:.4f} (beam {chord_ref:.4f}, {chord / chord_ref - 1:+.2e})")
+    # non-rotating: +4.1e-3 and +7e-5; at 300 rad/s (nu = 20.5 flapwise): +9.8e-4 and +6.7e-5
+    assert 0 < flap / flap_ref - 1 <= 1e-2
+    assert abs(chord / chord_ref - 1) <= 2e-3
+
+
+def test_rotation_stiffens_and_softens_as_the_beam():
+    # the rotating increase omega^2 - omega_0^2 of the first flapwise mode is the beam's to the
+    # 3D discretisation's share (the elastic parts cancel): within 1 %; coarse mesh
+    blades = [SolidBlade(**SLENDER, **STEEL, n_elements=(20, 2, 1), rotor_speed=w, hub_radius=0.5) for w in (0, 100)]
+    beams = [BeamBlade(**SLENDER, youngs_modulus=2e11, density=7800.0, rotor_speed=w, hub_radius=0.5) for w in (0, 100)]
+    f = [_classified(b)[0] for b in blades]
+    g = [b.natural_frequencies(1)[0] for b in beams]
+    rise, rise_ref = f[1] ** 2 - f[0] ** 2, g[1] ** 2 - g[0] ** 2
+    print(f"flapwise omega^2 rise {rise:.1f}, beam {rise_ref:.1f}: {rise / rise_ref - 1:+.2e}")
+    assert abs(rise / rise_ref - 1) <= 1e-2
+    # the softening is the in-plane mass times Omega^2, and the stiffness is K_E + K_G - softening
+    b = blades[1]
+    assert np.allclose((b.elastic_stiffness + b.geometric_stiffness - b.softening - b.stiffness).data, 0.0)
+    z = b.dofs[:, 1] == 3
+    assert abs(b.softening[z][:, z]).sum() == 0.0
+    assert np.isclose(b.softening[~z][:, ~z].sum(), 100.0 ** 2 * b.mass[~z][:, ~z].sum(), rtol=1e-12)
+
+
+def test_sparse_model_dof_table_node_sets_and_structure():
+    b = SolidBlade(0.2, 0.04, 0.004, **STEEL, n_elements=(4, 2, 1), rotor_speed=200.0, hub_radius=0.1)
+    n_nodes = 9 * 5 * 3
+    assert b.n_dof == 3 * n_nodes and b.nodes.shape == (n_nodes, 3)
+    assert len(b.node_sets["root"]) == 15 and len(b.node_sets["tip"]) == 15
+    assert np.allclose(b.nodes[np.array(b.node_sets["root"]) - 1, 0], 0.0)
+    assert np.allclose(b.nodes[np.array(b.node_sets["tip"]) - 1, 0], 0.2)
+    # nodes by x, then y, then z: the matrices are banded along the span
+    assert np.all(np.diff(b.nodes[:, 0]) >= -1e-15)
+    # total mass: rho V for each direction
+    ones = (b.dofs[:, 1] == 1).astype(float)
+    assert np.isclose(ones @ (b.mass @ ones), 7800.0 * 0.2 * 0.04 * 0.004, rtol=1e-12)
+    model = b.fe_model
+    assert isinstance(model, FEModel) and model.n_dof == b.n_dof
+    assert model.dof_names == b.dof_names and b.dof_names[:2] == ("n1_u1", "n1_u2")
+    assert np.array_equal(model.dofs_of("root"), b.dofs_of("root"))
+    s = b.structure
+    assert s.indefinite_stiffness and s.dof_names == b.dof_names
+    clamped = s.clamped(b.dofs_of("root").tolist())
+    # dense eigh against sparse shift-invert: the dense solver's rounding is eps times the largest
+    # eigenvalue of the mesh (~1e8 times the first): 1e-8 of omega
+    assert np.allclose(clamped.natural_frequencies()[:4], b.natural_frequencies(4), rtol=1e-7)
+    big = SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=(20, 4, 1))
+    assert big.n_dof > MAX_DENSE_DOF
+    with pytest.raises(ParameterError, match="reduce"):
+        big.structure
+
+
+def test_taper_and_twist():
+    kw = dict(**STEEL, n_elements=(12, 2, 1))
+    plain = SolidBlade(0.3, 0.05, 0.005, **kw)
+    tapered = SolidBlade(0.3, 0.05, 0.005, taper=0.5, **kw)
+    ones = (plain.dofs[:, 1] == 1).astype(float)
+    # volume L h b (1 + taper) / 2: the trilinear geometry is exact for a linear taper
+    assert np.isclose(ones @ (tapered.mass @ ones), 7800.0 * 0.3 * 0.005 * 0.05 * 0.75, rtol=1e-12)
+    tip = np.array(tapered.node_sets["tip"]) - 1
+    assert np.isclose(np.ptp(tapered.nodes[tip, 1]), 0.025)
+    # twist: the tip section turned by the angle; +twist and -twist are mirror images
+    plus = SolidBlade(0.3, 0.05, 0.005, twist=0.4, **kw)
+    minus = SolidBlade(0.3, 0.05, 0.005, twist=-0.4, **kw)
+    corner = tip[np.argmax(plain.nodes[tip, 1] + 1e-3 * plain.nodes[tip, 2])]  # (y, z) = (b/2, h/2) untwisted
+    assert np.isclose(np.arctan2(plus.nodes[corner, 2], plus.nodes[corner, 1]),
+                      0.4 + np.arctan2(0.0025, 0.025), atol=1e-12)
+    fp, fm, f0 = plus.natural_frequencies(4), minus.natural_frequencies(4), plain.natural_frequencies(4)
+    print("twist +0.4:", fp, "-0.4:", fm, "none:", f0)
+    assert np.allclose(fp, fm, rtol=1e-8)  # mirror meshes, the same to the solvers' rounding (2.4e-9 here)
+    # the first mode (flapwise) barely changes with a small twist; the twist couples flap and chord
+    assert abs(fp[0] / f0[0] - 1) < 2e-2
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(length=0.0), "length"), (dict(poisson_ratio=0.5), "poisson_ratio"), (dict(taper=-1.0), "taper"),
+    (dict(twist=4.0), "twist"), (dict(n_elements=(2, 2)), "n_elements"), (dict(n_elements=0), "n_elements"),
+    (dict(rotor_speed=-1.0), "rotor_speed"), (dict(rayleigh=(1.0,)), "rayleigh"),
+])
+def test_bad_input_names_the_parameter(kwargs, word):
+    args = dict(length=0.2, width=0.04, thickness=0.004, **STEEL, n_elements=(2, 2, 1))
+    args.update(kwargs)
+    with pytest.raises(ParameterError, match=word):
+        SolidBlade(**args)
