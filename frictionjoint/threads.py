@@ -77,19 +77,25 @@ def set_blas_threads(n: int | None) -> None:
     _choice = n
 
 
-def _get_controller():
+def _blas_libraries() -> list:
+    """threadpoolctl's controllers of the BLAS libraries loaded in the process (scanned once)."""
     global _controller
     with _lock:
         if _controller is None:
             from threadpoolctl import ThreadpoolController
 
-            _controller = ThreadpoolController()  # scans the loaded libraries once
+            _controller = [lib for lib in ThreadpoolController().lib_controllers if lib.user_api == "blas"]
         return _controller
 
 
 @contextmanager
 def library_threads():
-    """Run the block with :func:`blas_threads` BLAS threads (nested blocks: the outermost sets them)."""
+    """Run the block with :func:`blas_threads` BLAS threads (nested blocks: the outermost sets them).
+
+    Each BLAS library's threads are read and, where they differ, set and restored through its
+    threadpoolctl controller's ``get_num_threads``/``set_num_threads`` (two calls into the library
+    each): ``ThreadpoolController.limit`` gathers every library's full description to restore it,
+    some 36 us a call, which an FMU's ``doStep`` (tens of microseconds of work) paid every step."""
     n = blas_threads()
     if n is None or getattr(_local, "depth", 0):
         _local.depth = getattr(_local, "depth", 0) + 1
@@ -100,8 +106,17 @@ def library_threads():
         return
     _local.depth = 1
     try:
-        with _get_controller().limit(limits=n, user_api="blas"):
+        changed = []
+        try:
+            for lib in _blas_libraries():
+                old = lib.get_num_threads()
+                if old is not None and old != n:
+                    lib.set_num_threads(n)
+                    changed.append((lib, old))
             yield
+        finally:
+            for lib, old in changed:
+                lib.set_num_threads(old)
     finally:
         _local.depth = 0
 
