@@ -1,5 +1,6 @@
 """Cost of the FMU layer: the same computation through an FMU (fmpy) and directly on the library,
-in the same process, for the Coulomb oscillator, the blade on its dovetail and a linear structure.
+in the same process, for the Coulomb oscillator, the blade on its dovetail, a linear structure and a
+whole friction system.
 
 Coulomb oscillator (m = k = P0 = 1, F/P0 = 0.5, r = 0.6 ... 2.2 up, 100 points), three ways:
 
@@ -26,6 +27,13 @@ Linear structure (models/two_dof_chain.toml as ``LinearStructure`` FMU, ``--stru
 x1 and x2 at each step, free) against the library's
 :class:`~frictionjoint.solvers.marcher.held.HeldPortStructure` stepped the same (the baseline);
 the largest difference of the displacements.
+
+Friction system (models/two_dof_chain_system.toml as one FMU, ``--system``: the chain with its two
+Jenkins joints, 1 N cos(1.2 t) on DOF 2, from rest): 200 communication steps of T/50 (load,
+initialise, step, read x1 and x2 at each step, free) against ``fj.simulate`` of the file's
+FrictionSystem on the same times (the baseline) and against the FMU's own run object
+(:class:`~frictionjoint.fmi.system_slave.SystemRun`) stepped the same without FMI; the largest
+difference of the displacements.
 
 Each FMU sweep or run includes loading and freeing its FMU (a sweep's one instance). Each method
 is timed best-of-N, interleaved. Usage:
@@ -55,6 +63,7 @@ BLADE_PARAMS = {"centrifugal_force": 46.0}
 BLADE_OMEGAS = np.linspace(1600.0, 2200.0, 13)
 STRUCTURE = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain.toml"
 STRUCTURE_STEPS = 200  # of T/50: four periods
+SYSTEM = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain_system.toml"
 
 
 def _best(runs: dict, repeat: int) -> tuple[dict, dict]:
@@ -69,28 +78,32 @@ def _best(runs: dict, repeat: int) -> tuple[dict, dict]:
     return best, results
 
 
+def _fmu_run(fmu: str, h: float, outputs: list) -> np.ndarray:
+    """Load the FMU, initialise it, take STRUCTURE_STEPS steps of ``h`` reading ``outputs`` after
+    each, free it: the (steps, outputs) values."""
+    from frictionjoint.fmi.master import FMUInstance
+
+    inst = FMUInstance(fmu)
+    try:
+        inst.initialize()
+        xs = []
+        for n in range(1, STRUCTURE_STEPS + 1):
+            inst.step_to(n * h)
+            xs.append(inst.get(outputs))
+        return np.array(xs)
+    finally:
+        inst.close()
+
+
 def structure_runs(fmu: str):
     """The structure's run through its FMU and through the library (see the module docstring):
     ``name -> callable`` returning the (steps, 2) displacements."""
-    from frictionjoint.fmi.master import FMUInstance
     from frictionjoint.solvers.marcher.held import HeldPortStructure
     from frictionjoint.structure_file import load_structure_definition
 
     d = load_structure_definition(STRUCTURE)
     h = 2 * math.pi / d.omega / 50
     dofs = [d.structure.dof_index(n) for n in d.outputs]
-
-    def through_fmu():
-        inst = FMUInstance(fmu)
-        try:
-            inst.initialize()
-            xs = []
-            for n in range(1, STRUCTURE_STEPS + 1):
-                inst.step_to(n * h)
-                xs.append(inst.get([f"x_{name}" for name in d.outputs]))
-            return np.array(xs)
-        finally:
-            inst.close()
 
     def in_library():
         body = HeldPortStructure(d.structure, d.ports, d.force_vector(), omega=d.omega, t0=0.0)
@@ -102,7 +115,36 @@ def structure_runs(fmu: str):
             xs.append(body.x[dofs].copy())
         return np.array(xs)
 
-    return {"run(fmu)": through_fmu, "HeldPortStructure": in_library}
+    return {"run(fmu)": lambda: _fmu_run(fmu, h, [f"x_{name}" for name in d.outputs]),
+            "HeldPortStructure": in_library}
+
+
+def system_runs(fmu: str):
+    """The friction system's run through its FMU, through its run object and through fj.simulate
+    (see the module docstring): ``name -> callable`` returning the (steps, 2) displacements."""
+    import frictionjoint as fj
+    from frictionjoint.fmi.system_slave import SystemRun
+    from frictionjoint.system_file import load_system_definition
+
+    d = load_system_definition(SYSTEM)
+    h = 2 * math.pi / d.omega / 50
+    t = h * np.arange(1, STRUCTURE_STEPS + 1)
+    rows = [d.structure.dof_index(n) for n in d.displacement]
+    system = d.system()
+
+    def run_object():
+        run = SystemRun(d, {})
+        xs = []
+        for tk in t:
+            run.advance(tk)
+            xs.append(run.state.x[rows].copy())
+        return np.array(xs)
+
+    def simulate():
+        return fj.simulate(system, t[-1], t_eval=t, record=("x",)).x[rows].T
+
+    return {"run(fmu)": lambda: _fmu_run(fmu, h, [f"x_{name}" for name in d.displacement]),
+            "SystemRun": run_object, "fj.simulate": simulate}
 
 
 def main(argv=None):
@@ -115,6 +157,7 @@ def main(argv=None):
 
     built = {p.stem: str(p) for p in build_fmus(out, names=["CoulombOscillator", "BladeDovetail"])}
     structure_fmu = str(build_fmus(out, structures=[load_structure_definition(STRUCTURE)])[0])
+    system_fmu = str(build_fmus(out, systems=[SYSTEM])[0])
     fmu = built["CoulombOscillator"]
     runs = {
         "sweep(fmu)": lambda: sweep(fmu, OMEGAS, PARAMS, outputs=("x", "friction_force")),
@@ -169,17 +212,31 @@ def main(argv=None):
           f"(target <= 1.5x); largest difference FMU vs library: first harmonic {harm:.1e}, "
           f"its amplitude {amp:.1e} (target <= 1e-12), relative")
 
-    runs = structure_runs(structure_fmu)
-    best, results = _best(runs, args.repeat)
-    base = best["HeldPortStructure"]
-    xs = results["HeldPortStructure"]
+    best, results, diff = _stepped_runs(structure_runs(structure_fmu), "HeldPortStructure", args.repeat,
+                                        f"# linear structure {STRUCTURE.name} (--structure): {STRUCTURE_STEPS} "
+                                        "steps of T/50, joint inputs 0")
+    print(f"structure FMU run: {best['run(fmu)'] / best['HeldPortStructure']:.2f}x the library's; largest "
+          f"displacement difference {diff:.1e} of the largest displacement")
+    best, results, diff = _stepped_runs(system_runs(system_fmu), "fj.simulate", args.repeat,
+                                        f"# friction system {SYSTEM.name} (--system): {STRUCTURE_STEPS} steps of "
+                                        "T/50 from rest")
+    print(f"system FMU run: {best['run(fmu)'] / best['fj.simulate']:.2f}x fj.simulate on the same times, "
+          f"{best['run(fmu)'] / best['SystemRun']:.2f}x its run object stepped the same; largest displacement "
+          f"difference {diff:.1e} of the largest displacement")
+
+
+def _stepped_runs(runs: dict, baseline: str, repeat: int, title: str):
+    """Time ``runs`` (best of ``repeat``), print their table under ``title``: (best, results, the
+    largest difference of the FMU's run from the baseline's, relative to its largest value)."""
+    best, results = _best(runs, repeat)
+    base = best[baseline]
+    xs = results[baseline]
     diff = np.max(np.abs(results["run(fmu)"] - xs)) / np.max(np.abs(xs))
-    print(f"# linear structure {STRUCTURE.name} (--structure): {STRUCTURE_STEPS} steps of T/50, joint inputs 0")
+    print(title)
     print(f"{'method':>28} {'time [s]':>9} {'per step [ms]':>15} {'ratio':>7}")
     for name in runs:
         print(f"{name:>28} {best[name]:9.3f} {1e3 * best[name] / STRUCTURE_STEPS:15.3f} {best[name] / base:7.2f}")
-    print(f"structure FMU run: {best['run(fmu)'] / base:.2f}x the library's; largest displacement difference "
-          f"{diff:.1e} of the largest displacement")
+    return best, results, diff
 
 
 def _wrap(a: float) -> float:
