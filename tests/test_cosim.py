@@ -159,3 +159,27 @@ def test_parameters_are_converted_to_their_variable_type_never_silently(fmus):
             blade.convert("normal_load_variation", 0.5)
     finally:
         blade.close()
+
+
+def test_a_system_keeps_its_fmus_between_runs_and_frees_them(chain_fmus):
+    """The components are loaded at the first run and kept (the next run resets them: the same
+    numbers, bit for bit, as the reset FMU starts from the same state); close() frees them; a run
+    that fails frees them, and the next run loads them again."""
+    from frictionjoint.errors import FMUError
+
+    s = system(chain_fmus, "semi-implicit")
+    first = s.simulate(PERIODS * T, T / 20, ["chain.x_x2"])
+    loaded = dict(s._pool)
+    again = s.simulate(PERIODS * T, T / 20, ["chain.x_x2"])
+    assert len(loaded) == 3 and all(s._pool[k] is v for k, v in loaded.items())
+    np.testing.assert_array_equal(first["chain.x_x2"], again["chain.x_x2"])
+    s.close()
+    assert not s._pool and all(v._freed for v in loaded.values())
+    bad = FMUSystem(s.components, s.connections, {"j1": {"slip_force": -1.0}})
+    with pytest.raises(FMUError, match="slip_force"):
+        bad.simulate(PERIODS * T, T / 20, ["chain.x_x2"])
+    assert not bad._pool
+    with FMUSystem(s.components, s.connections) as fresh:
+        np.testing.assert_array_equal(fresh.simulate(PERIODS * T, T / 20, ["chain.x_x2"])["chain.x_x2"],
+                                      first["chain.x_x2"])
+    assert not fresh._pool
