@@ -1,0 +1,145 @@
+"""Reduction that scales (issue 30, part 4): sparse Craig-Bampton and interface reduction of a
+solid blade of hexahedra, timed, with the reduced model's errors against the unreduced one.
+
+The model (:func:`hex_blade`): a plate-like blade of 8-node hexahedra (trilinear, consistent
+mass, 2 x 2 x 2 Gauss points), ``length`` along x (radial), chord ``width`` along y, ``thickness``
+along z, titanium (E = 110 GPa, nu = 0.3, rho = 4430 kg/m^3), assembled with ``scipy.sparse``
+from one element matrix (the elements are equal boxes); the root face ``x = 0`` is the
+Craig-Bampton boundary, its outer node columns (a fifth of the chord each side) are the two
+flanks (contact patches), the far corner is the tip. It stands in for
+:class:`~frictionjoint.structures.SolidBlade` at the size that matters here: its element locks in
+bending (this is a benchmark of the reduction, not of the blade).
+
+Limits, as :mod:`frictionjoint.linear_limits` defines them for the root: ``stuck``, every root
+face DOF held to the ground by a spring ``k_s`` (normal x and both tangential directions);
+``slipping``, the normal springs only (the tangential directions free: the contact slips and
+carries no tangential stiffness); ``free``, the root face free (the blade free-free), reported
+as the hardest case. Errors (reduced against unreduced, the same damping, tip load ``z``):
+
+* frequencies of every mode below the cut-off, relative;
+* receptance at the tip (z) on a grid of frequencies below the cut-off, ``max |H_r - H| /
+  max |H|`` (relative to the peak over the band: pointwise ratios are meaningless at the
+  antiresonances) and the pointwise ``max |H_r - H| / |H|``;
+* interface reduction (:func:`~frictionjoint.structures.interface.interface_reduction`) against
+  the unreduced interface (the Craig-Bampton model with every root DOF): frequencies of the
+  stuck model and the static tip response of the stuck model.
+
+Cut-off: ``omega_c = omega_n / 3``, ``omega_n`` the highest fixed-interface mode kept
+(``fixed_interface_frequencies[-1]``): the rule that makes every error above <= 1e-3 on these
+models (module tests in ``tests/test_reduction_sparse.py``); the free root needs more.
+
+Usage::
+
+    python benchmarks/reduction.py            # the 50,925-DOF blade: time and memory of each step
+    python benchmarks/reduction.py --quick    # 1,575 DOFs, with the errors against the full model
+"""
+from __future__ import annotations
+
+import argparse
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+if __package__ in (None, ""):  # run as a script: the repository is not on the path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from frictionjoint.structures import FEModel, craig_bampton  # noqa: E402
+from frictionjoint.structures.interface import interface_reduction  # noqa: E402
+
+TITANIUM = dict(youngs_modulus=110e9, poisson_ratio=0.3, density=4430.0)
+CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                    [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+LIMITS = ("stuck", "slipping", "free")
+
+
+def hex_element(a: float, b: float, c: float, youngs_modulus: float, poisson_ratio: float,
+                density: float) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness and consistent mass (24 x 24, DOFs node by node, x y z) of an 8-node brick of
+    sides ``a, b, c`` [m], 2 x 2 x 2 Gauss points (exact for the mass, full integration)."""
+    e, nu = youngs_modulus, poisson_ratio
+    lam, mu = e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
+    d = np.zeros((6, 6))
+    d[:3, :3] = lam
+    d[range(3), range(3)] += 2 * mu
+    d[range(3, 6), range(3, 6)] = mu
+    half = np.array([a, b, c]) / 2
+    det = np.prod(half)
+    ke, me = np.zeros((24, 24)), np.zeros((24, 24))
+    for point in CORNERS / np.sqrt(3):
+        factors = 1 + CORNERS * point
+        n = np.prod(factors, axis=1) / 8
+        dn = np.stack([CORNERS[:, k] * np.prod(np.delete(factors, k, axis=1), axis=1) / 8 for k in range(3)],
+                      axis=1) / half
+        bmat = np.zeros((6, 24))
+        for node, (bx, by, bz) in enumerate(dn):
+            bmat[:, 3 * node:3 * node + 3] = [[bx, 0, 0], [0, by, 0], [0, 0, bz], [by, bx, 0], [0, bz, by], [bz, 0, bx]]
+        ke += bmat.T @ d @ bmat * det
+        shape = np.kron(n[None, :], np.eye(3))
+        me += density * shape.T @ shape * det
+    return ke, me
+
+
+def hex_blade(n_length: int, n_chord: int, n_thickness: int, length: float = 0.2, width: float = 0.05,
+              thickness: float = 0.01) -> FEModel:
+    """The benchmark's blade (module docstring) as an :class:`FEModel`: node ids ``1 ...``,
+    directions 1..3, node sets ``root``, ``flank_a``, ``flank_b``, ``rest`` (root face minus the
+    flanks) and ``tip``; its node coordinates are ``model.coordinates`` (n_nodes, 3) [m]."""
+    ke, me = hex_element(length / n_length, width / n_chord, thickness / n_thickness, **TITANIUM)
+    node = np.arange((n_length + 1) * (n_chord + 1) * (n_thickness + 1)).reshape(
+        n_length + 1, n_chord + 1, n_thickness + 1)
+    conn = np.stack([node[i:i + n_length, j:j + n_chord, k:k + n_thickness].ravel()
+                     for i, j, k in ((CORNERS + 1) // 2).astype(int)], axis=1)
+    dofs = (3 * conn[:, :, None] + np.arange(3)).reshape(-1, 24)
+    rows, cols = np.repeat(dofs, 24, axis=1).ravel(), np.tile(dofs, 24).ravel()
+    n = 3 * node.size
+    stiffness = sp.csr_array((np.tile(ke.ravel(), len(dofs)), (rows, cols)), shape=(n, n))
+    mass = sp.csr_array((np.tile(me.ravel(), len(dofs)), (rows, cols)), shape=(n, n))
+    table = np.stack([np.repeat(np.arange(1, node.size + 1), 3), np.tile([1, 2, 3], node.size)], axis=1)
+    side = max(1, (n_chord + 1) // 5)
+    root = node[0]
+    sets = {"root": root.ravel() + 1, "flank_a": root[:side].ravel() + 1, "flank_b": root[-side:].ravel() + 1,
+            "rest": root[side:-side].ravel() + 1, "tip": [int(node[-1, -1, -1]) + 1]}
+    model = FEModel(mass, stiffness, dofs=table, node_sets={k: [int(v) for v in s] for k, s in sets.items()},
+                    source=f"benchmarks/reduction.py hex_blade({n_length}, {n_chord}, {n_thickness})")
+    grid = np.meshgrid(np.linspace(0, length, n_length + 1), np.linspace(0, width, n_chord + 1),
+                       np.linspace(0, thickness, n_thickness + 1), indexing="ij")
+    object.__setattr__(model, "coordinates", np.stack(grid, axis=-1).reshape(-1, 3))
+    return model
+
+
+def root_springs(model: FEModel, limit: str, spring: float) -> np.ndarray:
+    """The springs [N/m] to the ground on each DOF of ``model`` in a limit (module docstring)."""
+    k = np.zeros(model.n_dof)
+    if limit == "stuck":
+        k[model.dofs_of("root")] = spring
+    elif limit == "slipping":
+        k[model.dofs_of("root", [1])] = spring
+    elif limit != "free":
+        raise ValueError(f"limit must be one of {LIMITS}, got {limit!r}")
+    return k
+
+
+def tip_receptance(model: FEModel, reduced, springs: np.ndarray, omegas: np.ndarray,
+                   rayleigh: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """Receptance tip z / tip z force [m/N] of the full model (one sparse LU per frequency) and of
+    the reduced one (the springs act on the rows of its transformation: the boundary DOFs' own
+    coordinates for Craig-Bampton)."""
+    alpha, beta = rayleigh
+    tip = model.dof_index(model.node_sets["tip"][0], 3)
+    k = sp.csc_array(model.stiffness + sp.diags_array(springs))
+    c = alpha * model.mass + beta * model.stiffness
+    f = np.zeros(model.n_dof)
+    f[tip] = 1.0
+    t = reduced.transformation
+    held = np.flatnonzero(springs)
+    kr = reduced.stiffness + t[held].T @ (springs[held, None] * t[held])  # x = T x_r at the springs
+    full, red = [], []
+    for w in omegas:
+        full.append(spla.splu(sp.csc_array(k + 1j * w * c - w * w * model.mass)).solve(f.astype(complex))[tip])
+        red.append(t[tip] @ np.linalg.solve(kr + 1j * w * reduced.damping - w * w * reduced.mass, t.T @ f))
+    return np.array(full), np.array(red)
