@@ -18,14 +18,16 @@ hexahedra. Why: a quadratic displacement field holds pure bending exactly, the a
 terms included (``u = -kappa x z``, ``w = kappa (x^2 + nu (z^2 - y^2)) / 2``), so an element that is
 long and thin carries a constant bending moment without the parasitic shear strain that locks
 linear hexahedra, and one element through the thickness bends correctly (the transverse normal
-strain is linear through it: no Poisson thickness locking either). Under a moment that varies
-along an element a mild shear locking remains, and the edges of the clamped root face are
-singular lines of the 3D solution: the frequencies converge from above at about second order in
-the element size (tests/test_solid_blade.py: the a / h = 100 square plate 1 x 1 x 0.01 with
-8 x 8 x 1, 12 x 12 x 1 and 16 x 16 x 1 elements is within 2.4 %, 1.1 % and 0.6 % of the converged
-Kirchhoff plate; a blade of L / h = 100, L / b = 20 with 40 x 2 x 1 within 0.4 % of the beam).
-Full integration is kept on purpose: uniformly reduced 2 x 2 x 2 integration removes the locking
-but leaves 27 zero-energy modes per element (33 zero eigenvalues in a free single element, 81 in
+strain is linear through it: no Poisson thickness locking either). Measured: the square plate
+1 x 1 x h with 8 x 8 x 1 elements has its first five frequencies 0.96-2.4 % above the converged
+Kirchhoff plate at a / h = 100 and 1.0-2.7 % at a / h = 1000 (16 x 16 x 1: 0.17-0.59 % and
+0.35-0.83 %): the error does not grow as the blade thins. It falls at about second order in the
+element size, not fourth: the edges of the clamped root face are singular lines of the 3D solution
+(the Kirchhoff plate's clamped corners limit Argyris triangles likewise), and the frequencies
+converge from above (tests/test_solid_blade.py: 2.4 %, 1.1 % and 0.6 % at 8, 12 and 16 elements a
+side; a blade of L / h = 100, L / b = 20 with 40 x 2 x 1 is within 0.4 % of the beam).
+Full integration is kept on purpose: uniformly reduced 2 x 2 x 2 integration converges faster on
+the plate (within 0.03 % at 8 x 8 x 1) but leaves 27 zero-energy modes per element (33 zero eigenvalues in a free single element, 81 in
 a free 4 x 4 x 1 plate, measured), and a blend of the two lets those modes down among the
 physical ones; a root whose contact patches carry the blade must not have them. The 20-node
 serendipity element with reduced integration converges no faster here. Tetrahedra need several
@@ -174,32 +176,38 @@ class SolidBlade:
 
     def _assemble(self):
         from skfem import Basis, BilinearForm, ElementHex2, ElementVector, LinearForm, asm
-        from skfem.helpers import dot, grad
-        from skfem.models.elasticity import lame_parameters, linear_elasticity
+        from skfem.helpers import grad
+        from skfem.models.elasticity import lame_parameters
 
-        basis = Basis(self._mesh(), ElementVector(ElementHex2()), intorder=_INTORDER)
+        mesh = self._mesh()
+        basis = Basis(mesh, ElementVector(ElementHex2()), intorder=_INTORDER)
+        # the same element, scalar: scikit-fem numbers a vector element's DOFs in triples (x, y, z) at
+        # the scalar DOF's point, so a matrix that is the same for each component is kron(scalar, I_3)
+        scalar = Basis(mesh, ElementHex2(), intorder=_INTORDER)
         rho, om2, radius = self.density, self.rotor_speed ** 2, self.hub_radius
         lam, mu = lame_parameters(self.youngs_modulus, self.poisson_ratio)
 
         @BilinearForm
         def mass(u, v, w):
-            return rho * dot(u, v)
-
-        @BilinearForm
-        def in_plane_mass(u, v, w):
-            return rho * (u[0] * v[0] + u[1] * v[1])
+            return rho * u * v
 
         @LinearForm
         def centrifugal(v, w):
             return rho * om2 * ((radius + w.x[0]) * v[0] + w.x[1] * v[1])
 
         @BilinearForm
-        def geometric(u, v, w):
-            return np.einsum("ij...,ki...,kj...", w.sigma, grad(u), grad(v))
+        def elastic(u, v, w):  # lambda div u div v + 2 mu eps(u) : eps(v), eps(v) as grad v (eps(u) symmetric)
+            du, dv = grad(u), grad(v)
+            return (lam * (du[0, 0] + du[1, 1] + du[2, 2]) * (dv[0, 0] + dv[1, 1] + dv[2, 2])
+                    + mu * ((du + np.swapaxes(du, 0, 1)) * dv).sum(axis=(0, 1)))
 
-        # the nodes: scikit-fem numbers a vector element's DOFs in triples (x, y, z) at one point
-        locs = basis.doflocs[:, ::3]
-        order = np.lexsort(self._reference_grid(locs)[::-1])  # by x, then y, then z
+        @BilinearForm
+        def geometric(u, v, w):  # sigma0_ij (d_i u)(d_j v) of one component; sigma0 (3, 3, n_elements, n_points)
+            du, dv = grad(u), grad(v)
+            return sum(stress[i, j] * du[i] * dv[j] for i in range(3) for j in range(3))
+
+        locs = scalar.doflocs
+        order = np.lexsort(self._reference_grid(locs)[::-1])  # nodes by x, then y, then z
         perm = (3 * order[:, None] + np.arange(3)).ravel()  # new DOF -> scikit-fem DOF
 
         def arranged(a):
@@ -207,10 +215,13 @@ class SolidBlade:
             a.sort_indices()
             return sp.csr_array(0.5 * (a + a.T))
 
-        k_e = asm(linear_elasticity(lam, mu), basis)
-        m = asm(mass, basis)
+        def per_component(a, components=(1.0, 1.0, 1.0)):
+            return sp.kron(sp.csr_array(a), sp.diags_array(np.array(components)), format="csr")
+
+        k_e = asm(elastic, basis)
+        m_s = asm(mass, scalar)
         n = basis.N
-        root = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
+        root = basis.get_dofs(lambda x: np.abs(x[0]) <= 1e-9 * self.length).all()
         if om2 > 0.0:
             # the steady stress of the clamped, undeformed blade under its centrifugal load
             free = np.setdiff1d(np.arange(n), root)
@@ -218,12 +229,12 @@ class SolidBlade:
             u[free] = _factor(sp.csc_array(k_e[free][:, free]))(asm(centrifugal, basis)[free])
             du = basis.interpolate(u).grad
             strain = 0.5 * (du + np.swapaxes(du, 0, 1))
-            sigma = 2.0 * mu * strain + lam * np.einsum("ii...", strain) * np.eye(3)[:, :, None, None]
-            k_g = asm(geometric, basis, sigma=sigma)
-            soft = om2 * asm(in_plane_mass, basis)
+            stress = 2.0 * mu * strain + lam * np.einsum("ii...", strain) * np.eye(3)[:, :, None, None]
+            k_g = per_component(asm(geometric, scalar))
+            soft = om2 * per_component(m_s, (1.0, 1.0, 0.0))
         else:
             k_g = soft = sp.csr_array((n, n))
-        self.mass = arranged(m)
+        self.mass = arranged(per_component(m_s))
         self.elastic_stiffness = arranged(k_e)
         self.geometric_stiffness = arranged(k_g)
         self.softening = arranged(soft)
@@ -233,7 +244,7 @@ class SolidBlade:
         inverse = np.empty_like(order)
         inverse[order] = np.arange(order.size)
         self._root_nodes = np.unique(inverse[root // 3])
-        self._tip_nodes = np.unique(inverse[basis.get_dofs(lambda x: np.isclose(x[0], self.length)).all() // 3])
+        self._tip_nodes = np.unique(inverse[basis.get_dofs(lambda x: np.abs(x[0] - self.length) <= 1e-9 * self.length).all() // 3])
 
     def _reference_grid(self, locs):
         """Integer coordinates of the nodes ``locs`` (3, n_nodes) on the reference grid (before taper
