@@ -129,7 +129,8 @@ def interface_reduction(reduced: LinearStructure, n_modes: int, keep: Sequence =
     out = LinearStructure(project(reduced.mass), stiffness, project(reduced.damping),
                           dof_names=names, indefinite_stiffness=reduced.indefinite_stiffness)
     out.interface_transformation = t2
-    out.transformation = reduced.transformation @ t2
+    t = reduced.transformation  # T @ t2, by its blocks (t2 is the identity but on the rest's rows)
+    out.transformation = np.hstack([t[:, p] + t[:, r] @ g, t[:, r] @ phi, t[:, others]])
     out.full_dof_names = reduced.full_dof_names
     out.boundary_dofs = tuple(names[:n_p])
     out.interface_frequencies = np.sqrt(np.clip(lam, 0.0, None))
