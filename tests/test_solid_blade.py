@@ -17,7 +17,7 @@ import pytest
 
 from benchmarks.solid_blade import LEISSA, kirchhoff_square_cantilever
 from frictionjoint.errors import ParameterError
-from frictionjoint.structures import BeamBlade, FEModel, SolidBlade
+from frictionjoint.structures import BeamBlade, FEModel, SolidBlade, craig_bampton
 from frictionjoint.structures.solid import MAX_DENSE_DOF
 
 STEEL = dict(youngs_modulus=200e9, poisson_ratio=0.3, density=7800.0)
@@ -149,8 +149,21 @@ def test_sparse_model_dof_table_node_sets_and_structure():
     assert np.allclose(clamped.natural_frequencies()[:4], b.natural_frequencies(4), rtol=1e-7)
     big = SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=(20, 4, 1))
     assert big.n_dof > MAX_DENSE_DOF
-    with pytest.raises(ParameterError, match="reduce"):
+    with pytest.raises(ParameterError, match="craig_bampton"):
         big.structure
+
+
+def test_craig_bampton_reduces_the_sparse_blade_to_its_root_face():
+    # the blade is the sparse model craig_bampton takes: with the root face clamped, the reduced
+    # model has exactly the kept fixed-interface modes (to the eigensolvers' rounding)
+    b = SolidBlade(0.2, 0.04, 0.004, **STEEL, n_elements=(12, 2, 1), rotor_speed=300.0, hub_radius=0.1,
+                   rayleigh=(1.0, 1e-6))
+    root = b.dofs_of("root")
+    reduced = craig_bampton(b, root, n_modes=6)
+    assert reduced.n_dof == root.size + 6 and reduced.indefinite_stiffness
+    assert reduced.dof_names[:3] == tuple(b.dof_names[i] for i in root[:3])
+    clamped = reduced.clamped(list(range(root.size)))
+    assert np.allclose(clamped.natural_frequencies(), b.natural_frequencies(6), rtol=1e-8)
 
 
 def test_taper_and_twist():

@@ -264,6 +264,12 @@ class SolidBlade:
         return self.mass.shape[0]
 
     @property
+    def indefinite_stiffness(self) -> bool:
+        """Whether the stiffness may have negative directions: under rotation, the spin softening
+        of the free root (the joints hold it), as BeamBlade's structure."""
+        return self.rotor_speed > 0
+
+    @property
     def damping(self) -> sp.csr_array:
         """``C = alpha M + beta K_E`` [N s/m], sparse."""
         alpha, beta = self.rayleigh
@@ -319,14 +325,16 @@ class SolidBlade:
         """The blade as a dense :class:`~frictionjoint.structure.LinearStructure` with every DOF
         (the root face's included, for the root joints), for blades of at most
         :data:`MAX_DENSE_DOF` DOFs; stiffness ``K_E + K_G - Omega^2 M_s`` (indefinite under
-        rotation until the joints hold the root). A larger blade is kept sparse: reduce it
-        (:attr:`mass`, :attr:`stiffness`, :attr:`fe_model`) first."""
+        rotation until the joints hold the root). A larger blade is kept sparse: the blade itself
+        is what :func:`~frictionjoint.structures.craig_bampton` reduces (sparse ``mass``,
+        ``stiffness``, ``damping``, ``dof_names``), e.g. to its root face, ``craig_bampton(blade,
+        blade.dofs_of("root"), n_modes=10)``."""
         if self.n_dof > MAX_DENSE_DOF:
             raise ParameterError(f"the blade has {self.n_dof} DOFs, more than {MAX_DENSE_DOF} for a dense "
-                                 f"LinearStructure: reduce its sparse model (SolidBlade.mass, .stiffness, "
-                                 f".fe_model) first")
+                                 f"LinearStructure: reduce it first, e.g. craig_bampton(blade, "
+                                 f"blade.dofs_of('root'), n_modes)")
         return LinearStructure(self.mass.toarray(), self.stiffness.toarray(), self.damping.toarray(),
-                               dof_names=self.dof_names, indefinite_stiffness=self.rotor_speed > 0)
+                               dof_names=self.dof_names, indefinite_stiffness=self.indefinite_stiffness)
 
     # ------------------------------------------------------------------ modes
     def _clamped(self):
