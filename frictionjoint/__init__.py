@@ -5,7 +5,7 @@ event (no time step, no regularisation), periodic steady states by shooting, and
 single-DOF Coulomb oscillator (Den Hartog 1931; Hong & Liu 2000) they are checked against.
 """
 from . import analytic, contact, shakedown
-from .elements import CoulombSlider, DovetailRoot, Iwan, Jenkins
+from .elements import CoulombSlider, DovetailRoot, FlankPatch, Iwan, Jenkins, PatchDovetailRoot
 from .elements.masing import ContinuousIwan
 from .errors import ConvergenceError, FMUError, NoSolutionError, ParameterError
 from .excitation import ExternalForce, HarmonicBaseMotion, HarmonicForce
@@ -37,6 +37,8 @@ __all__ = [
     "CoulombOscillator",
     "CoulombSlider",
     "DovetailRoot",
+    "FlankPatch",
+    "PatchDovetailRoot",
     "ConvergenceError",
     "EventLog",
     "FMUError",

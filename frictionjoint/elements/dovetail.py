@@ -79,6 +79,14 @@ FLANK_OUTPUTS = {
     "slipping_left": (bool, "true while the left flank slips"),
 }
 
+def flank_directions(flank_angle: float) -> tuple[np.ndarray, np.ndarray]:
+    """The flanks' normals ``n_R = (-sin g, -cos g)``, ``n_L = (sin g, -cos g)`` (force directions on
+    the blade) and tangents ``t_R = (-cos g, sin g)``, ``t_L = (cos g, sin g)``: (2, 2) arrays, rows
+    right/left, columns the root coordinates ``(X, Y)`` (the convention of the module docstring)."""
+    c, s = math.cos(flank_angle), math.sin(flank_angle)
+    return np.array([[-s, -c], [s, -c]]), np.array([[-c, s], [c, s]])
+
+
 @dataclass(frozen=True)
 class DovetailStatic:
     """Static state of the spun-up root (both flanks alike).
@@ -191,10 +199,8 @@ class DovetailRoot:
                 flank_contact, tangential_stiffness, n_sliders)
         self.static = self._static(self.tangential_stiffness)
         self._check_static_finite()
-        c, s = math.cos(g), math.sin(g)
         #: flank normals (force directions on the blade) and tangents, rows right/left, (X, Y)
-        self.normals = np.array([[-s, -c], [s, -c]])
-        self.tangents = np.array([[-c, s], [c, s]])
+        self.normals, self.tangents = flank_directions(g)
         #: the same in the root coordinates, (X, Y) or with rocking (X, Y, theta): ``n_i . B_i``
         #: and ``t_i . B_i``, ``B_i`` the map to flank i's contact point (module docstring)
         self.normal_rows, self.tangent_rows = self._rows()
