@@ -73,6 +73,23 @@ def test_rigid_flank_static_loads_are_the_point_models_split(n, kt, regime):
     assert np.max(np.abs(sysm.constant_force - sysm.slider_direction.T @ sysm.slider_preload)) <= 1e-13 * FC
 
 
+def test_rigid_flank_with_mixed_nodes_slips_partially_during_run_up():
+    """Nodes of two kinds on each rigid flank, (kt/kn) tan g below and above mu: the first stick,
+    the second slip during run-up; the state balances Fc and satisfies Coulomb's law."""
+    def flank():
+        return fj.FlankPatch([("X", "Y")] * 4, KN / 4, [KT_STUCK / 4, KT_SLIPPING, KT_STUCK / 4, KT_SLIPPING])
+    patch = fj.PatchDovetailRoot(flank(), flank(), G, MU, {"Y": FC})
+    st = patch.static_state(_root_block())
+    assert st.regime == "partial slip" and list(st.slipping) == [False, True] * 4
+    ratio = st.friction_force / st.normal_force
+    assert np.all(ratio[~st.slipping] < MU) and np.allclose(ratio[st.slipping], MU, rtol=1e-14)
+    # radial equilibrium of the root: Fc = sum over the nodes of N cos g + T sin g
+    radial = np.sum(st.normal_force * math.cos(G) + st.friction_force * math.sin(G))
+    assert abs(radial / FC - 1) <= STATIC
+    sysm = fj.FrictionSystem(_root_block(), [patch])
+    assert np.max(np.abs(sysm.constant_force - sysm.slider_direction.T @ sysm.slider_preload)) <= 1e-13 * FC
+
+
 @pytest.mark.parametrize("vary", [False, True], ids=["frozen", "varying"])
 @pytest.mark.parametrize("kt", [KT_STUCK, KT_SLIPPING], ids=["stuck run-up", "slipping run-up"])
 @pytest.mark.parametrize("n", [1, 4, 16])

@@ -28,9 +28,11 @@ throughout the run-up (``T_i = kt_i t . u_i``, ``|T_i| <= mu N_i``) or slips thr
 direction (``T_i = +-mu N_i``, its slip in the direction of its force): the problem with such a
 stick/slip set is linear and homogeneous, so its solution at the full load, scaled, is the whole
 run-up. The set is found by an active-set iteration (a node over its limit starts to slip, a node
-slipping against its force sticks) and checked at the end. Refused, with a message saying which:
+slipping against its force sticks) and checked at the end; where the friction couples the nodes
+strongly (a slip that loads its neighbours normally), more than one such set may exist, and this is
+the one the iteration reaches from all stuck. Refused, with a message saying which:
 a node that would lift off under the centrifugal load (``N0_i <= 0``: separation during run-up),
-a run-up whose stick/slip set changes with the load (no proportional solution found), and a
+a run-up with no proportional solution (a stick/slip set that changes with the load), and a
 structure the patches do not hold (singular stiffness). On a rigid flank (all nodes of a flank
 on the same root DOFs) with uniform stiffness the node loads are the point model's flank loads
 ``N0``, ``T0`` (:class:`~frictionjoint.elements.dovetail.DovetailStatic`, stuck or slipping)
@@ -60,6 +62,9 @@ from .base import Attachment, Contact, Slider
 from .dovetail import flank_directions
 
 __all__ = ["FlankPatch", "PatchDovetailRoot", "PatchStatic"]
+
+#: stick/slip sets the static state's active-set iteration tries at most (each one linear solve)
+MAX_STATIC_ITERATIONS = 50
 
 #: relative size of a slip against its force that still counts as none in the static state's
 #: check (a node exactly at its limit is stuck and slipping alike; rounding picks either)
@@ -287,7 +292,7 @@ class PatchDovetailRoot:
         kn, kt, mu = self.normal_stiffness, self.tangential_stiffness, self.friction_coefficient
         slip = np.zeros(self.n_nodes, dtype=np.int8)  # 0 stuck, +1/-1 slipping with T = +-mu N
         seen = set()
-        while slip.tobytes() not in seen:
+        while slip.tobytes() not in seen and len(seen) <= MAX_STATIC_ITERATIONS:
             seen.add(slip.tobytes())
             x = self._solve_static(structure, index, normal, tangent, slip, f)
             u = x[index]  # (n_nodes, 2): each node's (X, Y) displacement
@@ -309,8 +314,8 @@ class PatchDovetailRoot:
                 return PatchStatic(n0, t0, slip != 0, x, self.flank.copy(), regime)
             slip = new
         raise ParameterError(
-            "no proportional run-up found: the nodes' stick/slip set changes with the centrifugal load "
-            "(every node sticking or slipping throughout is what is handled)")
+            f"no proportional run-up found in {len(seen)} stick/slip sets (the nodes' stick/slip set may change "
+            "with the centrifugal load): every node sticking or slipping throughout the run-up is what is handled")
 
     def _solve_static(self, structure, index, normal, tangent, slip, f) -> np.ndarray:
         """Displacement of the structure on its patches under ``f`` with the stick/slip set
