@@ -23,20 +23,22 @@ These are the marcher's own primitives (:class:`~frictionjoint.elements.base.Sli
 
 Static state. The node loads ``N0_i``, ``T0_i`` come from the spun-up static contact problem of
 the model: the structure's stiffness ``K`` and the nodes' springs under the centrifugal load
-``f``, raised proportionally from zero. With every node closed, each node either sticks
-throughout the run-up (``T_i = kt_i t . u_i``, ``|T_i| <= mu N_i``) or slips throughout in one
-direction (``T_i = +-mu N_i``, its slip in the direction of its force): the problem with such a
-stick/slip set is linear and homogeneous, so its solution at the full load, scaled, is the whole
-run-up. The set is found by an active-set iteration (a node over its limit starts to slip, a node
-slipping against its force sticks) and checked at the end; where the friction couples the nodes
-strongly (a slip that loads its neighbours normally), more than one such set may exist, and this is
-the one the iteration reaches from all stuck. Refused, with a message saying which:
-a node that would lift off under the centrifugal load (``N0_i <= 0``: separation during run-up),
-a run-up with no proportional solution (a stick/slip set that changes with the load), and a
-structure the patches do not hold (singular stiffness). On a rigid flank (all nodes of a flank
-on the same root DOFs) with uniform stiffness the node loads are the point model's flank loads
-``N0``, ``T0`` (:class:`~frictionjoint.elements.dovetail.DovetailStatic`, stuck or slipping)
-shared equally.
+``f``, raised proportionally from zero. Each node sticks throughout the run-up (``T_i = kt_i t .
+u_i``, ``|T_i| <= mu N_i``), slips throughout in one direction (``T_i = +-mu N_i``, its slip in
+the direction of its force) or is open throughout (pulled away from the disc): the problem with
+such a set of statuses is linear and homogeneous, so its solution at the full load, scaled, is the
+whole run-up. The set is found by an active-set iteration from all stuck (a node over its limit
+starts to slip, a node slipping against its force sticks, a node pulled opens, an open node
+pressed closes) and checked at the end; where the friction couples the nodes strongly (a slip that
+loads its neighbours normally) more than one such set may exist, and this is the one the iteration
+reaches. Nodes open at the static state (:attr:`PatchStatic.separated`) are refused by
+:meth:`PatchDovetailRoot.attach`: leave them out of the patch (the others' static state is the
+same; a node that could close again in the dynamics is not modelled). Refused, with a message
+saying which: a run-up with no proportional solution (a set that changes with the load) and a
+structure the patches do not hold (singular stiffness). On a rigid flank (all nodes of a flank on
+the same root DOFs) with uniform stiffness the node loads are the point model's flank loads ``N0``,
+``T0`` (:class:`~frictionjoint.elements.dovetail.DovetailStatic`, stuck or slipping) shared
+equally.
 
 The structure's coordinates are measured from the static state ``x0``: the attachment's constant
 force ``f - K x0 + sum_i N0_i n_i`` balances the preloaded sliders' ``-T0_i t_i`` at ``x = 0``.
@@ -65,6 +67,9 @@ __all__ = ["FlankPatch", "PatchDovetailRoot", "PatchStatic"]
 
 #: stick/slip sets the static state's active-set iteration tries at most (each one linear solve)
 MAX_STATIC_ITERATIONS = 50
+
+#: a node's status in the static state's iteration: open (0 stuck, +1/-1 slipping)
+_OPEN = 2
 
 #: relative size of a slip against its force that still counts as none in the static state's
 #: check (a node exactly at its limit is stuck and slipping alike; rounding picks either)
@@ -135,7 +140,7 @@ class PatchStatic:
     Attributes
     ----------
     normal_force : (n_nodes,) ndarray
-        ``N0_i`` [N], > 0.
+        ``N0_i`` [N], > 0 (0 where the node is open).
     friction_force : (n_nodes,) ndarray
         ``T0_i`` [N], positive radially inward on the blade (restoring the node's outward slip).
     slipping : (n_nodes,) bool ndarray
@@ -145,8 +150,11 @@ class PatchStatic:
     flank : (n_nodes,) int ndarray
         0 for a node of the right flank, 1 for the left.
     regime : str
-        ``'stuck'`` (every node sticks during run-up), ``'slipping'`` (every node slips) or
-        ``'partial slip'``.
+        ``'stuck'`` (every closed node sticks during run-up), ``'slipping'`` (every closed node
+        slips) or ``'partial slip'``.
+    separated : (n_nodes,) bool ndarray
+        Nodes that open under the centrifugal load (no contact force, ``N0_i = T0_i = 0``).
+        :meth:`PatchDovetailRoot.attach` refuses them: leave them out of the patch.
     """
 
     normal_force: np.ndarray
@@ -155,6 +163,7 @@ class PatchStatic:
     displacement: np.ndarray
     flank: np.ndarray
     regime: str
+    separated: np.ndarray
 
     @property
     def flank_normal_force(self) -> np.ndarray:
@@ -290,41 +299,42 @@ class PatchDovetailRoot:
         index, normal, tangent = self._node_rows(structure)
         f = self._load(structure)
         kn, kt, mu = self.normal_stiffness, self.tangential_stiffness, self.friction_coefficient
-        slip = np.zeros(self.n_nodes, dtype=np.int8)  # 0 stuck, +1/-1 slipping with T = +-mu N
+        status = np.zeros(self.n_nodes, dtype=np.int8)  # 0 stuck, +1/-1 slipping (T = +-mu N), 2 open
         seen = set()
-        while slip.tobytes() not in seen and len(seen) <= MAX_STATIC_ITERATIONS:
-            seen.add(slip.tobytes())
-            x = self._solve_static(structure, index, normal, tangent, slip, f)
+        while status.tobytes() not in seen and len(seen) <= MAX_STATIC_ITERATIONS:
+            seen.add(status.tobytes())
+            x = self._solve_static(structure, index, normal, tangent, status, f)
             u = x[index]  # (n_nodes, 2): each node's (X, Y) displacement
-            n0 = -kn * np.einsum("ij,ij->i", normal, u)
+            approach = -np.einsum("ij,ij->i", normal, u)
             s = np.einsum("ij,ij->i", tangent, u)
-            if np.any(n0 <= 0.0):
-                i = int(np.argmin(n0))
-                raise ParameterError(
-                    f"node {self.nodes[i]!r} lifts off under the centrifugal load (static normal force "
-                    f"{n0[i]:.6g} N): a run-up with separation is not handled; every node must stay closed")
-            t0 = np.where(slip != 0, slip * mu * n0, kt * s)
+            closed, slipping = status != _OPEN, np.abs(status) == 1
+            n0 = np.where(closed, kn * approach, 0.0)
+            t0 = np.where(status == 0, kt * s, np.where(slipping, status * mu * n0, 0.0))
             w = s - t0 / kt  # each node's slip during run-up (0 where it sticks)
-            new = slip.copy()
-            over = (slip == 0) & (np.abs(t0) > mu * n0)
+            new = status.copy()
+            over = (status == 0) & (np.abs(t0) > mu * n0)
             new[over] = np.sign(t0[over])
-            new[(slip != 0) & (slip * w < -_SLIP_ROUNDING * np.abs(s))] = 0  # slips against its force
-            if np.array_equal(new, slip):
-                regime = "stuck" if not slip.any() else "slipping" if slip.all() else "partial slip"
-                return PatchStatic(n0, t0, slip != 0, x, self.flank.copy(), regime)
-            slip = new
+            new[slipping & (status * w < -_SLIP_ROUNDING * np.abs(s))] = 0  # slips against its force
+            new[closed & (n0 <= 0.0)] = _OPEN  # pulled: it opens
+            new[~closed & (approach > 0.0)] = 0  # pressed: it closes
+            if np.array_equal(new, status):
+                return PatchStatic(n0, t0, slipping, x, self.flank.copy(), _regime(status), ~closed)
+            status = new
         raise ParameterError(
             f"no proportional run-up found in {len(seen)} stick/slip sets (the nodes' stick/slip set may change "
-            "with the centrifugal load): every node sticking or slipping throughout the run-up is what is handled")
+            "with the centrifugal load): every node sticking, slipping or open throughout the run-up is what is "
+            "handled")
 
-    def _solve_static(self, structure, index, normal, tangent, slip, f) -> np.ndarray:
-        """Displacement of the structure on its patches under ``f`` with the stick/slip set
-        ``slip``: stuck nodes ``kn n n^T + kt t t^T``, slipping ones ``kn n n^T - sig mu kn t n^T``
-        (the friction ``sig mu N`` follows the normal approach)."""
+    def _solve_static(self, structure, index, normal, tangent, status, f) -> np.ndarray:
+        """Displacement of the structure on its patches under ``f`` with the nodes' ``status``:
+        stuck nodes ``kn n n^T + kt t t^T``, slipping ones ``kn n n^T - sig mu kn t n^T`` (the
+        friction ``sig mu N`` follows the normal approach), open ones nothing."""
         kn, kt, mu = self.normal_stiffness, self.tangential_stiffness, self.friction_coefficient
+        slip = np.where(status == _OPEN, 0, status)
         blocks = (kn[:, None, None] * normal[:, :, None] * normal[:, None, :]
                   + np.where(slip[:, None, None] == 0, kt[:, None, None] * tangent[:, :, None] * tangent[:, None, :],
                              -(slip * mu * kn)[:, None, None] * tangent[:, :, None] * normal[:, None, :]))
+        blocks[status == _OPEN] = 0.0
         rows = np.repeat(index, 2, axis=1)  # block entry (a, b) at (index[a], index[b])
         cols = np.tile(index, (1, 2))
         k = structure.stiffness
@@ -365,6 +375,12 @@ class PatchDovetailRoot:
             n_i`` [N] and, with normal-load variation, one contact per node.
         """
         st = self.static_state(structure)
+        if st.separated.any():
+            names = [self.nodes[i] for i in np.flatnonzero(st.separated)]
+            raise ParameterError(
+                f"nodes {names} open under the centrifugal load (static_state(...).separated): leave them out of "
+                "the patch (the static state of the others is the same); nodes that separate during run-up and "
+                "may close in the dynamics are not handled")
         index, normal, tangent = self._node_rows(structure)
         rn = self._rows(structure, index, normal)
         rt = self._rows(structure, index, tangent)
@@ -382,6 +398,12 @@ class PatchDovetailRoot:
     def __repr__(self) -> str:
         return (f"PatchDovetailRoot({self.right.n_nodes} + {self.left.n_nodes} nodes, flank_angle="
                 f"{self.flank_angle:g}, friction_coefficient={self.friction_coefficient:g})")
+
+
+def _regime(status: np.ndarray) -> str:
+    """``'stuck'``, ``'slipping'`` or ``'partial slip'``: the closed nodes' run-up."""
+    slipping = np.abs(status[status != _OPEN]) == 1
+    return "slipping" if slipping.size and slipping.all() else "partial slip" if slipping.any() else "stuck"
 
 
 def _n_dof(structure) -> int:
