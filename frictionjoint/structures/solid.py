@@ -119,7 +119,10 @@ class SolidBlade:
         round(n b / L)), 1)``. One element through the thickness bends correctly (module
         docstring); the frequencies converge from above at about second order in the element
         size: the square plate (a / h = 100) with 16 x 16 x 1 is within 0.6 % of the converged
-        Kirchhoff plate; keep the elements' span length within a few thicknesses.
+        Kirchhoff plate; keep the elements' span length within a few thicknesses. Torsion wants
+        elements across the chord (the shear boundary layers at its edges): a strip of b / h = 5
+        has its first torsion mode 3.7, 2.3, 1.9 and 1.3 % above Saint-Venant's with 2 x 1, 4 x 1,
+        8 x 1 and 8 x 2 elements across the chord and the thickness.
     rotor_speed : float
         ``Omega`` [rad/s], >= 0.
     hub_radius : float
