@@ -1,0 +1,513 @@
+"""Nonlinear modes of friction systems by the extended periodic motion concept (EPMC; Krack,
+"Nonlinear modal analysis of nonconservative systems: extension of the periodic motion concept",
+Computers & Structures 154, 2015), with the exact hysteresis of :mod:`.hbm`.
+
+The excitation is removed and a negative mass-proportional damping ``-xi M x'`` is added, so that
+the free motion at an amplitude is periodic:
+
+    M x'' + (C - xi M) x' + K x + G^T T(G x) = F_0,
+
+``F_0`` the joints' constant loads. With ``x = sum_h (a_h cos h theta + b_h sin h theta)``, ``theta =
+omega t``, the unknowns are every DOF's real coefficients, ``omega`` and ``xi``; two more equations
+fix the first harmonic at one DOF to ``A cos theta`` (amplitude ``a_1 = A``, phase ``b_1 = 0``).
+The damping ratio is ``zeta = xi / (2 omega)``; the energy the negative damping puts in per period,
+``xi oint x'^T M x' dt``, is what friction and the dashpots take out (to Newton's tolerance).
+
+Unlike :func:`.hbm.harmonic_balance` the equations are not condensed to the joints: the motion
+exists because the linear part is (nearly) singular at the mode, and its condensed form is 0 = 0
+while the joints stick. They are written on all DOFs (``n_dof (2H + 1) + 2`` unknowns); the joints'
+forces ``R`` (less their stuck springs) and their analytic Jacobian are :class:`.hbm.Condensed`'s.
+Newton's method with a backtracking line search solves them at each amplitude, from the previous
+amplitude's solution (its harmonics scaled); the first from the stuck system's linear mode. Where
+Newton fails, the step in amplitude is halved (in its logarithm).
+
+The check (``check=True``): from the state of a point of the mode (:func:`.hbm.balanced_state`)
+the system without excitation and without negative damping is marched exactly
+(:func:`~frictionjoint.solvers.marcher.simulate`); each cycle between successive maxima of the
+modal coordinate (the point's first-harmonic shape, mass-weighted) gives a frequency ``2 pi / T``,
+the energy lost (friction and dashpots, exact at the maxima) and the first-harmonic amplitude at
+the DOF over the cycle; the mode is solved at that amplitude and compared. The comparison itself
+is exact only for a stationary motion: over a cycle the decay's amplitude falls by about ``2 pi
+zeta``, so the decay's frequency and energy differ from the mode's at one amplitude in the second
+order of it (on a Jenkins chain about ``zeta^2`` and ``3 zeta^2``), besides the truncation.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+from numpy.typing import ArrayLike
+
+from ...errors import ParameterError, check_count, check_grid, check_system
+from ...excitation import HarmonicBaseMotion
+from ...results.nonlinear_mode import DecayCheck, NonlinearMode
+from ...structure import LinearStructure
+from ...system import FrictionSystem
+from ...threads import owns_blas_threads
+from . import hysteresis
+from .hbm import Condensed, balanced_state
+
+__all__ = ["nonlinear_mode"]
+
+#: cycles of the free decay compared per checked point
+DECAY_CYCLES = 4
+#: output samples per cycle of the free decay (maxima refined between them; first harmonics integrated)
+DECAY_SAMPLES = 256
+#: halvings (in log amplitude) of a step that Newton could not take
+MAX_HALVINGS = 8
+
+
+def free_system(system: FrictionSystem, omega: float | None = None) -> FrictionSystem:
+    """``system`` without its excitation: harmonic forces and held forces removed, harmonic base
+    motions replaced by their springs and dashpots to a fixed base (in the structure); the joints
+    and their constant loads kept.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+    omega : float, optional
+        The frequency the returned system carries [rad/s] (no source uses it; a balanced state's
+        velocities do); default none.
+
+    Returns
+    -------
+    FrictionSystem
+    """
+    st = system.structure
+    base = [e for e in system.excitation if isinstance(e, HarmonicBaseMotion)]
+    if base:
+        k, c = np.array(st.stiffness), np.array(st.damping)
+        for e in base:
+            i = st.dof_index(e.dof)
+            k[i, i] += e.stiffness
+            c[i, i] += e.damping
+        st = LinearStructure(st.mass, k, c, dof_names=st.dof_names, indefinite_stiffness=st.indefinite_stiffness)
+    return FrictionSystem(st, system.elements, omega=omega)
+
+
+class _Equations:
+    """The EPMC equations of a system without excitation at ``H`` harmonics, on all DOFs (module
+    docstring); unknowns ``y = (X, omega, xi)``, ``X[dof (2H + 1) + j]`` (``j = 0`` the mean, ``2h -
+    1`` cos, ``2h`` sin). With ``stiffness`` given: that linear system, without the joints (a linear
+    limit)."""
+
+    def __init__(self, system: FrictionSystem, hh: int, dof: int, stiffness: np.ndarray | None = None):
+        self.n_harmonics = hh
+        self.nc = nc = 2 * hh + 1
+        self.dof = dof
+        n = system.n_dof
+        self.size = n * nc
+        d = hysteresis.derivative_matrix(hh)
+        eye = np.eye(nc)
+        if stiffness is None:
+            self.cond = Condensed(system, hh)
+            k_lin, m, c = self.cond._lin
+            self.gk = np.kron(self.cond.G, eye)
+        else:
+            self.cond = None
+            k_lin, m, c = stiffness, system.mass, system.damping
+        self.kk, self.m1, self.m2, self.c1 = np.kron(k_lin, eye), np.kron(m, d), np.kron(m, d @ d), np.kron(c, d)
+        self.k_lin, self.mass, self.damping = k_lin, m, c
+        self.f0 = np.zeros(self.size)
+        if stiffness is None:
+            self.f0[::nc] = system.constant_force
+        self.dk = np.kron(np.eye(n), d)  # the phase derivative of every DOF's coefficients
+        # row scales (a DOF's dynamic stiffness), for the line search and the linear solves
+        self.row_scale = np.repeat(np.maximum(np.abs(np.diag(k_lin)), 1e-300), nc)
+
+    def joint_forces(self, x: np.ndarray, omega: float, jacobian: bool = True):
+        """The joints' forces (:meth:`.hbm.Condensed.forces`) on the orbit ``x`` at ``omega``, or
+        None for a linear limit."""
+        if self.cond is None:
+            return None
+        self.cond.omega = omega  # the open contacts' dashpots act at the orbit's frequency
+        return self.cond.forces(self.gk @ x, jacobian)
+
+    def residual(self, y: np.ndarray, amplitude: float, jacobian: bool = True):
+        """``(r, J, joint forces)``: the equations' residual (forces on the DOFs' coefficients [N],
+        then the first harmonic's amplitude and phase conditions [m]) and its Jacobian."""
+        nn = self.size
+        x, w, xi = y[:nn], y[nn], y[nn + 1]
+        jf = self.joint_forces(x, w, jacobian)
+        lin = self.kk + w * (self.c1 - xi * self.m1) + w * w * self.m2
+        ia = self.dof * self.nc + 1
+        r = np.empty(nn + 2)
+        r[:nn] = lin @ x - self.f0
+        if jf is not None:
+            r[:nn] += self.gk.T @ jf.r
+        r[nn] = x[ia] - amplitude
+        r[nn + 1] = x[ia + 1]
+        if not jacobian:
+            return r, None, jf
+        jac = np.zeros((nn + 2, nn + 2))
+        jac[:nn, :nn] = lin
+        jac[:nn, nn] = (self.c1 - xi * self.m1) @ x + 2.0 * w * (self.m2 @ x)
+        jac[:nn, nn + 1] = -w * (self.m1 @ x)
+        if jf is not None:
+            jac[:nn, :nn] += self.gk.T @ jf.jacobian @ self.gk
+            jac[:nn, nn] += self.gk.T @ jf.d_omega
+        jac[nn, ia] = 1.0
+        jac[nn + 1, ia + 1] = 1.0
+        return r, jac, jf
+
+    def kinetic_integral(self, x: np.ndarray, matrix: np.ndarray) -> float:
+        """``int_0^2pi (dx/dtheta)^T A (dx/dtheta) dtheta`` of the coefficients ``x`` (``A`` = M or C)."""
+        dx = (self.dk @ x).reshape(-1, self.nc)
+        return float(math.pi * np.einsum("ij,ik,jk->", matrix, dx, dx))
+
+    def harmonics(self, x: np.ndarray) -> np.ndarray:
+        """Complex harmonics ``(H + 1, n_dof)``, ``X_h = a_h - i b_h`` (as :func:`.hbm.harmonic_balance`'s)."""
+        c = x.reshape(-1, self.nc)
+        out = np.empty((self.n_harmonics + 1, c.shape[0]), complex)
+        out[0] = c[:, 0]
+        out[1:] = (c[:, 1::2] - 1j * c[:, 2::2]).T
+        return out
+
+
+def _newton(eq: _Equations, y: np.ndarray, amplitude: float, tol: float, max_iter: int):
+    """Newton's method with backtracking (the row-scaled residual's max norm must fall) from ``y``:
+    ``(y, joint forces, iterations, converged)``. Converged: a full Newton step of relative size <=
+    ``tol`` (coefficients against ``amplitude``, ``omega`` and ``xi`` against ``omega``), taken."""
+    nn = eq.size
+    rows = np.r_[eq.row_scale * amplitude, amplitude, amplitude]
+
+    def size(r):
+        return float(np.max(np.abs(r / rows)))
+
+    r, jac, jf = eq.residual(y, amplitude)
+    for it in range(1, max_iter + 1):
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):
+            return y, jf, it, False
+        cols = np.r_[np.full(nn, amplitude), abs(y[nn]), abs(y[nn])]
+        try:
+            step = cols * np.linalg.solve((jac / rows[:, None]) * cols[None, :], -r / rows)
+        except np.linalg.LinAlgError:
+            return y, jf, it, False
+        small = float(np.max(np.abs(step / cols))) <= tol
+        rn = size(r)
+        lam = 1.0
+        for _ in range(30):
+            yt = y + lam * step
+            if small or yt[nn] <= 0:
+                if yt[nn] > 0:
+                    break
+            else:
+                rt, _, _ = eq.residual(yt, amplitude, jacobian=False)
+                if size(rt) < rn or lam < 1e-6:
+                    break
+            lam *= 0.5
+        y = yt
+        r, jac, jf = eq.residual(y, amplitude)
+        if small:
+            return y, jf, it, True
+    return y, jf, max_iter, False
+
+
+def _predict(eq: _Equations, y: np.ndarray, a_from: float, a_to: float) -> np.ndarray:
+    """The start at ``a_to`` from the solution at ``a_from``: its harmonics scaled, mean, ``omega``
+    and ``xi`` kept."""
+    out = y.copy()
+    x = out[:eq.size].reshape(-1, eq.nc)
+    x[:, 1:] *= a_to / a_from
+    return out
+
+
+def _reach(eq: _Equations, start: tuple, amplitude: float, tol: float, max_iter: int, depth: int = 0):
+    """The mode at ``amplitude`` from the solution ``start = (a, y)``; where Newton fails, the
+    midpoint (in log amplitude) first, down to :data:`MAX_HALVINGS` halvings: ``(y, joint forces,
+    iterations, converged)``, the iterations summed over the intermediate points."""
+    a0, y0 = start
+    y, jf, it, ok = _newton(eq, _predict(eq, y0, a0, amplitude), amplitude, tol, max_iter)
+    if ok or depth >= MAX_HALVINGS:
+        return y, jf, it, ok
+    mid = math.sqrt(a0 * amplitude)
+    ym, jfm, itm, okm = _reach(eq, start, mid, tol, max_iter, depth + 1)
+    if not okm:
+        return ym, jfm, it + itm, False
+    y, jf, it2, ok = _reach(eq, (mid, ym), amplitude, tol, max_iter, depth + 1)
+    return y, jf, it + itm + it2, ok
+
+
+def _linear_mode(k: np.ndarray, m: np.ndarray, mode: int):
+    """``(omega, shape)`` of mode ``mode`` (ascending, the rigid-body ones counted) of ``k``, ``m``;
+    the shape real, mass-normalised."""
+    lam, vec = scipy.linalg.eig(k, m)
+    lam, vec = lam.real, vec.real
+    order = np.argsort(lam)
+    if mode >= lam.size:
+        raise ParameterError(f"mode must be < {lam.size} (the system's DOFs), got {mode}")
+    v = vec[:, order[mode]]
+    v = v / math.sqrt(abs(v @ m @ v))
+    return math.sqrt(max(lam[order[mode]], 0.0)), v, lam[order], vec[:, order]
+
+
+def _start(eq: _Equations, omega: float, shape: np.ndarray, amplitude: float) -> np.ndarray:
+    """The linear mode as the unknowns ``y`` at ``amplitude`` (first harmonic at the DOF), ``xi``
+    its Rayleigh quotient of ``C / M``."""
+    y = np.zeros(eq.size + 2)
+    x = y[:eq.size].reshape(-1, eq.nc)
+    x[:, 1] = shape * amplitude / shape[eq.dof]
+    y[eq.size] = omega
+    y[eq.size + 1] = float(shape @ eq.damping @ shape) / float(shape @ eq.mass @ shape)
+    return y
+
+
+def _limit(system: FrictionSystem, stiffness: np.ndarray, shape: np.ndarray, dof: int, tol: float):
+    """``(omega, zeta)`` of a linear limit by the same equations (``H = 1``, no joints): the mode
+    of ``stiffness`` most like ``shape`` (mass-weighted MAC); NaN for a rigid-body mode."""
+    m = system.mass
+    _, _, lam, vec = _linear_mode(stiffness, m, 0)
+    mac = (vec.T @ m @ shape) ** 2 / (np.einsum("ij,ik,kj->j", vec, m, vec) * (shape @ m @ shape))
+    j = int(np.argmax(mac))
+    if not lam[j] > 0 or vec[dof, j] == 0:
+        return math.nan, math.nan
+    eq = _Equations(system, 1, dof, stiffness=stiffness)
+    v = vec[:, j] / math.sqrt(abs(vec[:, j] @ m @ vec[:, j]))
+    y, _, _, ok = _newton(eq, _start(eq, math.sqrt(lam[j]), v, 1.0), 1.0, tol, 30)
+    if not ok:
+        return math.nan, math.nan
+    return float(y[eq.size]), float(y[eq.size + 1] / (2 * y[eq.size]))
+
+
+def _check_args(system, mode, amplitudes, n_harmonics, dof, check, tol, max_iter):
+    """The cleaned arguments of :func:`nonlinear_mode` (its Parameters); refuses what they cannot be."""
+    check_system("system", system, FrictionSystem)
+    mode = check_count("mode", mode, 0)
+    hh = check_count("n_harmonics", n_harmonics, 1)
+    max_iter = check_count("max_iter", max_iter, 1)
+    amps = check_grid("amplitudes", amplitudes, unit="m")
+    if check is not True and check is not False:
+        check_grid("check", check, unit="m")
+    if not (isinstance(tol, float) and 0 < tol < 1):
+        raise ParameterError(f"tol must be a float in (0, 1), got {tol!r}")
+    if system.n_sliders == 0:
+        raise ParameterError("nonlinear_mode: the system has no joint sliders (a linear system)")
+    if np.any(system.rigid):
+        raise ParameterError("nonlinear_mode: rigid Coulomb sliders have no stuck linear mode to start from "
+                             "(give them a stiffness: Jenkins)")
+    if dof is not None:
+        dof = system.structure.dof_index(dof)
+    return mode, amps, hh, dof, max_iter
+
+
+@owns_blas_threads
+def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike = (1e-3,), n_harmonics: int = 7,
+                   dof: str | int | None = None, *, check: bool | ArrayLike = False, tol: float = 1e-11,
+                   max_iter: int = 40) -> NonlinearMode:
+    """Nonlinear mode of ``system`` by the extended periodic motion concept (module docstring):
+    frequency and damping ratio against amplitude, with exact hysteresis.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        Structure and joints (Jenkins sliders: Jenkins, Iwan, dovetail flanks, frozen or varying
+        normal loads); its excitation is removed (base motions leave their springs and dashpots to
+        a fixed base).
+    mode : int
+        Which mode of the stuck system (every slider stuck), ascending from 0.
+    amplitudes : (n,) array_like
+        First-harmonic amplitudes at ``dof`` [m], > 0, in the order they are followed (usually
+        ascending); the first is reached from the stuck linear mode.
+    n_harmonics : int
+        ``H`` >= 1 (the mean is always included).
+    dof : str or int, optional
+        The DOF whose first harmonic is ``A cos(omega t)``; default the DOF with the largest
+        component of the stuck linear mode (mass-normalised).
+    check : bool or sequence of float
+        Compare points with the exact free decay from them (module docstring): True every point,
+        amplitudes [m] the points nearest each.
+    tol : float
+        Newton's tolerance on the relative step, in (0, 1).
+    max_iter : int
+        Newton iterations per amplitude at most.
+
+    Returns
+    -------
+    NonlinearMode
+    """
+    mode, amps, hh, dof, max_iter = _check_args(system, mode, amplitudes, n_harmonics, dof, check, tol,
+                                                max_iter)
+    free = free_system(system)
+    k_stuck = free.stiffness + (free.slider_direction.T * free.slider_stiffness) @ free.slider_direction
+    w_lin, shape, _, _ = _linear_mode(k_stuck, free.mass, mode)
+    if not w_lin > 0:
+        raise ParameterError(f"nonlinear_mode: mode {mode} of the stuck system is a rigid-body mode")
+    if dof is None:
+        dof = int(np.argmax(np.abs(shape)))
+    elif shape[dof] == 0:
+        raise ParameterError(f"nonlinear_mode: the stuck linear mode {mode} has a node at dof {dof}")
+    eq = _Equations(free, hh, dof)
+    a_lin = float(amps[0]) * 1e-3
+    start = (a_lin, _start(eq, w_lin, shape, a_lin))
+    rows = []
+    for a in amps:
+        y, jf, it, ok = _reach(eq, start, float(a), tol, max_iter)
+        if jf is None:
+            jf = eq.joint_forces(y[:eq.size], y[eq.size], jacobian=False)
+        rows.append((y, jf, it, ok))
+        if ok:
+            start = (float(a), y)
+    out = _result(system, free, eq, mode, amps, rows, tol)
+    if check is not False:
+        _check(free, eq, out, check, tol, max_iter)
+    return out
+
+
+def _result(system, free, eq, mode, amps, rows, tol) -> NonlinearMode:
+    """The mode's points as a :class:`NonlinearMode`, with both linear limits."""
+    nn = eq.size
+    w = np.array([r[0][nn] for r in rows])
+    xi = np.array([r[0][nn + 1] for r in rows])
+    conv = np.array([r[3] for r in rows])
+    inp = np.array([r[0][nn + 1] * r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.mass) for r in rows])
+    visc = np.array([r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.damping) for r in rows])
+    k_stuck = eq.k_lin
+    _, shape, _, _ = _linear_mode(k_stuck, free.mass, mode)
+    stuck_lim = _limit(free, k_stuck, shape, eq.dof, tol)
+    slip_lim = _limit(free, free.stiffness, shape, eq.dof, tol)
+    n_ok = int(conv.sum())
+    message = (f"{n_ok} of {conv.size} amplitudes converged (H = {eq.n_harmonics})" if n_ok < conv.size else
+               f"all {conv.size} amplitudes converged (H = {eq.n_harmonics}, {sum(r[2] for r in rows)} Newton iterations)")
+    return NonlinearMode(
+        amplitude=amps.copy(), frequency=w, damping_ratio=xi / (2 * w), negative_damping=xi,
+        harmonics=np.array([eq.harmonics(r[0][:nn]) for r in rows]), converged=conv,
+        dissipated_per_cycle=inp, friction_per_cycle=np.array([r[1].dissipated for r in rows]),
+        viscous_per_cycle=visc, stuck=np.array([r[1].stuck for r in rows]),
+        slider_positions=np.array([r[1].slider_positions for r in rows]),
+        iterations=np.array([r[2] for r in rows]), mode=mode, dof=eq.dof,
+        dof_name=str(system.structure.dof_names[eq.dof]), n_harmonics=eq.n_harmonics,
+        stuck_frequency=stuck_lim[0], stuck_damping_ratio=stuck_lim[1],
+        slipping_frequency=slip_lim[0], slipping_damping_ratio=slip_lim[1], message=message)
+
+
+def _check(free, eq, out: NonlinearMode, check, tol, max_iter) -> None:
+    """Each checked point against the exact free decay from it (:func:`free_decay`)."""
+    if check is True:
+        picked = range(out.amplitude.size)
+    else:
+        targets = np.asarray(check, dtype=float).reshape(-1)
+        picked = sorted({int(np.argmin(np.abs(out.amplitude - a))) for a in targets})
+    out.frequency_error = np.full(out.amplitude.size, np.nan)
+    out.energy_error = np.full(out.amplitude.size, np.nan)
+    checks = []
+    for k in picked:
+        if not out.converged[k]:
+            continue
+        dc = free_decay(free, eq, out, k, tol, max_iter)
+        checks.append(dc)
+        out.frequency_error[k] = dc.frequency_error
+        out.energy_error[k] = dc.energy_error
+    out.decays = tuple(checks)
+
+
+def _maxima(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Times of the maxima of ``x`` (``v`` from + to -) between samples, from the cubic Hermite
+    interpolant of ``x`` and ``v`` on each interval (its derivative's root)."""
+    out = []
+    for i in np.flatnonzero((v[:-1] > 0) & (v[1:] <= 0)):
+        h = t[i + 1] - t[i]
+        x0, x1, v0, v1 = x[i], x[i + 1], v[i] * h, v[i + 1] * h
+        # p(s) = x0 + v0 s + c2 s^2 + c3 s^3 on s in [0, 1]; p'(s) = v0 + 2 c2 s + 3 c3 s^2
+        c2 = 3 * (x1 - x0) - 2 * v0 - v1
+        c3 = 2 * (x0 - x1) + v0 + v1
+        roots = np.roots([3 * c3, 2 * c2, v0]) if abs(c3) > 0 else np.array([-v0 / (2 * c2)])
+        roots = roots[np.isreal(roots)].real
+        roots = roots[(roots >= -1e-9) & (roots <= 1 + 1e-9)]
+        s = float(roots[np.argmin(np.abs(roots - v0 / (v0 - v1)))]) if roots.size else v0 / (v0 - v1)
+        out.append(t[i] + s * h)
+    return np.array(out)
+
+
+def free_decay(free: FrictionSystem, eq: _Equations, mode: NonlinearMode, k: int, tol: float = 1e-11,
+               max_iter: int = 40, n_cycles: int = DECAY_CYCLES) -> DecayCheck:
+    """Point ``k`` of ``mode`` against the exact free decay from its state (module docstring)."""
+    from ..marcher import simulate
+
+    w = float(mode.frequency[k])
+    sys_w = FrictionSystem(free.structure, free.elements, omega=w)
+    x0, v0, w0 = balanced_state(sys_w, mode.harmonics[k], mode.slider_positions[k])
+    t_end = (n_cycles + 1.5) * 2 * math.pi / w
+    t = np.linspace(0.0, t_end, int(round((n_cycles + 1.5) * DECAY_SAMPLES)) + 1)
+    tr = simulate(sys_w, t_end, x0, v0, w0, t_eval=t, record=("x", "v"))
+    # the modal coordinate (the point's first-harmonic shape, mass-weighted): the truncated
+    # harmonics' start rings a stiff root's fast modes, which a root DOF itself shows
+    phi = free.mass @ mode.harmonics[k, 1].real
+    peaks = _maxima(t, phi @ tr.x, phi @ tr.v)
+    peaks = peaks[peaks > 0][:n_cycles + 1]
+    if not tr.success or peaks.size < 2:
+        empty = np.array([])
+        return DecayCheck(k, empty, empty, empty, empty, empty, empty, math.nan, math.nan,
+                          f"the free decay gave no two maxima ({tr.message})")
+    # exact outputs at the maxima and on a uniform grid inside each cycle
+    tt = np.concatenate([np.linspace(a, b, DECAY_SAMPLES + 1)[:-1] for a, b in zip(peaks[:-1], peaks[1:])]
+                        + [peaks[-1:]])
+    ex = simulate(sys_w, float(peaks[-1]), x0, v0, w0, t_eval=tt, record=("x", "energy"))
+    at_peak = np.arange(0, tt.size, DECAY_SAMPLES)
+    energy = np.diff((ex.dissipated_friction + ex.dissipated_viscous)[at_peak])
+    freqs = 2 * math.pi / np.diff(peaks)
+    modal = phi @ ex.x
+    amps, mw, md = [], [], []
+    for c in range(peaks.size - 1):
+        sl = slice(at_peak[c], at_peak[c + 1] + 1)
+        ph = freqs[c] * (tt[sl] - tt[sl][0])
+        target = math.hypot(np.trapezoid(modal[sl] * np.cos(ph), tt[sl]),
+                            np.trapezoid(modal[sl] * np.sin(ph), tt[sl])) * freqs[c] / math.pi
+        a, y = _at_modal_amplitude(eq, mode, phi, target, tol, max_iter)
+        amps.append(a)
+        mw.append(y[eq.size] if y is not None else math.nan)
+        md.append(y[eq.size + 1] * y[eq.size] * eq.kinetic_integral(y[:eq.size], eq.mass) if y is not None else math.nan)
+    amps, mw, md = np.array(amps), np.array(mw), np.array(md)
+    f_err = float(np.max(np.abs(freqs - mw) / mw))
+    e_err = float(np.max(np.abs(energy - md) / md)) if np.all(md > 0) else math.nan
+    return DecayCheck(k, peaks, amps, freqs, energy, mw, md, f_err, e_err,
+                      f"{peaks.size - 1} cycles of the exact free decay from amplitude {mode.amplitude[k]:.4g} m")
+
+
+def _at_modal_amplitude(eq: _Equations, mode: NonlinearMode, phi: np.ndarray, target: float, tol: float,
+                        max_iter: int):
+    """``(amplitude, y)``: the point of the mode whose modal coordinate ``phi . x`` has the first-
+    harmonic amplitude ``target``, by secant steps in log amplitude from the mode's nearest points
+    (``y`` None where it was not found). A decay's cycle is matched by this coordinate, not by the
+    DOF's amplitude: where the joint's share of the motion grows fast with amplitude (a root that
+    starts to slide), the DOF's amplitude falls many times faster than the energy."""
+    ok = np.flatnonzero(mode.converged)
+    s_mode = np.abs(mode.harmonics[ok, 1] @ phi)
+    order = np.argsort(s_mode)
+    la = np.interp(math.log(target), np.log(s_mode[order]), np.log(mode.amplitude[ok][order]))
+    j = ok[np.argmin(np.abs(np.log(mode.amplitude[ok]) - la))]
+    start = (float(mode.amplitude[j]), np.r_[_coefficients(eq, mode.harmonics[j]), mode.frequency[j],
+                                             mode.negative_damping[j]])
+    pts = []
+    for _ in range(12):
+        a = math.exp(la)
+        y, _, _, conv = _reach(eq, start, a, tol, max_iter)
+        if not conv:
+            return a, None
+        start = (a, y)
+        g = math.log(abs(_coefficients_first(eq, y) @ phi)) - math.log(target)
+        if abs(g) <= 1e-11:
+            return a, y
+        pts.append((la, g))
+        if len(pts) == 1:
+            la -= g  # the modal coordinate roughly proportional to the amplitude
+        else:
+            (l0, g0), (l1, g1) = pts[-2:]
+            la = l1 - g1 * (l1 - l0) / (g1 - g0) if g1 != g0 else l1 - g1
+    return math.exp(la), None
+
+
+def _coefficients_first(eq: _Equations, y: np.ndarray) -> np.ndarray:
+    """Every DOF's complex first harmonic of the unknowns ``y``."""
+    c = y[:eq.size].reshape(-1, eq.nc)
+    return c[:, 1] - 1j * c[:, 2]
+
+
+def _coefficients(eq: _Equations, harmonics: np.ndarray) -> np.ndarray:
+    """The unknowns' coefficients ``X`` of complex harmonics ``(H + 1, n_dof)`` (inverse of
+    :meth:`_Equations.harmonics`)."""
+    c = np.empty((harmonics.shape[1], eq.nc))
+    c[:, 0] = harmonics[0].real
+    c[:, 1::2] = harmonics[1:].real.T
+    c[:, 2::2] = -harmonics[1:].imag.T
+    return c.reshape(-1)
