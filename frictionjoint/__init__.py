@@ -15,6 +15,7 @@ from .results import PeriodicResponse, TimeResponse
 from .solvers.marcher.events import EventLog, Marcher
 from .solvers.frequency_domain.continuation import hbm_sweep
 from .solvers.frequency_domain.hbm import harmonic_balance
+from .solvers.frequency_domain.nonlinear_mode import nonlinear_mode
 from .solvers.marcher.response import simulate
 from .solvers.sdof.kernel import SdofCoulomb
 from .solvers.steady_state import periodic_response
@@ -50,6 +51,7 @@ __all__ = [
     "HarmonicForce",
     "harmonic_balance",
     "hbm_sweep",
+    "nonlinear_mode",
     "Iwan",
     "Jenkins",
     "LinearStructure",
