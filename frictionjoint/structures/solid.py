@@ -143,7 +143,7 @@ class SolidBlade:
 
     def __init__(self, length: float, width: float, thickness: float, youngs_modulus: float,
                  poisson_ratio: float, density: float, *, twist: float = 0.0, taper: float = 1.0,
-                 n_elements=20, rotor_speed: float = 0.0, hub_radius: float = 0.0,
+                 n_elements: int | tuple = 20, rotor_speed: float = 0.0, hub_radius: float = 0.0,
                  rayleigh: tuple = (0.0, 0.0)) -> None:
         self.length = check_positive("length", length)
         self.width = check_positive("width", width)
