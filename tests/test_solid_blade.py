@@ -16,6 +16,8 @@ Tolerances (each test says what it allows and why; errors are printed, run with 
 """
 import numpy as np
 import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from benchmarks.solid_blade import LEISSA, kirchhoff_square_cantilever, pretwisted_beam
 from frictionjoint.errors import ParameterError
@@ -205,6 +207,8 @@ def test_sparse_model_dof_table_node_sets_and_structure():
     assert len(b.node_sets["root"]) == 15 and len(b.node_sets["tip"]) == 15
     assert np.allclose(b.nodes[np.array(b.node_sets["root"]) - 1, 0], 0.0)
     assert np.allclose(b.nodes[np.array(b.node_sets["tip"]) - 1, 0], 0.2)
+    assert len(b.node_sets["tip_centre"]) == 1 and np.allclose(b.nodes[b.node_sets["tip_centre"][0] - 1], [0.2, 0, 0])
+    assert b.dofs_of("tip_centre").tolist() == [3 * b.node_sets["tip_centre"][0] - 3 + i for i in range(3)]
     # nodes by x, then y, then z: the matrices are banded along the span
     assert np.all(np.diff(b.nodes[:, 0]) >= -1e-15)
     # total mass: rho V for each direction
@@ -237,6 +241,16 @@ def test_craig_bampton_reduces_the_sparse_blade_to_its_root_face():
     assert reduced.dof_names[:3] == tuple(b.dof_names[i] for i in root[:3])
     clamped = reduced.clamped(list(range(root.size)))
     assert np.allclose(clamped.natural_frequencies(), b.natural_frequencies(6), rtol=1e-8)
+    # with the residual vector of a load at the tip centre (z), the clamped reduced model's static
+    # deflection there is the full model's (to the solvers' rounding)
+    tip = int(b.dofs_of("tip_centre")[2])
+    loaded = craig_bampton(b, root, n_modes=2, loaded_dofs=[tip]).clamped(list(range(root.size)))
+    free = np.setdiff1d(np.arange(b.n_dof), root)
+    full = spla.spsolve(sp.csc_array(b.stiffness[free][:, free]), (free == tip).astype(float))[free == tip][0]
+    force = loaded.transformation[tip]  # T^T f of a unit load at the tip DOF
+    reduced_deflection = force @ np.linalg.solve(loaded.stiffness, force)
+    print(f"tip-centre static deflection: full {full:.6e}, reduced {reduced_deflection:.6e}")
+    assert np.isclose(reduced_deflection, full, rtol=1e-9)
 
 
 def test_taper_and_twist():

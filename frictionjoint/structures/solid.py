@@ -51,7 +51,8 @@ Rotation, in the frame that rotates with the blade (as BeamBlade's):
 with the root face clamped. The matrices are ``scipy.sparse`` CSR arrays, ordered node by node
 (nodes sorted by ``x``, then ``y``, then ``z`` of the undeformed reference grid; directions x, y,
 z), and :attr:`SolidBlade.fe_model` is the :class:`~frictionjoint.structures.FEModel` with the DOF
-table and the node sets ``"root"`` and ``"tip"`` (the faces), as an FE code's export would be.
+table and the node sets ``"root"`` and ``"tip"`` (the faces) and ``"tip_centre"``, as an FE code's
+export would be.
 """
 from __future__ import annotations
 
@@ -208,7 +209,8 @@ class SolidBlade:
             return sum(stress[i, j] * du[i] * dv[j] for i in range(3) for j in range(3))
 
         locs = scalar.doflocs
-        order = np.lexsort(self._reference_grid(locs)[::-1])  # nodes by x, then y, then z
+        grid = self._reference_grid(locs)
+        order = np.lexsort(grid[::-1])  # nodes by x, then y, then z
 
         def arranged(a):  # a scalar matrix in the node order
             return sp.csr_array(sp.csr_array(a)[order][:, order])
@@ -224,8 +226,9 @@ class SolidBlade:
         n_nodes = order.size
         inverse = np.empty_like(order)
         inverse[order] = np.arange(n_nodes)
-        self._root_nodes = np.sort(inverse[np.flatnonzero(np.abs(locs[0]) <= 1e-9 * self.length)])
-        self._tip_nodes = np.sort(inverse[np.flatnonzero(np.abs(locs[0] - self.length) <= 1e-9 * self.length)])
+        root, tip = np.abs(locs[0]) <= 1e-9 * self.length, np.abs(locs[0] - self.length) <= 1e-9 * self.length
+        self._sets = {"root": np.sort(inverse[root]), "tip": np.sort(inverse[tip]),
+                      "tip_centre": inverse[tip & (grid[1] == 0) & (grid[2] == 0)]}
         if om2 > 0.0:
             # the steady stress of the clamped, undeformed blade under its centrifugal load
             load = np.zeros((n_nodes, 3))
@@ -285,9 +288,10 @@ class SolidBlade:
 
     @property
     def node_sets(self) -> dict:
-        """``"root"``: the nodes of the root face (``s = 0``, clamped for the natural frequencies);
-        ``"tip"``: those of the tip face (``s = L``). Node ids."""
-        return {"root": tuple(int(i) + 1 for i in self._root_nodes), "tip": tuple(int(i) + 1 for i in self._tip_nodes)}
+        """Node ids of ``"root"``: the root face (``s = 0``, clamped for the natural frequencies);
+        ``"tip"``: the tip face (``s = L``); ``"tip_centre"``: the node at the centre of the tip face
+        (an excitation or response point)."""
+        return {name: tuple(int(i) + 1 for i in nodes) for name, nodes in self._sets.items()}
 
     @functools.cached_property
     def fe_model(self) -> FEModel:
@@ -306,20 +310,20 @@ class SolidBlade:
         return tuple(dof_name(node, d) for node, d in self.dofs)
 
     def dofs_of(self, set_name: str) -> np.ndarray:
-        """The matrix rows of a node set's DOFs (``"root"`` or ``"tip"``), node by node, x, y, z.
+        """The matrix rows of a node set's DOFs (:attr:`node_sets`), node by node, x, y, z.
 
         Parameters
         ----------
         set_name : str
-            ``"root"`` or ``"tip"``.
+            ``"root"``, ``"tip"`` or ``"tip_centre"``.
 
         Returns
         -------
         (k,) ndarray of int
         """
-        nodes = {"root": self._root_nodes, "tip": self._tip_nodes}.get(set_name)
+        nodes = self._sets.get(set_name)
         if nodes is None:
-            raise ParameterError(f"set_name must be one of ['root', 'tip'], got {set_name!r}")
+            raise ParameterError(f"set_name must be one of {sorted(self._sets)}, got {set_name!r}")
         return (3 * nodes[:, None] + np.arange(3)).ravel()
 
     @functools.cached_property
