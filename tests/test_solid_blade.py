@@ -224,6 +224,7 @@ def test_sparse_model_dof_table_node_sets_and_structure():
     # dense eigh against sparse shift-invert: the dense solver's rounding is eps times the largest
     # eigenvalue of the mesh (~1e8 times the first): 1e-8 of omega
     assert np.allclose(clamped.natural_frequencies()[:4], b.natural_frequencies(4), rtol=1e-7)
+    assert SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=20).n_elements == (20, 2, 1)  # chord in proportion, >= 2
     big = SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=(20, 4, 1))
     assert big.n_dof > MAX_DENSE_DOF
     with pytest.raises(ParameterError, match="craig_bampton"):

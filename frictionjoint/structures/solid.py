@@ -29,9 +29,9 @@ side; a blade of L / h = 100, L / b = 20 with 40 x 2 x 1 is within 0.4 % of the 
 beam in flapwise bending, and within 1e-4 with nu = 0: the 0.4 % is the clamped root face holding
 the Poisson contraction that the beam lets free, about 0.3 % converged, growing with b / L).
 Full integration is kept on purpose: uniformly reduced 2 x 2 x 2 integration converges faster on
-the plate (within 0.03 % at 8 x 8 x 1) but leaves 27 zero-energy modes per element (33 zero eigenvalues in a free single element, 81 in
-a free 4 x 4 x 1 plate, measured), and a blend of the two lets those modes down among the
-physical ones; a root whose contact patches carry the blade must not have them. The 20-node
+the plate (its first mode within 0.03 % at 8 x 8 x 1) but leaves 27 zero-energy modes per
+element (33 zero eigenvalues in a free single element, 81 in a free 4 x 4 x 1 plate, measured),
+and a blend of the two lets those modes down among the physical ones; a root whose contact patches carry the blade must not have them. The 20-node
 serendipity element with reduced integration converges no faster here. Tetrahedra need several
 layers through the thickness and many more DOFs for the same accuracy. The twist enters through
 the trilinear element geometry (each element's edges are straight): the twist per element
