@@ -218,14 +218,16 @@ def test_sparse_model_dof_table_node_sets_and_structure():
     assert isinstance(model, FEModel) and model.n_dof == b.n_dof
     assert model.dof_names == b.dof_names and b.dof_names[:2] == ("n1_u1", "n1_u2")
     assert np.array_equal(model.dofs_of("root"), b.dofs_of("root"))
-    s = b.structure
-    assert s.indefinite_stiffness and s.dof_names == b.dof_names
-    clamped = s.clamped(b.dofs_of("root").tolist())
+    small = SolidBlade(0.2, 0.04, 0.004, **STEEL, n_elements=(2, 1, 1), rotor_speed=200.0, hub_radius=0.1)
+    s = small.structure  # 135 DOFs, dense
+    assert s.indefinite_stiffness and s.dof_names == small.dof_names
+    clamped = s.clamped(small.dofs_of("root").tolist())
     # dense eigh against sparse shift-invert: the dense solver's rounding is eps times the largest
     # eigenvalue of the mesh (~1e8 times the first): 1e-8 of omega
-    assert np.allclose(clamped.natural_frequencies()[:4], b.natural_frequencies(4), rtol=1e-7)
-    assert SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=20).n_elements == (20, 2, 1)  # chord in proportion, >= 2
-    big = SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=(20, 4, 1))
+    assert np.allclose(clamped.natural_frequencies()[:4], small.natural_frequencies(4), rtol=1e-7)
+    assert SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=4).n_elements == (4, 2, 1)  # chord in proportion, >= 2
+    assert SolidBlade(1.0, 0.5, 0.01, **STEEL, n_elements=6).n_elements == (6, 3, 1)
+    big = SolidBlade(1.0, 0.1, 0.01, **STEEL, n_elements=(12, 4, 1))  # 2,025 DOFs
     assert big.n_dof > MAX_DENSE_DOF
     with pytest.raises(ParameterError, match="craig_bampton"):
         big.structure
