@@ -176,3 +176,22 @@ def test_refusals():
                        amplitudes=[0.1])
     with pytest.raises(ParameterError, match="mode"):
         nonlinear_mode(system, mode=5, amplitudes=[0.1])
+
+
+def test_guide_example_runs(tmp_path, monkeypatch):
+    """The Python example of docs/nonlinear-modes.md."""
+    from pathlib import Path
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "nonlinear-modes.md").read_text()
+    blocks = [b for b in re.findall(r"^```python\n(.*?)^```", text, re.S | re.M) if "nm = fj.nonlinear_mode(" in b]
+    assert len(blocks) == 1
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "guide"}
+    exec(compile(blocks[0], "docs/nonlinear-modes.md:python-example", "exec"), namespace)
+    nm = namespace["nm"]
+    checked = np.isfinite(nm.energy_error)
+    assert nm.success and checked.sum() == 2
+    zeta = nm.damping_ratio[checked]
+    assert np.all(nm.frequency_error[checked] <= 2 * zeta ** 2) and np.all(nm.energy_error[checked] <= 4 * zeta ** 2)
+    assert (tmp_path / "nonlinear_mode.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

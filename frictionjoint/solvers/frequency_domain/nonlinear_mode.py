@@ -130,10 +130,10 @@ class _Equations:
         nn = self.size
         x, w, xi = y[:nn], y[nn], y[nn + 1]
         jf = self.joint_forces(x, w, jacobian)
-        lin = self.kk + w * (self.c1 - xi * self.m1) + w * w * self.m2
+        m1x = self.m1 @ x
         ia = self.dof * self.nc + 1
         r = np.empty(nn + 2)
-        r[:nn] = lin @ x - self.f0
+        r[:nn] = self.kk @ x + w * (self.c1 @ x - xi * m1x) + w * w * (self.m2 @ x) - self.f0
         if jf is not None:
             r[:nn] += self.gk.T @ jf.r
         r[nn] = x[ia] - amplitude
@@ -141,9 +141,9 @@ class _Equations:
         if not jacobian:
             return r, None, jf
         jac = np.zeros((nn + 2, nn + 2))
-        jac[:nn, :nn] = lin
-        jac[:nn, nn] = (self.c1 - xi * self.m1) @ x + 2.0 * w * (self.m2 @ x)
-        jac[:nn, nn + 1] = -w * (self.m1 @ x)
+        jac[:nn, :nn] = self.kk + w * (self.c1 - xi * self.m1) + w * w * self.m2
+        jac[:nn, nn] = self.c1 @ x - xi * m1x + 2.0 * w * (self.m2 @ x)
+        jac[:nn, nn + 1] = -w * m1x
         if jf is not None:
             jac[:nn, :nn] += self.gk.T @ jf.jacobian @ self.gk
             jac[:nn, nn] += self.gk.T @ jf.d_omega
@@ -173,7 +173,7 @@ def _newton(eq: _Equations, y: np.ndarray, amplitude: float, tol: float, max_ite
     rows = np.r_[eq.row_scale * amplitude, amplitude, amplitude]
 
     def size(r):
-        return float(np.max(np.abs(r / rows)))
+        return float(np.linalg.norm(r / rows))
 
     r, jac, jf = eq.residual(y, amplitude)
     for it in range(1, max_iter + 1):
