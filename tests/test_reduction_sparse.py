@@ -155,3 +155,17 @@ def test_receptance_in_the_root_limits_below_the_cut_off():
         print(f"{limit}: receptance error / peak {error:.1e}, {len(band)} modes below the cut-off, "
               f"their frequencies {np.max(np.abs(w_red[band] / w_full[band] - 1)):.1e}")
         assert error <= 1e-3
+
+
+def test_a_rotating_solid_blade_reduced_to_its_root_face():
+    """SolidBlade (sparse, spin-softened stiffness: indefinite_stiffness) reduces as it is, without
+    a dense structure: the fixed-interface modes are the blade's root-clamped modes."""
+    from frictionjoint.structures.solid import SolidBlade
+
+    blade = SolidBlade(0.2, 0.05, 0.004, 110e9, 0.3, 4430.0, n_elements=(8, 2, 1), rotor_speed=1000.0,
+                       hub_radius=0.25)
+    red = craig_bampton(blade, blade.dofs_of("root"), 6, [blade.dofs_of("tip")[2]])
+    assert red.indefinite_stiffness and red.transformation.shape == (blade.n_dof, red.n_dof)
+    error = np.max(np.abs(red.fixed_interface_frequencies / blade.natural_frequencies(6) - 1))
+    print(f"SolidBlade {blade.n_dof} DOFs: fixed-interface frequencies against natural_frequencies {error:.1e}")
+    assert error <= SAME
