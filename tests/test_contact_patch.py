@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 import pytest
-import scipy.sparse
 import skfem
 from skfem.helpers import ddot, dot, sym_grad, trace
 
@@ -196,6 +195,10 @@ def test_elastic_root_static_state_is_a_contact_solution(elastic):
     # Coulomb: |T| <= mu N where stuck, = mu N where slipping, the slip along the force
     ratio = st.friction_force / st.normal_force
     assert np.all(ratio[~st.slipping] < MU) and np.allclose(ratio[st.slipping], MU, rtol=1e-14)
+    u = st.displacement[[[full.dof_index(d) for d in node] for node in root.nodes]]  # nodes' (X, Y)
+    slip = np.einsum("ij,ij->i", root.tangents[root.flank], u) - st.friction_force / root.tangential_stiffness
+    assert np.all(slip[st.slipping] * st.friction_force[st.slipping] > 0)
+    assert np.all(np.abs(slip[~st.slipping]) <= 1e-12 * np.max(np.abs(u)))
     # equilibrium of the full structure: K x0 = f + sum_i (N0_i n_i - T0_i t_i)
     sysm = fj.FrictionSystem(full, [root])
     unbalanced = sysm.constant_force - sysm.slider_direction.T @ sysm.slider_preload
