@@ -74,13 +74,14 @@ class NonlinearMode:
     amplitude : (n,) ndarray
         First-harmonic amplitude at ``dof`` [m] (``x_dof = amplitude cos(omega t) + ...``).
     frequency : (n,) ndarray
-        Angular frequency [rad/s].
+        Angular frequency [rad/s] (NaN where Newton did not converge).
     damping_ratio : (n,) ndarray
-        ``zeta = xi / (2 omega)``.
+        ``zeta = xi / (2 omega)`` (NaN where Newton did not converge).
     negative_damping : (n,) ndarray
-        ``xi`` [1/s].
+        ``xi`` [1/s] (NaN where Newton did not converge).
     harmonics : (n, H + 1, n_dof) complex ndarray
-        Mode shape per amplitude: ``x(t) = Re(sum_h harmonics[:, h] e^{i h omega t})`` [m].
+        Mode shape per amplitude: ``x(t) = Re(sum_h harmonics[:, h] e^{i h omega t})`` [m] (Newton's
+        last iterate where it did not converge).
     converged : (n,) bool ndarray
         Newton converged at the amplitude.
     dissipated_per_cycle : (n,) ndarray

@@ -229,6 +229,110 @@ def _reach(eq: _Equations, start: tuple, amplitude: float, tol: float, max_iter:
     return y, jf, it + itm + it2, ok
 
 
+def _arc_matrix(eq: _Equations, jac: np.ndarray, t: np.ndarray, scales: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The extended Jacobian of ``(r(y, A), t . v)`` in the scaled unknowns ``v = (y, A) / scales``,
+    rows scaled by ``rows``; ``dr/dA`` is -1 in the amplitude's row."""
+    nn = eq.size
+    a = np.zeros((nn + 3, nn + 3))
+    a[:nn + 2, :nn + 2] = jac * scales[None, :nn + 2] / rows[:, None]
+    a[nn, nn + 2] = -scales[nn + 2] / rows[nn]
+    a[nn + 2] = t
+    return a
+
+
+def _arc_scales(eq: _Equations, u: np.ndarray, omega: float):
+    """``(scales, rows)`` at the branch point ``u = (X, omega, xi, A)``: each DOF's coefficients on
+    its largest (at least 1e-3 of the largest DOF's), the amplitude on itself, ``omega`` and ``xi``
+    on the stuck frequency; the rows as in :func:`_newton`."""
+    a = u[-1]
+    per_dof = np.max(np.abs(u[:eq.size].reshape(-1, eq.nc)[:, 1:]), axis=1)
+    per_dof = np.maximum(per_dof, 1e-3 * max(float(per_dof.max()), a))
+    return np.r_[np.repeat(per_dof, eq.nc), omega, omega, a], np.r_[eq.row_scale * a, a, a]
+
+
+def _branch(eq: _Equations, y0: np.ndarray, a0: float, a_end: float, tol: float, max_points: int = 300):
+    """Pseudo-arclength continuation of the mode from the solution ``y0`` at ``a0`` until the
+    amplitude passes ``a_end`` (hbm_sweep's scheme with the amplitude as the parameter, each DOF's
+    coefficients scaled by their size): the branch points ``[(A, y)]``, how many folds (turning
+    points in amplitude) it passed, and why it stopped; it gives up where the branch turns back
+    below half of ``a0``. Amplitude alone cannot pass a fold; this can."""
+    nn = eq.size
+    omega = float(y0[nn])
+    u = np.r_[y0, a0]
+    sc, rows = _arc_scales(eq, u, omega)
+    _, jac, _ = eq.residual(u[:-1], u[-1])
+    e_a = np.zeros(nn + 3)
+    e_a[-1] = 1.0
+    t = _arc_tangent(eq, jac, e_a, sc, rows)
+    pts, folds, ds, u_prev = [(a0, y0)], 0, 0.05, None
+    while u[-1] < a_end and len(pts) < max_points:
+        if u[-1] < 0.5 * a0:
+            return pts, folds, f"it turned back to {u[-1]:.4g} m"
+        pred = u / sc + ds * t
+        ok, uk, jac = _arc_correct(eq, pred, t, sc, rows, tol)
+        # as in hbm_sweep: a corrector that moved farther than the step, or landed nearer the point
+        # before the last than the last (it retraces the branch past a kink), takes a shorter step
+        if (not ok or np.linalg.norm(uk / sc - pred) > ds
+                or (u_prev is not None and np.linalg.norm((uk - u_prev) / sc) < np.linalg.norm((uk - u) / sc))):
+            ds *= 0.5
+            if ds < 1e-7:
+                return pts, folds, f"the branch could not be followed past amplitude {u[-1]:.4g} m"
+            continue
+        t_new = _arc_tangent(eq, jac, t, sc, rows)
+        folds += int(t_new[-1] * t[-1] < 0)
+        u_prev, u = u, uk
+        sc_new, rows = _arc_scales(eq, u, omega)
+        t = t_new * sc / sc_new  # the tangent in the new point's scales
+        t /= np.linalg.norm(t)
+        sc = sc_new
+        pts.append((float(u[-1]), u[:-1].copy()))
+        ds = min(ds * 1.5, 0.3)
+    return pts, folds, "reached" if u[-1] >= a_end else f"stopped after {max_points} branch points"
+
+
+def _arc_tangent(eq, jac, t_prev, sc, rows) -> np.ndarray:
+    """The branch's unit tangent in scaled unknowns, on the side of ``t_prev``."""
+    rhs = np.zeros(eq.size + 3)
+    rhs[-1] = 1.0
+    t = np.linalg.solve(_arc_matrix(eq, jac, t_prev, sc, rows), rhs)
+    t /= np.linalg.norm(t)
+    return t if t @ t_prev >= 0 else -t
+
+
+def _arc_correct(eq, pred, t, sc, rows, tol):
+    """Newton's corrector on ``r = 0`` and ``t . (v - pred) = 0`` from ``pred``: ``(ok, u,
+    Jacobian there)``."""
+    nn = eq.size
+    v = pred.copy()
+    for _ in range(15):
+        u = v * sc
+        if u[nn] <= 0 or u[-1] <= 0:
+            break
+        r, jac, _ = eq.residual(u[:-1], u[-1])
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):
+            break
+        try:
+            step = np.linalg.solve(_arc_matrix(eq, jac, t, sc, rows), -np.r_[r / rows, t @ (v - pred)])
+        except np.linalg.LinAlgError:
+            break
+        v = v + step
+        if float(np.max(np.abs(step))) <= tol:
+            u = v * sc
+            return True, u, eq.residual(u[:-1], u[-1])[1]
+    return False, v * sc, None
+
+
+def _on_branch(eq: _Equations, pts: list, amplitude: float, tol: float, max_iter: int):
+    """The mode at ``amplitude`` from the branch: Newton from the interpolation between the first
+    two successive branch points whose amplitudes bracket it; ``(y, joint forces, iterations,
+    converged)``, not converged where the branch does not reach it."""
+    for (a0, y0), (a1, y1) in zip(pts[:-1], pts[1:]):
+        if (a0 - amplitude) * (a1 - amplitude) <= 0:
+            f = (amplitude - a0) / (a1 - a0) if a1 != a0 else 0.0
+            return _newton(eq, y0 + f * (y1 - y0), amplitude, tol, max_iter)
+    return pts[-1][1], None, 0, False
+
+
 def _linear_mode(k: np.ndarray, m: np.ndarray, mode: int):
     """``(omega, shape)`` of mode ``mode`` (ascending, the rigid-body ones counted) of ``k``, ``m``;
     the shape real, mass-normalised."""
@@ -338,28 +442,48 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     elif shape[dof] == 0:
         raise ParameterError(f"nonlinear_mode: the stuck linear mode {mode} has a node at dof {dof}")
     eq = _Equations(free, hh, dof)
-    a_lin = float(amps[0]) * 1e-3
-    start = (a_lin, _start(eq, w_lin, shape, a_lin))
-    rows = []
-    for a in amps:
-        y, jf, it, ok = _reach(eq, start, float(a), tol, max_iter)
-        if jf is None:
-            jf = eq.joint_forces(y[:eq.size], y[eq.size], jacobian=False)
-        rows.append((y, jf, it, ok))
-        if ok:
-            start = (float(a), y)
+    rows, note = _follow(eq, amps, _start(eq, w_lin, shape, 1.0), tol, max_iter)
     out = _result(system, free, eq, mode, amps, rows, tol)
+    out.message += note
     if check is not False:
         _check(free, eq, out, check, tol, max_iter)
     return out
 
 
+def _follow(eq: _Equations, amps: np.ndarray, y_lin: np.ndarray, tol: float, max_iter: int):
+    """The mode at each amplitude, each from the previous solved one (:func:`_reach`), the first
+    from the stuck linear mode ``y_lin`` (at amplitude 1). Where that fails, the branch by arc
+    length (:func:`_branch`) from the last solved point to the amplitude; where the branch turns
+    back (a modal interaction can leave the amplitude's branch in pieces), the point fails and the
+    next amplitude is tried from the last solved one. ``(rows (y, joint forces, iterations,
+    converged), note on the arc-length passages)``."""
+    a_lin = float(np.min(amps)) * 1e-3
+    start = (a_lin, _predict(eq, y_lin, 1.0, a_lin))
+    rows, notes = [], []
+    for a in amps:
+        y, jf, it, ok = _reach(eq, start, float(a), tol, max_iter)
+        if not ok and start[0] > a_lin:
+            pts, folds, how = _branch(eq, start[1], start[0], float(a), tol)
+            y_b, jf_b, it_b, ok_b = _on_branch(eq, pts, float(a), tol, max_iter)
+            notes.append(f"{a:.4g} m by arc length from {start[0]:.4g} m ({len(pts)} points, {folds} folds"
+                         + (")" if ok_b else f", {how})"))
+            if ok_b:
+                y, jf, it, ok = y_b, jf_b, it + it_b, ok_b
+        if jf is None:
+            jf = eq.joint_forces(y[:eq.size], y[eq.size], jacobian=False)
+        rows.append((y, jf, it, ok))
+        if ok:
+            start = (float(a), y)
+    return rows, ("; " + "; ".join(notes)) if notes else ""
+
+
 def _result(system, free, eq, mode, amps, rows, tol) -> NonlinearMode:
     """The mode's points as a :class:`NonlinearMode`, with both linear limits."""
     nn = eq.size
-    w = np.array([r[0][nn] for r in rows])
-    xi = np.array([r[0][nn + 1] for r in rows])
     conv = np.array([r[3] for r in rows])
+    # a point Newton did not solve has no frequency nor damping (its last iterate is in harmonics)
+    w = np.where(conv, [r[0][nn] for r in rows], np.nan)
+    xi = np.where(conv, [r[0][nn + 1] for r in rows], np.nan)
     inp = np.array([r[0][nn + 1] * r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.mass) for r in rows])
     visc = np.array([r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.damping) for r in rows])
     k_stuck = eq.k_lin
