@@ -29,6 +29,7 @@ GUIDE_EXAMPLES = {
     "blades.md": "from frictionjoint.structures import BeamBlade",
     "harmonic-balance.md": "hb = fj.harmonic_balance(",
     "studies.md": "study = Study(",
+    "nonlinear-modes.md": "nm = fj.nonlinear_mode(",
 }
 
 
