@@ -20,8 +20,7 @@ without ever making an ``n x n`` dense matrix:
   the signs of the pivots are its inertia, so an unstable clamped structure is refused from the
   factor itself);
 * the constraint modes from that factor, the columns of ``K_ib`` solved in blocks of
-  :data:`BLOCK` right-hand sides (a 50,000-DOF blade with a 525-DOF root face: 64 columns take
-  about 1 s; the whole ``Psi``, 8 s);
+  :data:`BLOCK` right-hand sides (each block one pass over the factor; ``Psi`` is dense anyway);
 * the fixed-interface modes by ARPACK in shift-invert mode (``scipy.sparse.linalg.eigsh``) with
   the shift ``sigma = 0``: the eigenvalues nearest the shift are the lowest, which are the ones
   kept; the operator ``(K_ii - sigma M_ii)^-1`` is then ``K_ii^-1``, whose factor is the one
@@ -32,8 +31,15 @@ without ever making an ``n x n`` dense matrix:
   eigenvalue. The Ritz vectors are made exactly mass-orthonormal by a Rayleigh-Ritz step in their
   own span, and each is signed so that its largest entry is positive;
 * the residual vectors of the loaded DOFs by the same factor;
-* ``T`` dense and thin (``n x n_reduced``: 250 MB for 50,000 DOFs and 600 reduced DOFs), the
+* ``T`` dense and thin (``n x n_reduced``: 220 MB for 50,925 DOFs and 546 reduced DOFs), the
   projections ``T^T A T`` made a block of columns at a time.
+
+Cost on this machine (2 shared cores, ``benchmarks/reduction.py``): a 50,925-DOF blade of
+hexahedra (3.6 million stiffness entries) to its 525-DOF root face, 20 modes and a residual
+vector, 546 DOFs: 41-107 s wall, 58 s CPU, of which the factor (44 million entries) 3.4-6.4 s,
+the solves 29-50 s (525 constraint modes; ARPACK's some 60 shift-invert steps), ``eigsh`` as a
+whole 8-12 s, the projections 5 s; peak memory 1.6 GB (the model 0.9 GB of it). The range is the
+machine's load (3 to 5 on 2 cores while it was measured).
 
 Damping: the structure's (a dense or sparse matrix, projected) or ``rayleigh = (alpha, beta)``,
 ``C = alpha M + beta K``, whose projection is ``alpha M_r + beta K_r`` exactly.
@@ -122,18 +128,7 @@ def craig_bampton(structure: LinearStructure | FEModel, boundary_dofs: Sequence,
     if any(in_b[d] for d in loaded) or len(set(loaded)) != len(loaded):
         raise ParameterError(f"loaded_dofs must be distinct interior DOFs, got {list(loaded_dofs)!r}")
     damping = _damping(structure, rayleigh)
-    if sparse:
-        t, lam = _sparse_basis(structure, b, i, n_modes, loaded)
-    else:
-        i = list(i)
-        psi, phi = _interior_modes(structure.stiffness, structure.mass, b, i, n_modes)
-        lam = None
-        v = _with_residual_vectors(structure, i, loaded, phi)
-        nb, nv = len(b), v.shape[1]
-        t = np.zeros((structure.n_dof, nb + nv))
-        t[b, :nb] = np.eye(nb)
-        t[np.ix_(i, range(nb))] = psi
-        t[np.ix_(i, range(nb, nb + nv))] = v
+    t, lam = (_sparse_basis if sparse else _dense_basis)(structure, b, i, n_modes, loaded)
     m_r, k_r = _project(structure.mass, t), _project(structure.stiffness, t)
     if rayleigh is not None:
         c_r = rayleigh[0] * m_r + rayleigh[1] * k_r
@@ -272,6 +267,19 @@ def _residual_vector(r0, mii, vectors, name):
     if not norm > 1e-20 * float(r0 @ mii @ r0):
         raise ParameterError(f"the residual vector of {name!r} lies in the kept modes")
     return r / np.sqrt(norm)
+
+
+def _dense_basis(structure, b, i, n_modes, loaded):
+    """``(T, None)`` of the dense path: ``scipy.linalg`` on the dense matrices."""
+    i = list(i)
+    psi, phi = _interior_modes(structure.stiffness, structure.mass, b, i, n_modes)
+    v = _with_residual_vectors(structure, i, loaded, phi)
+    nb, nv = len(b), v.shape[1]
+    t = np.zeros((structure.n_dof, nb + nv))
+    t[b, :nb] = np.eye(nb)
+    t[np.ix_(i, range(nb))] = psi
+    t[np.ix_(i, range(nb, nb + nv))] = v
+    return t, None
 
 
 def _interior_modes(k, m, b, i, n_modes):
