@@ -9,11 +9,13 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 - :mod:`.response`: :class:`TimeResponse`, :class:`PeriodicResponse`, :class:`CoSimulationResult`;
 - :mod:`.frequency`: :class:`FrequencyResponse`, :class:`SystemSweep`, :class:`OutputSweep`;
 - :mod:`.harmonic`: :class:`HarmonicBalance`, :class:`HarmonicBalanceSweep`;
+- :mod:`.nonlinear_mode`: :class:`NonlinearMode`;
 - :mod:`.regime_map`: :class:`RegimeMap`;
 - :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`.
 """
 from .frequency import FrequencyResponse, OutputSweep, SystemSweep
 from .harmonic import HarmonicBalance, HarmonicBalanceSweep
+from .nonlinear_mode import NonlinearMode
 from .regime_map import RegimeMap
 from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
 from .shakedown import CycleResult, MelanResult, ShakedownResult
@@ -21,4 +23,4 @@ from .study import StudyTable
 
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
            "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
-           "collection_status", "StudyTable"]
+           "collection_status", "StudyTable", "NonlinearMode"]
