@@ -302,3 +302,36 @@ def test_refused_static_states_and_bad_input(elastic):
     with pytest.raises(ParameterError, match="flank_angle"):
         _rigid_patch(1, KT_STUCK, False).replace(flank_angle=2.0)
     assert _rigid_patch(2, KT_STUCK, False).replace(friction_coefficient=0.5).friction_coefficient == 0.5
+
+
+def test_varying_friction_energy_closed_form_is_the_gauss_rules(elastic):
+    """The friction energy of sliders on contacts, per closed-form piece: the closed form of modal
+    pieces (response.modal_varying_friction, exponential sums) against the Gauss rule of 8
+    sub-intervals per period of the fastest mode (exact to rounding for such integrands), over
+    two periods of the elastic root on its patches with varying normal loads."""
+    from frictionjoint.solvers.marcher import response
+
+    root = fj.PatchDovetailRoot(_flank(elastic["right"]), _flank(elastic["left"]), G, MU, elastic["reduced_load"],
+                                normal_load_variation=True)
+    sysm = fj.FrictionSystem(elastic["reduced"], [root], omega=3000.0,
+                             excitation=[fj.HarmonicForce(elastic["tip"], 1600.0)])
+    pairs = []
+    closed_form = response.modal_varying_friction
+
+    def both(system, itv, a, b):
+        value = closed_form(system, itv, a, b)
+        if value is not None and value != 0.0:
+            nodes, wts = response.gauss_pieces(itv, a, b)
+            xq, vq = itv.state(nodes)
+            pairs.append((value, response.varying_friction(system, itv, wts, xq, vq)))
+        return value
+
+    response.modal_varying_friction = both
+    try:
+        fj.simulate(sysm, 2 * 2 * math.pi / sysm.omega, record=("energy",))
+    finally:
+        response.modal_varying_friction = closed_form
+    values = np.array(pairs)
+    assert len(values) > 10
+    # measured 8e-15 of the piece's energy
+    assert np.max(np.abs(values[:, 0] - values[:, 1]) / np.abs(values[:, 1])) <= 1e-12
