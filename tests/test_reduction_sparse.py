@@ -122,6 +122,8 @@ def test_interface_reduction_against_the_unreduced_interface(blade):
     # flanks kept: the rest of the root face carries no springs, only the tip load's share
     # (9.9e-7 and 6.1e-9 here); characteristic constraint modes see the stiff flanks through 12 shapes
     assert max(errors[len(flanks), 12]) <= 1e-5 and errors[0, 12][0] <= 0.05
+    with pytest.raises(ParameterError, match="do not hold the rest"):
+        interface_reduction(cb, 2, flanks[:1])  # one DOF does not hold a free blade
     with pytest.raises(ParameterError, match="keep must be distinct boundary"):
         interface_reduction(cb, 2, ["q1"])
     with pytest.raises(ParameterError, match="made by craig_bampton"):
