@@ -132,18 +132,9 @@ def interface_reduction(reduced: LinearStructure, n_modes: int, keep: Sequence =
 
     names = ([reduced.dof_names[k] for k in p] + [f"c{j + 1}" for j in range(n_modes)]
              + [reduced.dof_names[k] for k in others])
-    # the stiffness block by block: Craig-Bampton's has no boundary-modal coupling, the interface
-    # modes are stiffness-orthogonal to each other and to the kept DOFs' static shapes; a negative
-    # omega^2 of a positive semi-definite stiffness is the rounding of a rigid-body mode's zero
-    stiffness = np.zeros_like(t2.T @ t2)
-    cond = reduced.stiffness[np.ix_(p, p)] + reduced.stiffness[np.ix_(p, r)] @ g
-    cond = 0.5 * (cond + cond.T)
     if not reduced.indefinite_stiffness:
-        lam = np.clip(lam, 0.0, None)
-        cond = _semidefinite(cond)
-    stiffness[:n_p, :n_p] = cond
-    stiffness[range(n_p, n_p + n_modes), range(n_p, n_p + n_modes)] = lam
-    stiffness[n_p + n_modes:, n_p + n_modes:] = reduced.stiffness[np.ix_(others, others)]
+        lam = np.clip(lam, 0.0, None)  # a negative omega^2 here is a rigid-body mode's rounding
+    stiffness = _stiffness(reduced, p, r, others, g, lam)
     out = LinearStructure(project(reduced.mass), stiffness, project(reduced.damping),
                           dof_names=names, indefinite_stiffness=reduced.indefinite_stiffness)
     out.interface_transformation = t2
@@ -153,6 +144,21 @@ def interface_reduction(reduced: LinearStructure, n_modes: int, keep: Sequence =
     out.boundary_dofs = tuple(names[:n_p])
     out.interface_frequencies = np.sqrt(np.clip(lam, 0.0, None))
     out.fixed_interface_frequencies = getattr(reduced, "fixed_interface_frequencies", None)
+    return out
+
+
+def _stiffness(reduced, p, r, others, g, lam) -> np.ndarray:
+    """The reduced stiffness block by block: Craig-Bampton's has no boundary-modal coupling, the
+    interface modes (``omega^2 = lam``) are stiffness-orthogonal to each other and to the kept
+    DOFs' static shapes, whose block is the static condensation on the kept DOFs."""
+    n_p, n_modes = len(p), len(lam)
+    k = reduced.stiffness
+    out = np.zeros((n_p + n_modes + len(others),) * 2)
+    cond = k[np.ix_(p, p)] + k[np.ix_(p, r)] @ g
+    cond = 0.5 * (cond + cond.T)
+    out[:n_p, :n_p] = cond if reduced.indefinite_stiffness else _semidefinite(cond)
+    out[range(n_p, n_p + n_modes), range(n_p, n_p + n_modes)] = lam
+    out[n_p + n_modes:, n_p + n_modes:] = k[np.ix_(others, others)]
     return out
 
 
