@@ -36,9 +36,9 @@ without ever making an ``n x n`` dense matrix:
 
 Cost on this machine (2 shared cores, ``benchmarks/reduction.py``): a 50,925-DOF blade of
 hexahedra (3.6 million stiffness entries) to its 525-DOF root face, 20 modes and a residual
-vector, 546 DOFs: 41-107 s wall, 58 s CPU, of which the factor (44 million entries) 3.4-6.4 s,
-the solves 29-50 s (525 constraint modes; ARPACK's some 60 shift-invert steps), ``eigsh`` as a
-whole 8-12 s, the projections 5 s; peak memory 1.6 GB (the model 0.9 GB of it). The range is the
+vector, 546 DOFs: 41-107 s wall, 52-58 s CPU, of which the factor (44 million entries)
+3.4-6.4 s, the solves 29-50 s (525 constraint modes; ARPACK's some 60 shift-invert steps),
+``eigsh`` as a whole 3-12 s, the projections 3-5 s; peak memory 1.6 GB (the model 0.9 GB of it). The range is the
 machine's load (3 to 5 on 2 cores while it was measured).
 
 Damping: the structure's (a dense or sparse matrix, projected) or ``rayleigh = (alpha, beta)``,
