@@ -173,3 +173,51 @@ def test_located_events_of_iwan_joints_slider_by_slider(chain, fmus, transfer):
         err = float((np.max(np.abs(x - ref.x), axis=1) / np.max(np.abs(ref.x), axis=1)).max())
         assert err <= TOL, (d, err)  # measured 1.1e-14 to 1.3e-14
         assert "65 events located" in r.host
+
+
+class _Indicator:
+    """A stand-in component whose one event indicator is g(t) = 0.05 + 0.05 cosh(20 (t - 0.5)) /
+    cosh(10): positive throughout [0, 1], with g(0) = g(1) = 0.1 and slopes -+0.9999 there, so the
+    cubic Hermite interpolant of its end values and rates dips to -0.15 at t = 0.5."""
+
+    def __init__(self):
+        self.t = 0.0
+
+    @staticmethod
+    def g(t):
+        return 0.05 + 0.05 * math.cosh(20 * (t - 0.5)) / math.cosh(10.0)
+
+    @staticmethod
+    def rate(t):
+        return math.sinh(20 * (t - 0.5)) / math.cosh(10.0)
+
+    def save(self):
+        return self.t
+
+    def restore(self, saved):
+        self.t = saved
+
+    def free(self, saved):
+        pass
+
+    def step_between(self, t, s):
+        self.t = s
+
+    def reader(self, names):
+        return lambda: [self.g(self.t), self.rate(self.t)]
+
+
+def test_a_probe_that_finds_no_event_leaves_the_components_at_the_step_end():
+    """The interpolant predicts a dip, the probe there finds the indicator positive: no event, and
+    every component is back at the step's end (it was left at the probe's time)."""
+    from types import SimpleNamespace
+
+    from frictionjoint.fmi.cosim import _EventLocator
+
+    comp = _Indicator()
+    system = SimpleNamespace(_transfer=lambda insts, transfer: (lambda: None))
+    locator = _EventLocator(system, {"c": comp}, "sequential", [("c", ["slip_margin"], [("slip_margin_rate", None)])])
+    assert _hermite_dip(0.0, 1.0, (np.array([0.1]), np.array([-0.9999]), np.array([np.nan])),
+                        (np.array([0.1]), np.array([0.9999]), np.array([np.nan]))) == pytest.approx(0.5)
+    locator.step(0.0, 1.0)
+    assert locator.count == 0 and comp.t == 1.0

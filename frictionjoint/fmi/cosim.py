@@ -480,7 +480,9 @@ class _EventLocator:
                 end = self._read()
                 cut = self._event(saved, t, t_end, start if fresh else None, end)
                 if cut is None:
-                    self._carry = end  # the next step's start: nothing set since
+                    if self._at is not None:  # a probe found no event: back to the step's end
+                        self._advance(saved, t, t_end)
+                    self._carry = end  # the next step's start (the same state as read there)
                     return
                 if self._at != cut:  # (the root finder's last evaluation is mostly there)
                     self._advance(saved, t, cut)
