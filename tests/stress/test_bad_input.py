@@ -31,6 +31,14 @@ def _forced(elements=()):
     return fj.FrictionSystem(_s2(), list(elements), omega=1.0, excitation=[fj.HarmonicForce(0, 1.0)])
 
 
+def _free_jenkins():
+    return fj.FrictionSystem(_s2(), [fj.Jenkins(1.0, 0.1, dof=0)])
+
+
+def _patch():
+    return fj.FlankPatch([(0, 1)], 1.0, 1.0)
+
+
 def _no_build(omega):
     """A build that must never be called: the arguments are checked first."""
     raise AssertionError("build called before the arguments were checked")
@@ -237,6 +245,19 @@ CASES = [
     ("peak_response nan", lambda: fj.peak_response(lambda w: _forced(), NAN, 1.0), "omega_min"),
     ("peak_response n_grid 1", lambda: fj.peak_response(lambda w: _forced(), 1.0, 2.0, n_grid=1), "n_grid"),
     ("system_sweep build not callable", lambda: fj.system_sweep(_forced(), [1.0]), "build"),
+    ("nonlinear_mode amplitude nan", lambda: fj.nonlinear_mode(_free_jenkins(), amplitudes=[NAN]), "amplitudes"),
+    ("nonlinear_mode n_harmonics 0", lambda: fj.nonlinear_mode(_free_jenkins(), n_harmonics=0), "n_harmonics"),
+    ("nonlinear_mode mode beyond", lambda: fj.nonlinear_mode(_free_jenkins(), mode=5), "mode"),
+    ("nonlinear_mode tol 0", lambda: fj.nonlinear_mode(_free_jenkins(), tol=0.0), "tol"),
+    ("FlankPatch normal_stiffness < 0", lambda: fj.FlankPatch([(0, 1)], -1.0, 1.0), "normal_stiffness"),
+    ("FlankPatch tangential_stiffness nan", lambda: fj.FlankPatch([(0, 1)], 1.0, NAN), "tangential_stiffness"),
+    ("FlankPatch no node", lambda: fj.FlankPatch([], 1.0, 1.0), "nodes"),
+    ("PatchDovetailRoot flank_angle pi/2", lambda: fj.PatchDovetailRoot(_patch(), _patch(), 2.0, 0.3, {1: 1.0}),
+     "flank_angle"),
+    ("PatchDovetailRoot mu < 0", lambda: fj.PatchDovetailRoot(_patch(), _patch(), 0.5, -0.3, {1: 1.0}),
+     "friction_coefficient"),
+    ("PatchDovetailRoot load nan", lambda: fj.PatchDovetailRoot(_patch(), _patch(), 0.5, 0.3, {1: NAN}),
+     "centrifugal_load"),
     ("harmonic_balance n_harmonics 0", lambda: fj.harmonic_balance(_forced(), n_harmonics=0), "n_harmonics"),
     ("harmonic_balance omega nan", lambda: fj.harmonic_balance(_forced(), omega=NAN), "omega"),
     ("harmonic_balance tol 0", lambda: fj.harmonic_balance(_forced(), tol=0.0), "tol"),
