@@ -404,7 +404,7 @@ class _Transfer:
         sources = {}
         for (sc, sv), _ in pairs:
             sources.setdefault(sc, []).append(sv)
-        ops, pending, read = [], {}, {}  # read: component -> its latest read's slot
+        ops, pending, read = [], {}, {}  # read: component -> its latest read's slot (the reads' count then)
 
         def flush(comp):
             items = pending.pop(comp, None)
@@ -416,7 +416,7 @@ class _Transfer:
             if transfer == "sequential":
                 flush(sc)
             if sc not in read:
-                read[sc] = len([op for op in ops if op[0] is not None])
+                read[sc] = sum(op[0] is not None for op in ops)
                 ops.append((insts[sc].reader(sources[sc]), None, None))
             pending.setdefault(tc, []).append((tv, (read[sc], sources[sc].index(sv))))
         for comp in list(pending):

@@ -409,14 +409,20 @@ def varying_friction(system, itv, wts, xq, vq) -> float:
     variation): ``int mu N(x) |w'| dt`` from the state ``xq, vq`` at Gauss nodes with weights
     ``wts`` (:func:`gauss_pieces`; the integrand is smooth on a piece: exact to rounding), with
     ``|w'| = (sig d - g/k) . v``."""
-    sl = system.varying & (itv.status != 0) & (itv.status != 2)
+    sl, rate_rows = _varying_slip(system, itv)
     if not sl.any():
         return 0.0
-    sig = itv.status[sl].astype(float)
     limit = system.slip_force[sl][:, None] + system.slip_gradient[sl] @ xq
-    rate = (sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl]
-            / system.slider_stiffness[sl][:, None]) @ vq
-    return float(np.sum(wts * np.sum(limit * rate, axis=0)))
+    return float(np.sum(wts * np.sum(limit * (rate_rows @ vq), axis=0)))
+
+
+def _varying_slip(system, itv):
+    """The piece's slipping sliders on contacts (a mask) and the rows of their slip rate,
+    ``|w'| = (sig d - g/k) . v``."""
+    sl = system.varying & (itv.status != 0) & (itv.status != 2)
+    sig = itv.status[sl].astype(float)
+    rows = sig[:, None] * system.slider_direction[sl] - system.slip_gradient[sl] / system.slider_stiffness[sl][:, None]
+    return sl, rows
 
 
 def piece_slip(system, itv, tau_end: float, dx: np.ndarray) -> tuple[np.ndarray, float]:
@@ -442,19 +448,20 @@ def piece_slip(system, itv, tau_end: float, dx: np.ndarray) -> tuple[np.ndarray,
 
 
 def modal_varying_friction(system, itv, a: float, b: float) -> float | None:
-    """:func:`varying_friction` on ``[a, b]`` (local times of ``itv``) in closed form, or None where the piece is not
-    a plain modal one (non-classical damping, or a mode near resonance with the excitation: then
-    the Gauss rule).
+    """:func:`varying_friction` on ``[a, b]`` (local times of ``itv``) in closed form, or None where
+    the piece is not a plain modal one (non-classical damping, or a mode near resonance with the
+    excitation: then the Gauss rule).
 
     On a modal piece the modal coordinates are sums of exponentials, ``eta(tau) = e^{lam tau} a +
     b0 + b+ e^{i w tau} + b- e^{-i w tau}``, so each slider's limit ``mu N(x)`` and slip rate
     ``|w'|`` are ``Re(sum_j p_j e^{s_j tau})`` and ``Re(sum_j q_j e^{s_j tau})`` over the same
     exponents ``s = (lam, 0, i w, -i w)``, and ``int_a^b Re(P) Re(Q) = Re(p^T (E q + E' conj(q))) / 2``
     with ``E_jl = int_a^b e^{(s_j + s_l) tau}`` and ``E'_jl = int_a^b e^{(s_j + conj(s_l)) tau}``
-    (``e^{z a} expm1(z (b - a)) / z``; ``b - a`` at ``z = 0``). The Gauss rule needs 8 sub-intervals per period of the
-    fastest mode: a stiff contact's, hundreds of times the excitation's, made this integral most
-    of a patch root's steady state (58 of 59 s with 8 nodes per flank)."""
-    sl = system.varying & (itv.status != 0) & (itv.status != 2)
+    (``e^{z a} (b - a) phi1(z (b - a))``, as :func:`interval_fourier`'s). The Gauss rule needs 8
+    sub-intervals per period of the fastest mode: a stiff contact's, hundreds of times the
+    excitation's, made this integral most of a patch root's steady state (58 of 59 s with 8 nodes
+    per flank)."""
+    sl, rate_rows = _varying_slip(system, itv)
     if not sl.any():
         return 0.0
     cfg = itv.config
@@ -464,10 +471,8 @@ def modal_varying_friction(system, itv, a: float, b: float) -> float | None:
         itv._prepare()
     if itv._near:
         return None
-    sig = itv.status[sl].astype(float)
     m = cfg.m
     grad = system.slip_gradient[sl]
-    rate_rows = (sig[:, None] * system.slider_direction[sl] - grad / system.slider_stiffness[sl][:, None])
     a_rows = grad @ (cfg.N @ cfg.V[:m])  # x = x0 + Re(N V[:m] eta): limit = const + Re(a_rows eta)
     b_rows = rate_rows @ (cfg.N @ cfg.V[m:])  # v = Re(N V[m:] eta): |w'| = Re(b_rows eta)
     b0, bp, bm = itv._b
@@ -483,10 +488,8 @@ def modal_varying_friction(system, itv, a: float, b: float) -> float | None:
 
 
 def _exp_integral(z: np.ndarray, a: float, b: float) -> np.ndarray:
-    """``int_a^b e^{z tau} d tau`` elementwise: ``e^{z a} expm1(z (b - a)) / z``, ``b - a`` where
-    ``z = 0``."""
-    zero = z == 0
-    span = np.where(zero, b - a, np.expm1(z * (b - a)) / np.where(zero, 1.0, z))
+    """``int_a^b e^{z tau} d tau`` elementwise: ``e^{z a} (b - a) phi1(z (b - a))``."""
+    span = (b - a) * _phi1(z * (b - a))
     return span if a == 0 else np.exp(z * a) * span
 
 
