@@ -94,7 +94,7 @@ def test_bad_arguments_exit_nonzero_in_a_subprocess(tmp_path):
     # a missing .fmu or a misspelt model: "not found", and the blade models of models/ listed
     (["sweep", "nothing.fmu", "--omega", "1:2:3"], "'nothing.fmu' not found"),
     (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "'CoulombOscilator' not found"),
-    (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "(ti64_compressor_blade)"),
+    (["sweep", "CoulombOscilator", "--omega", "1:2:3"], "(ti64_compressor_blade, ti64_solid_blade)"),
     (["sweep", "two_dof_chain", "--omega", "1:2:3"], "two_dof_chain.toml in"),  # a structure, not a blade
     (["sweep", "ti64_compressor_blade", "--omega", "1:2:3", "--set", "normal_load_variation=maybe"], "true/false"),
     (["demo", "--bogus"], "unrecognized arguments"),

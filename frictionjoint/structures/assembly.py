@@ -25,6 +25,7 @@ from ..structure import LinearStructure
 from ..system import FrictionSystem
 from ..system_sweeps import peak_response, system_sweep
 from .reduction import craig_bampton
+from .solid_root import solid_blade_on_patches
 
 __all__ = ["BladeAssembly"]
 
@@ -77,6 +78,11 @@ class BladeAssembly:
         BladeAssembly
         """
         blade = model.blade(**blade_overrides)
+        amplitude = float(model.excitation.get("tip_force_amplitude", 1.0))
+        if model.kind == "solid":
+            reduced, root, tip = solid_blade_on_patches(blade, model.root, n_modes,
+                                                        model.excitation.get("tip_point", "centre"))
+            return cls(reduced, [root], {tip: amplitude})
         tip = f"w{blade.n_elements}"
         reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], n_modes, loaded_dofs=[tip])
         root_args = dict(model.root)
@@ -87,7 +93,7 @@ class BladeAssembly:
         if not blade.centrifugal_force > 0:
             raise ParameterError("the model's rotor_speed must be > 0 (the dovetail is loaded by the centrifugal force)")
         root = DovetailRoot(blade.centrifugal_force, tangential_dof="w0", radial_dof="u0", **root_args)
-        return cls(reduced, [root], {tip: float(model.excitation.get("tip_force_amplitude", 1.0))})
+        return cls(reduced, [root], {tip: amplitude})
 
     # ------------------------------------------------------------------ DOFs
     def _reduced_force(self) -> np.ndarray:

@@ -6,10 +6,18 @@ A definition (SI units)::
     name = "Ti64CompressorBlade"
     source = "where the numbers come from"
     [blade]            # BeamBlade's arguments: length, width, thickness, youngs_modulus,
-                       # density, and optionally n_elements, bending, rayleigh = [alpha, beta]
+                       # density, and optionally n_elements, bending, rayleigh = [alpha, beta];
+                       # or, with kind = "solid", SolidBlade's: length, width, thickness,
+                       # youngs_modulus, poisson_ratio, density, and optionally twist, taper,
+                       # n_elements (an int or [span, chord, thickness]), rayleigh
     [rotor]            # optional: speed [rad/s], hub_radius [m]
     [root]             # optional: the root joint's parameters (e.g. a dovetail's)
-    [excitation]       # optional: e.g. tip_force_amplitude [N]
+    [excitation]       # optional: e.g. tip_force_amplitude [N]; a solid blade's tip_point
+                       # ("centre", "leading_edge", "trailing_edge": where on the tip face)
+
+A beam blade's root is a point-contact :class:`~frictionjoint.elements.DovetailRoot`; a solid
+blade's is its root face's edges on the flanks as contact patches
+(:mod:`~frictionjoint.structures.solid_root`), with the same ``[root]`` parameters (per flank).
 
 :func:`load_blade_model` reads one.
 """
@@ -21,13 +29,18 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from .beam import BeamBlade
+from .solid import SolidBlade
 
-__all__ = ["BladeModel", "load_blade_model", "blade_model_names", "MODELS_DIR"]
+__all__ = ["BladeModel", "load_blade_model", "blade_model_names", "MODELS_DIR", "BLADE_KINDS"]
 
 #: the repository's model definitions (a source checkout: next to the package)
 MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 
 _BLADE_KEYS = ("length", "width", "thickness", "youngs_modulus", "density", "n_elements", "bending", "rayleigh")
+_SOLID_KEYS = ("length", "width", "thickness", "youngs_modulus", "poisson_ratio", "density", "twist", "taper",
+               "n_elements", "rayleigh")
+#: the blade kinds of a definition's [blade] ``kind``, and their classes
+BLADE_KINDS = {"beam": BeamBlade, "solid": SolidBlade}
 _SECTIONS = ("name", "source", "blade", "rotor", "root", "excitation")
 
 
@@ -40,7 +53,7 @@ class BladeModel:
     name, source : str
         Its name and where its numbers come from.
     blade_parameters : dict
-        :class:`~frictionjoint.structures.BeamBlade`'s arguments, the rotor's included.
+        :class:`~frictionjoint.structures.BeamBlade`'s (or SolidBlade's) arguments, the rotor's included.
     root, excitation : dict
         The root joint's and the excitation's parameters, as written.
     path : Path
@@ -53,21 +66,23 @@ class BladeModel:
     root: dict = field(default_factory=dict)
     excitation: dict = field(default_factory=dict)
     path: Path | None = None
+    kind: str = "beam"
 
-    def blade(self, **overrides) -> BeamBlade:
-        """The :class:`~frictionjoint.structures.BeamBlade` of the definition, with
-        ``overrides`` of its arguments (e.g. ``rotor_speed=0.0``).
+    def blade(self, **overrides) -> BeamBlade | SolidBlade:
+        """The :class:`~frictionjoint.structures.BeamBlade` (or, ``kind = "solid"``,
+        :class:`~frictionjoint.structures.SolidBlade`) of the definition, with ``overrides`` of its
+        arguments (e.g. ``rotor_speed=0.0``).
 
         Parameters
         ----------
         **overrides
-            BeamBlade arguments that replace the definition's.
+            The blade's arguments that replace the definition's.
 
         Returns
         -------
-        BeamBlade
+        BeamBlade or SolidBlade
         """
-        return BeamBlade(**dict(self.blade_parameters, **overrides))
+        return BLADE_KINDS[self.kind](**dict(self.blade_parameters, **overrides))
 
 
 def _tomllib():
@@ -107,10 +122,16 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     if unknown:
         raise ParameterError(f"{path.name}: unknown keys {sorted(unknown)} (allowed: {list(_SECTIONS)})")
     blade = dict(data.get("blade", {}))
-    bad = set(blade) - set(_BLADE_KEYS)
+    kind = blade.pop("kind", "beam")
+    if kind not in BLADE_KINDS:
+        raise ParameterError(f"{path.name}: [blade] kind must be one of {list(BLADE_KINDS)}, got {kind!r}")
+    keys = _SOLID_KEYS if kind == "solid" else _BLADE_KEYS
+    bad = set(blade) - set(keys)
     if bad or not blade:
-        raise ParameterError(f"{path.name}: [blade] must hold BeamBlade's arguments {list(_BLADE_KEYS)}, "
+        raise ParameterError(f"{path.name}: [blade] must hold {BLADE_KINDS[kind].__name__}'s arguments {list(keys)}, "
                              f"got {sorted(blade)}")
+    if isinstance(blade.get("n_elements"), list):
+        blade["n_elements"] = tuple(blade["n_elements"])
     rotor = dict(data.get("rotor", {}))
     if set(rotor) - {"speed", "hub_radius"}:
         raise ParameterError(f"{path.name}: [rotor] takes speed and hub_radius, got {sorted(rotor)}")
@@ -121,8 +142,10 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     if "rayleigh" in blade:
         blade["rayleigh"] = tuple(blade["rayleigh"])
     model = BladeModel(str(data.get("name", path.stem)), str(data.get("source", "")), blade,
-                       dict(data.get("root", {})), dict(data.get("excitation", {})), path)
-    model.blade()  # every value checked now, with the parameter's name in the error
+                       dict(data.get("root", {})), dict(data.get("excitation", {})), path, kind)
+    if kind == "beam":
+        model.blade()  # every value checked now, with the parameter's name in the error (a solid blade's
+        # assembly takes a second: from_model checks it)
     return model
 
 

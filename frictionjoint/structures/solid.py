@@ -140,6 +140,9 @@ class SolidBlade:
         ``K_E``, ``K_G`` and ``Omega^2 M_s`` [N/m] (the last two zero without rotation).
     nodes : (n_nodes, 3) ndarray
         Node coordinates [m], in the node order (node id = row + 1).
+    centrifugal_load : (n_dof,) ndarray
+        The consistent nodal forces of the centrifugal body force ``rho Omega^2 (R + x, y, 0)`` [N]
+        (zero without rotation): the load the root carries, the root face's nodes' own share included.
     """
 
     def __init__(self, length: float, width: float, thickness: float, youngs_modulus: float,
@@ -245,8 +248,11 @@ class SolidBlade:
             g = sp.csr_array(0.5 * (g + g.T))
             self.geometric_stiffness = _vector({(c, c): g for c in range(3)})
             self.softening = _vector({(c, c): om2 * m_s for c in range(2)})
+            self.centrifugal_load = load.ravel()
         else:
             self.geometric_stiffness = self.softening = sp.csr_array((3 * n_nodes, 3 * n_nodes))
+            self.centrifugal_load = np.zeros(3 * n_nodes)
+        self.centrifugal_load.setflags(write=False)
         self.stiffness = sp.csr_array(self.elastic_stiffness + self.geometric_stiffness - self.softening)
         self.nodes = locs[:, order].T.copy()
         self.nodes.setflags(write=False)
