@@ -7,6 +7,8 @@ Subcommands::
     frictionjoint sweep FMU_OR_MODEL --omega START:STOP:N [--set NAME=VALUE ...]
                         [--direction up|down|both] [--output NAME ...] [--compare analytic]
                         [--csv FILE] [--plot PNG]
+    frictionjoint campbell MODEL --speed START:STOP:N [--engine-orders 1,2,3] [--modes N]
+                           [--amplitude A] [--harmonics H] [--plot PNG] [--csv FILE]
     frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
                              [--fmi-version {2,3}] [--no-early-return]
     frictionjoint host-env
@@ -18,7 +20,9 @@ form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``s
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
 (``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition; FMI 3.0
 FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included);
-``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
+``campbell`` computes a blade model's Campbell diagram (its frequencies on the stuck and on the
+slipping root against rotor speed, the engine-order crossings, with ``--amplitude`` the nonlinear
+modes between them); ``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
 ``bench`` runs the work-precision benchmark of the source tree (``benchmarks/harness.py``) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
 message.
@@ -161,12 +165,13 @@ def build_parser() -> argparse.ArgumentParser:
                     "and stop-regime maps of the Coulomb oscillator.",
         allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,study,build-fmus,host-env,bench}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,map,sweep,study,campbell,build-fmus,host-env,bench}")
     sub.required = True
     _add_demo(sub)
     _add_map(sub)
     _add_sweep(sub)
     _add_study(sub)
+    _add_campbell(sub)
     _add_tools(sub)
     return parser
 
@@ -345,6 +350,66 @@ def _add_sweep(sub) -> None:
                          "truncation error and stability (one shooting per point; --method time is exact and "
                          "judges every orbit's stability anyway)")
     _add_csv_and_progress(sw, "table")
+
+
+def _engine_orders(text: str):
+    """argparse type of ``--engine-orders 1,2,3``: numbers > 0, comma-separated."""
+    try:
+        orders = [float(part) for part in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas (e.g. 1,2,3), got {text!r}") from None
+    if not all(math.isfinite(e) and e > 0 for e in orders):
+        raise argparse.ArgumentTypeError(f"engine orders must be finite and > 0, got {text!r}")
+    if len(set(orders)) != len(orders):
+        raise argparse.ArgumentTypeError(f"engine orders must not repeat, got {text!r}")
+    return orders
+
+
+def _add_campbell(sub) -> None:
+    cb = _command(
+        sub, "campbell", _campbell,
+        help="Campbell diagram of a blade model: frequencies on the stuck and slipping root against rotor speed",
+        description="The Campbell diagram of a blade model definition (a name in models/, e.g. "
+                    "ti64_compressor_blade, or a .toml file; frictionjoint.campbell): at each rotor speed the "
+                    "Craig-Bampton blade on its dovetail root, its centrifugal stiffening and the root's normal "
+                    "load following the speed, with the natural frequencies of the lowest modes with the root "
+                    "stuck and with it slipping freely; the engine-order lines omega = EO * speed and their "
+                    "crossings with each mode, located by root finding between the speeds. Prints the crossings "
+                    "(curve, engine order, mode, speed, frequency). With --amplitude, the nonlinear mode (EPMC, "
+                    "exact hysteresis) of each stuck mode at that first-harmonic amplitude of the root's "
+                    "tangential DOF, at every speed: its frequency between the two limits, its damping ratio, "
+                    "and its crossings.")
+    cb.add_argument("model", metavar="MODEL", help="a blade model (e.g. ti64_compressor_blade) or a .toml file")
+    cb.add_argument("--speed", type=_range(0.0, True, True), required=True, metavar="START:STOP:N",
+                    help="rotor speeds [rad/s]: N equally spaced from START to STOP (both > 0: the root carries "
+                         "no load at rest)")
+    cb.add_argument("--engine-orders", type=_engine_orders, default=[1.0, 2.0, 3.0, 4.0], metavar="EO,EO,...",
+                    help="engine orders, comma-separated (default 1,2,3,4)")
+    cb.add_argument("--modes", type=_count(1), default=3, metavar="N", help="modes per limit, the lowest (default 3)")
+    cb.add_argument("--amplitude", type=_positive_float, default=None, metavar="A",
+                    help="first-harmonic amplitude [m] at the root's tangential DOF of the nonlinear modes drawn "
+                         "between the limits (default: none)")
+    cb.add_argument("--harmonics", type=_count(1), default=3, metavar="H",
+                    help="harmonics of the nonlinear modes (default 3)")
+    cb.add_argument("--plot", dest="out", default=None, metavar="PNG", help="write the diagram to this file")
+    _add_csv_and_progress(cb, "crossings")
+
+
+def _campbell(args, parser) -> int:
+    from .campbell import campbell
+    from .structures.models import load_blade_model
+
+    model = load_blade_model(args.model)  # a misspelt name is refused before anything is printed
+    start, stop, n = args.speed
+    print(f"Campbell diagram of {model.name} ({model.path}): {n} rotor speeds {start:g} ... {stop:g} rad/s, {args.modes} modes, "
+          f"engine orders {', '.join(f'{e:g}' for e in args.engine_orders)}"
+          + (f", nonlinear modes at {args.amplitude:g} m (H = {args.harmonics})" if args.amplitude else ""),
+          flush=True)
+    cd = campbell(model, np.linspace(start, stop, n), args.engine_orders, n_modes=args.modes,
+                  amplitude=args.amplitude, n_harmonics=args.harmonics, progress=not args.no_progress)
+    print(cd.table())
+    print(cd.message)
+    return _write(cd, args)
 
 
 def _add_tools(sub) -> None:
@@ -595,7 +660,7 @@ def _bench(args, parser) -> int:
 
 
 #: options whose value is a range START:STOP[:N] (see _attach_range_values)
-_RANGE_OPTIONS = ("--omega", "--ratio", "--friction")
+_RANGE_OPTIONS = ("--omega", "--ratio", "--friction", "--speed")
 
 
 def _attach_range_values(argv: list) -> list:
@@ -641,7 +706,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(_attach_range_values(sys.argv[1:] if argv is None else list(argv)))
     sub = args.subparser
     if args.command not in ("build-fmus", "host-env"):
-        _check_writable(sub, "--plot" if args.command in ("sweep", "study") else "--out", args.out)
+        _check_writable(sub, "--plot" if args.command in ("sweep", "study", "campbell") else "--out", args.out)
     _check_writable(sub, "--csv", args.csv)
     try:
         return args.func(args, sub)

@@ -1,0 +1,218 @@
+"""Campbell diagrams of a blade on its friction root.
+
+At each rotor speed ``Omega`` [rad/s] the blade model is assembled on its root as
+:meth:`BladeAssembly.from_model <frictionjoint.structures.BladeAssembly.from_model>` builds it at
+that speed: the blade's centrifugal stiffening (and spin softening) and the root's normal load,
+the blade's centrifugal force, both follow the speed. Its undamped natural frequencies
+``omega_k(Omega)`` are computed in the root's two linear limits
+(:func:`~frictionjoint.linear_limits.limit_structures`): every slider stuck, every slider
+slipping (free slip). Sorted eigenvalues are continuous in ``Omega``, and by Weyl's inequality
+the free-slip ``omega_k`` is never above the stuck one (the sliders' springs only add
+stiffness).
+
+A crossing of mode ``k`` with engine order ``EO`` is a root of ``g(Omega) = omega_k(Omega) - EO
+Omega``. Where ``g`` changes sign between two speed samples it is located by Brent's method on
+``g`` itself, each evaluation a new assembly at that speed, to ``|dOmega| <= XTOL Omega``; the
+crossing then lies on the mode's curve and on the line to the eigenvalues' rounding (on the Ti-64
+blade, the mode recomputed at the crossing's speed: within 1.5e-12 of the line, stuck, 2.0e-12
+free slip). An even number of crossings between two samples (a line grazing a
+curve) is not seen: sample finely enough.
+
+With ``amplitude``: at each speed the nonlinear mode that starts from each stuck mode
+(:func:`~frictionjoint.solvers.frequency_domain.nonlinear_mode.nonlinear_mode`, EPMC with exact
+hysteresis, ``H`` small) at that first-harmonic amplitude of ``dof`` (default the root's
+tangential DOF): its frequency lies between the two limits, near the stuck one at high speed (the
+root's load grows like ``Omega^2``, the slip onset with it) and towards the free-slip one at low
+speed. Its crossings are located the same way, to Newton's tolerance of the mode (on the Ti-64
+blade within 5.7e-12 of the line).
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+from numbers import Real
+
+import numpy as np
+import scipy.optimize
+from numpy.typing import ArrayLike
+
+from .errors import ParameterError, check_count, check_grid, check_positive
+from .frequencies import check_omegas
+from .linear_limits import limit_structures
+from .results.campbell import CampbellDiagram, crossing_table
+from .solvers.frequency_domain.nonlinear_mode import nonlinear_mode
+from .structures.assembly import BladeAssembly
+from .structures.models import BladeModel, load_blade_model
+from .threads import owns_blas_threads
+
+__all__ = ["campbell", "XTOL"]
+
+#: relative tolerance of a crossing's speed (Brent's method)
+XTOL = 1e-13
+
+
+class _Blade:
+    """The model's assembly at any rotor speed, and its frequencies there."""
+
+    def __init__(self, model: BladeModel, n_modes: int, reduction_modes: int, amplitude, dof, n_harmonics: int):
+        self.model, self.n_modes, self.reduction_modes = model, n_modes, reduction_modes
+        self.amplitude, self.dof, self.n_harmonics = amplitude, dof, n_harmonics
+
+    def assembly(self, speed: float) -> BladeAssembly:
+        return BladeAssembly.from_model(self.model, self.reduction_modes, rotor_speed=float(speed))
+
+    def limits(self, speed: float) -> dict[str, np.ndarray]:
+        """``{'stuck': omega, 'slipping': omega}``: the lowest ``n_modes`` undamped natural
+        frequencies [rad/s] of both limits at ``speed``."""
+        system = self.assembly(speed).system(1.0)
+        out = {name: st.natural_frequencies()[:self.n_modes] for name, st in limit_structures(system).items()}
+        if out["stuck"].size < self.n_modes:
+            raise ParameterError(f"n_modes must be <= {out['stuck'].size}: the assembly of {self.model.name} has "
+                                 f"{out['stuck'].size} DOFs with reduction_modes = {self.reduction_modes}")
+        return out
+
+    def nonlinear(self, speed: float, mode: int) -> tuple[float, float]:
+        """``(omega, zeta)`` of the nonlinear mode ``mode`` at ``amplitude`` and ``speed`` (NaN
+        where Newton did not converge)."""
+        system = self.assembly(speed).system(1.0)
+        nm = nonlinear_mode(system, mode=mode, amplitudes=[self.amplitude], n_harmonics=self.n_harmonics,
+                            dof=self.dof)
+        return float(nm.frequency[0]), float(nm.damping_ratio[0])
+
+    def frequency(self, limit: str, mode: int, speed: float) -> float:
+        if limit == "nonlinear":
+            return self.nonlinear(speed, mode)[0]
+        return float(self.limits(speed)[limit][mode])
+
+
+def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, reduction_modes):
+    if isinstance(model, BladeModel):
+        definition = model
+    elif isinstance(model, (str, bytes)) or hasattr(model, "__fspath__"):
+        definition = load_blade_model(model)
+    else:
+        raise ParameterError(f"model must be a blade model's name, a .toml path or a BladeModel, got "
+                             f"{type(model).__name__}")
+    speeds = check_omegas("speeds", speeds)
+    if speeds.size > 1 and not np.all(np.diff(speeds) > 0):
+        raise ParameterError(f"speeds must increase strictly [rad/s], got {speeds!r}")
+    if isinstance(engine_orders, Real):
+        engine_orders = [engine_orders]
+    eos = check_grid("engine_orders", engine_orders)
+    if np.unique(eos).size != eos.size:
+        raise ParameterError(f"engine_orders must not repeat, got {eos.tolist()!r}")
+    n_modes = check_count("n_modes", n_modes, 1)
+    reduction = 2 * n_modes + 2 if reduction_modes is None else check_count("reduction_modes", reduction_modes, 0)
+    if amplitude is not None:
+        amplitude = check_positive("amplitude", amplitude)
+    return definition, speeds, np.sort(eos), n_modes, reduction, check_count("n_harmonics", n_harmonics, 1)
+
+
+@owns_blas_threads
+def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, engine_orders: ArrayLike = (1, 2, 3, 4),
+             n_modes: int = 3, amplitude: float | None = None, *,
+             n_harmonics: int = 3, dof: str | None = None, reduction_modes: int | None = None,
+             progress: bool = False) -> CampbellDiagram:
+    """The Campbell diagram of a blade model on its friction root (module docstring): the modes'
+    frequencies against rotor speed with the root stuck and slipping, the engine-order lines and
+    their crossings; with ``amplitude``, the nonlinear modes at that amplitude between them.
+
+    Parameters
+    ----------
+    model : str, os.PathLike or BladeModel
+        A blade model definition: a name in ``models/`` (e.g. ``"ti64_compressor_blade"``), a
+        ``.toml`` file (:func:`~frictionjoint.structures.load_blade_model`) or the definition.
+    speeds : str or (n,) array_like
+        Rotor speeds ``Omega`` [rad/s], > 0 (the root carries no load at rest), increasing:
+        ``"START:STOP:N"`` or the speeds themselves (:mod:`frictionjoint.frequencies`).
+    engine_orders : sequence of float
+        ``EO`` > 0 of the lines ``omega = EO Omega`` (usually whole numbers), distinct.
+    n_modes : int
+        Modes per limit, the lowest, >= 1.
+    amplitude : float, optional
+        First-harmonic amplitude [m] at ``dof`` of the nonlinear modes drawn between the limits;
+        none if omitted.
+    n_harmonics : int
+        ``H`` of the nonlinear modes, >= 1.
+    dof : str, optional
+        The DOF of ``amplitude``, a DOF of the assembly's structure; default the root's
+        tangential DOF (``w0`` on a beam blade's dovetail), or where the root has none (a solid
+        blade's patches) the DOF with the largest component of each stuck mode.
+    reduction_modes : int, optional
+        Fixed-interface modes of the Craig-Bampton blade (``from_model``'s ``n_modes``); default
+        ``2 n_modes + 2`` (on the Ti-64 blade at 1000 rad/s with n_modes = 3: the stuck
+        frequencies within 3.2e-7 of the unreduced blade's, the free-slip ones within 4.9e-5).
+    progress : bool
+        Show a progress bar over the speeds (tqdm, on stderr).
+
+    Returns
+    -------
+    CampbellDiagram
+    """
+    definition, speeds, eos, n_modes, reduction, hh = _check_args(model, speeds, engine_orders, n_modes, amplitude,
+                                                                   n_harmonics, reduction_modes)
+    blade = _Blade(definition, n_modes, reduction, amplitude, dof, hh)
+    if amplitude is not None and dof is None:  # a beam blade's DovetailRoot; else nonlinear_mode's default
+        tangential = getattr(blade.assembly(speeds[0]).joints[0], "tangential_dof", None)
+        blade.dof = None if tangential is None else str(tangential)
+    curves, zeta = _curves(blade, speeds, progress)
+    rows = []
+    for limit, omega in curves.items():
+        rows += _crossings(blade, limit, speeds, omega, eos)
+    n_found = {limit: sum(r[0] == limit for r in rows) for limit in curves}
+    message = (f"{definition.name}: {speeds.size} speeds from {speeds[0]:g} to {speeds[-1]:g} rad/s, "
+               f"{n_modes} modes, engine orders {', '.join(f'{e:g}' for e in eos)}; crossings "
+               + ", ".join(f"{n} {limit}" for limit, n in n_found.items())
+               + f", each located by Brent's method to |dOmega| <= {XTOL:g} Omega")
+    nl = curves.get("nonlinear")
+    if nl is not None:
+        ok = np.isfinite(nl)
+        where = blade.dof or "each stuck mode's largest DOF"
+        message += f"; nonlinear modes at {amplitude:g} m ({where}, H = {hh}): {int(ok.sum())} of {ok.size} converged"
+    return CampbellDiagram(
+        model=definition.name, speed=speeds, engine_orders=eos, stuck_frequency=curves["stuck"],
+        slipping_frequency=curves["slipping"], crossings=crossing_table(rows), amplitude=amplitude,
+        dof=blade.dof if amplitude is not None else None, n_harmonics=hh if amplitude is not None else None,
+        nonlinear_frequency=nl, nonlinear_damping_ratio=zeta,
+        nonlinear_converged=None if nl is None else np.isfinite(nl), message=message)
+
+
+def _curves(blade: _Blade, speeds: np.ndarray, progress: bool) -> tuple[dict[str, np.ndarray], np.ndarray | None]:
+    """Every mode's frequency at every speed, ``{'stuck', 'slipping'[, 'nonlinear']}`` each
+    ``(n_speeds, n_modes)``, and the nonlinear modes' damping ratios (None without amplitude)."""
+    from tqdm import tqdm
+
+    n, k = speeds.size, blade.n_modes
+    out = {"stuck": np.empty((n, k)), "slipping": np.empty((n, k))}
+    zeta = None
+    if blade.amplitude is not None:
+        out["nonlinear"], zeta = np.full((n, k), math.nan), np.full((n, k), math.nan)
+    for i, s in enumerate(tqdm(speeds, desc="campbell", unit="speed", file=sys.stderr, disable=not progress)):
+        for name, w in blade.limits(s).items():
+            out[name][i] = w
+        if zeta is not None:
+            for mode in range(k):
+                out["nonlinear"][i, mode], zeta[i, mode] = blade.nonlinear(s, mode)
+    return out, zeta
+
+
+def _crossings(blade: _Blade, limit: str, speeds: np.ndarray, omega: np.ndarray, eos: np.ndarray) -> list[tuple]:
+    """The crossings of the curves ``omega`` (``(n_speeds, n_modes)``) of ``limit`` with the
+    engine-order lines: ``(limit, EO, mode, speed, frequency)`` each, the speed by Brent's
+    method between the samples where ``omega_k - EO Omega`` changes sign."""
+    rows = []
+    for eo in eos:
+        g = omega - eo * speeds[:, None]
+        for mode in range(blade.n_modes):
+            for i in range(speeds.size):
+                a = g[i, mode]
+                if a == 0.0:  # on the line at a sample
+                    rows.append((limit, float(eo), mode, float(speeds[i]), float(omega[i, mode])))
+                    continue
+                if i + 1 == speeds.size or not a * g[i + 1, mode] < 0.0:  # NaN: no bracket
+                    continue
+                s = scipy.optimize.brentq(lambda x: blade.frequency(limit, mode, x) - eo * x, speeds[i],
+                                          speeds[i + 1], xtol=XTOL * speeds[i + 1], rtol=4 * np.finfo(float).eps)
+                rows.append((limit, float(eo), mode, float(s), blade.frequency(limit, mode, s)))
+    return rows

@@ -1,0 +1,213 @@
+"""frictionjoint.campbell: the Campbell diagram of a blade model on its friction root.
+
+References: the linear limits are the assembly's (BladeAssembly.from_model at each speed, then
+linear_limits.limit_structures), and independently the unreduced beam blade on the same dovetail;
+a crossing is checked by recomputing the mode at the crossing's speed from scratch.
+"""
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import frictionjoint as fj
+from frictionjoint.campbell import campbell
+from frictionjoint.elements import DovetailRoot
+from frictionjoint.errors import ParameterError
+from frictionjoint.linear_limits import limit_structures
+from frictionjoint.structures import BladeAssembly, load_blade_model
+
+ROOT = Path(__file__).resolve().parents[1]
+MODEL = ROOT / "models" / "ti64_compressor_blade.toml"
+#: a crossing on its mode's curve and on its engine-order line, relative (root finding exact)
+CROSSING_TOL = 1e-9
+#: the nonlinear modes' crossings: their frequency is solved to Newton's tolerance (1e-11)
+NONLINEAR_TOL = 1e-9
+#: Craig-Bampton with 2 n_modes + 2 modes (n_modes = 3) against the unreduced blade, stuck and
+#: free slip (measured at 1000 rad/s: 3.2e-7 and 4.9e-5)
+REDUCTION_TOL = {"stuck": 1e-6, "slipping": 1e-4}
+
+
+@pytest.fixture(scope="module")
+def diagram():
+    """Ti-64 blade, 8 speeds, 3 modes, engine orders 1-8, the nonlinear band at 2e-5 m (about 2 s)."""
+    return campbell("ti64_compressor_blade", "200:1500:8", engine_orders=range(1, 9), n_modes=3, amplitude=2e-5)
+
+
+def _limits(speed, n_modes=3):
+    model = load_blade_model(MODEL)
+    system = BladeAssembly.from_model(model, 2 * n_modes + 2, rotor_speed=speed).system(1.0)
+    return {name: st.natural_frequencies()[:n_modes] for name, st in limit_structures(system).items()}
+
+
+def test_lowest_speed_is_the_assembly_s_linear_limits(diagram):
+    """At the lowest speed (the root carries no load at rest, so speeds are > 0) the stuck and
+    free-slip frequencies are the BladeAssembly's linear limits at that speed, to rounding."""
+    ref = _limits(diagram.speed[0])
+    np.testing.assert_allclose(diagram.stuck_frequency[0], ref["stuck"], rtol=1e-13)
+    np.testing.assert_allclose(diagram.slipping_frequency[0], ref["slipping"], rtol=1e-13)
+
+
+def test_limits_against_the_unreduced_blade_on_its_dovetail():
+    """Independently: the full beam blade (93 DOFs) on the same flat-flank dovetail, rocking on
+    its flanks, at the centrifugal force of the speed."""
+    model = load_blade_model(MODEL)
+    speed = 1000.0
+    cd = campbell(model, [speed], engine_orders=[1], n_modes=3)
+    blade = model.blade(rotor_speed=speed)
+    root = DovetailRoot(blade.centrifugal_force, tangential_dof="w0", radial_dof="u0", rocking_dof="t0", **model.root)
+    full = limit_structures(fj.FrictionSystem(blade.structure, [root]))
+    for name, got in (("stuck", cd.stuck_frequency[0]), ("slipping", cd.slipping_frequency[0])):
+        ref = full[name].natural_frequencies()[:3]
+        err = np.max(np.abs(got / ref - 1))
+        print(f"{name}: Craig-Bampton against the unreduced blade {err:.2e}")
+        assert err <= REDUCTION_TOL[name]
+
+
+def test_crossings_lie_on_their_line_and_their_mode(diagram):
+    """Each crossing's speed, recomputed from scratch: the mode's frequency there equals the
+    engine order times the speed and the crossing's frequency."""
+    assert {"stuck", "slipping", "nonlinear"} <= set(diagram.crossings["limit"])
+    worst = {}
+    for row in diagram.crossings:
+        limit, eo, mode, speed, freq = (row[k] for k in ("limit", "engine_order", "mode", "speed", "frequency"))
+        if limit == "nonlinear":
+            system = BladeAssembly.from_model(load_blade_model(MODEL), 8, rotor_speed=speed).system(1.0)
+            w = fj.nonlinear_mode(system, mode=int(mode), amplitudes=[2e-5], n_harmonics=3, dof="w0").frequency[0]
+        else:
+            w = _limits(speed)[str(limit)][mode]
+        on_line, on_curve = abs(w - eo * speed) / w, abs(w - freq) / w
+        worst[str(limit)] = max(worst.get(str(limit), 0.0), on_line, on_curve)
+        assert on_line <= (NONLINEAR_TOL if limit == "nonlinear" else CROSSING_TOL)
+        assert on_curve <= (NONLINEAR_TOL if limit == "nonlinear" else CROSSING_TOL)
+        # inside the sample interval where the curve changed sides of the line
+        i = np.searchsorted(diagram.speed, speed)
+        assert 0 < i < diagram.speed.size
+    print("largest relative distance of a crossing from its line and its curve:", worst)
+
+
+def test_every_sign_change_is_a_crossing(diagram):
+    """As many crossings per curve, mode and engine order as sign changes of omega - EO Omega
+    between the samples."""
+    curves = {"stuck": diagram.stuck_frequency, "slipping": diagram.slipping_frequency,
+              "nonlinear": diagram.nonlinear_frequency}
+    for limit, omega in curves.items():
+        for eo in diagram.engine_orders:
+            g = omega - eo * diagram.speed[:, None]
+            changes = np.sum(g[:-1] * g[1:] < 0, axis=0)
+            for mode in range(diagram.n_modes):
+                found = diagram.crossings[(diagram.crossings["limit"] == limit)
+                                          & (diagram.crossings["engine_order"] == eo)
+                                          & (diagram.crossings["mode"] == mode)]
+                assert found.size == changes[mode]
+
+
+def test_free_slip_below_stuck_and_the_nonlinear_modes_between(diagram):
+    assert np.all(diagram.slipping_frequency < diagram.stuck_frequency)
+    assert np.all(np.diff(diagram.stuck_frequency, axis=1) > 0)
+    ok = diagram.nonlinear_converged
+    assert ok.sum() >= ok.size - 1
+    w = diagram.nonlinear_frequency[ok]
+    # the EPMC's stuck limit is the damped mode's (Rayleigh damping and the root's dashpots, not
+    # proportional): above the undamped frequency, in the second order of the damping ratio
+    zeta = diagram.nonlinear_damping_ratio[ok]
+    excess = w / diagram.stuck_frequency[ok] - 1
+    print(f"nonlinear above the undamped stuck frequency by at most {excess.max():.2e} (zeta^2 {zeta.max() ** 2:.1e})")
+    assert np.all(excess <= zeta ** 2)
+    assert np.all(w >= diagram.slipping_frequency[ok])
+    assert np.all(diagram.nonlinear_damping_ratio[ok] > 0)
+    # the root's load grows like Omega^2: at 2e-5 m the root slips at 200 rad/s, sticks at 1500
+    assert diagram.nonlinear_frequency[0, 0] < 0.99 * diagram.stuck_frequency[0, 0]
+    assert diagram.nonlinear_frequency[-1, 0] == pytest.approx(diagram.stuck_frequency[-1, 0], rel=1e-5)
+
+
+def _read_csv(path):
+    import csv
+
+    with open(path, encoding="utf-8") as fh:
+        return list(csv.DictReader(line for line in fh if not line.startswith("#")))
+
+
+def test_result_contract_table_csv_and_plot(diagram, tmp_path):
+    assert diagram.status in ("ok", "partial") and diagram.message
+    text = diagram.table()
+    assert len(text.splitlines()) == 1 + diagram.crossings.size
+    md = diagram.table(markdown=True)
+    assert md.startswith("| curve | EO | mode |") and md.count("\n") == 1 + diagram.crossings.size
+    diagram.to_csv(tmp_path / "x.csv")
+    back = _read_csv(tmp_path / "x.csv")
+    assert [r["limit"] for r in back] == list(diagram.crossings["limit"])
+    np.testing.assert_array_equal([float(r["speed"]) for r in back], diagram.crossings["speed"])  # exact
+    diagram.to_csv(tmp_path / "curves.csv", curves=True)
+    curves = _read_csv(tmp_path / "curves.csv")
+    np.testing.assert_array_equal([float(r["stuck_2"]) for r in curves], diagram.stuck_frequency[:, 2])
+    np.testing.assert_array_equal([float(r["nonlinear_0"]) for r in curves], diagram.nonlinear_frequency[:, 0])
+    fig = diagram.plot(path=tmp_path / "c.png")
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and fig.axes
+
+
+def test_no_crossing_is_a_table_that_says_so():
+    cd = campbell("ti64_compressor_blade", "900:1000:2", engine_orders=[1], n_modes=1)
+    assert cd.crossings.size == 0 and cd.success
+    assert "no crossing" in cd.table()
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(speeds="0:1000:5"), "speeds"), (dict(speeds=[-100.0, 200.0]), "speeds"),
+    (dict(speeds=[100.0, float("nan")]), "speeds"), (dict(speeds=[300.0, 200.0]), "speeds"),
+    (dict(speeds=[200.0, 200.0]), "speeds"), (dict(speeds=[]), "speeds"), (dict(speeds=(100, 200, 3)), "speeds"),
+    (dict(speeds="100:200"), "speeds"), (dict(engine_orders=[0]), "engine_orders"),
+    (dict(engine_orders=[-1, 2]), "engine_orders"), (dict(engine_orders=[1, float("inf")]), "engine_orders"),
+    (dict(engine_orders=[2, 2]), "engine_orders"), (dict(engine_orders="1,2"), "engine_orders"),
+    (dict(engine_orders=[]), "engine_orders"), (dict(n_modes=0), "n_modes"), (dict(n_modes=2.5), "n_modes"),
+    (dict(amplitude=-1e-5), "amplitude"), (dict(amplitude=float("nan")), "amplitude"),
+    (dict(n_harmonics=0), "n_harmonics"), (dict(reduction_modes=-1), "reduction_modes"),
+    (dict(n_modes=50), "n_modes"), (dict(model=3.0), "model"), (dict(model="no_such_blade"), "not found"),
+])
+def test_bad_input_names_the_parameter(kwargs, name):
+    args = dict(model="ti64_compressor_blade", speeds=[500.0, 600.0], engine_orders=[1])
+    args.update(kwargs)
+    with pytest.raises(ParameterError, match=name):
+        campbell(args.pop("model"), args.pop("speeds"), **args)
+
+
+def _cli(*argv, cwd):
+    return subprocess.run([sys.executable, "-m", "frictionjoint", "campbell", *argv], capture_output=True, text=True,
+                          timeout=120, cwd=cwd)
+
+
+def test_cli_on_the_ti64_model_file(tmp_path):
+    proc = _cli(str(MODEL), "--speed", "200:1500:8", "--engine-orders", "1,2,3,4,5,6,7,8", "--modes", "2",
+                "--plot", "c.png", "--csv", "c.csv", "--no-progress", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    cd = campbell(MODEL, "200:1500:8", engine_orders=range(1, 9), n_modes=2)
+    assert cd.table() in proc.stdout and "crossings" in proc.stdout
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rows = [ln for ln in (tmp_path / "c.csv").read_text().splitlines() if not ln.startswith("#")]
+    assert len(rows) == 1 + cd.crossings.size
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--speed", "0:1500:5"], "> 0"), (["--speed", "-5:1500:5"], "> 0"), (["--speed", "100:1500"], "START:STOP:N"),
+    (["--speed", "100:100:3"], "speeds must increase"), (["--speed", "100:200:3", "--engine-orders", "1,0"], "> 0"),
+    (["--speed", "100:200:3", "--engine-orders", "1,x"], "commas"),
+    (["--speed", "100:200:3", "--engine-orders", "2,2"], "repeat"),
+    (["--speed", "100:200:3", "--modes", "0"], ">= 1"), (["--speed", "100:200:3", "--amplitude", "-1"], "> 0"),
+])
+def test_cli_bad_arguments(argv, words, capsys):
+    from frictionjoint.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["campbell", "ti64_compressor_blade", *argv, "--no-progress"])
+    assert exc.value.code == 2
+    assert words in capsys.readouterr().err
+
+
+def test_cli_misspelt_model_prints_nothing(capsys):
+    from frictionjoint.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["campbell", "ti64_compressor_blad", "--speed", "100:200:3"])
+    out = capsys.readouterr()
+    assert out.out == "" and "not found" in out.err
