@@ -165,16 +165,16 @@ class _Mode:
 def _peak(mode: _Mode, below: _Point, above: _Point) -> _Point | None:
     """The point of the mode between ``below`` (``min g <= 0``) and ``above`` (``min g > 0``) where
     ``min g = 0`` (the peak), by Brent's method in ``log a``; None where the mode failed."""
-    cache = {}
+    lo, hi = math.log(below.amplitude), math.log(above.amplitude)
+    cache = {lo: below, hi: above}  # Brent's method starts with the ends: the mode's own points
 
     def s(la: float) -> float:
-        pt = mode.at(math.exp(la))
+        pt = cache.get(la) or mode.at(math.exp(la))
         if pt is None:
             raise _ModeFailed(math.exp(la))
         cache[la] = pt
         return pt.minimum()[1] / pt.omega ** 4
 
-    lo, hi = math.log(below.amplitude), math.log(above.amplitude)
     try:
         la = scipy.optimize.brentq(s, lo, hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)
     except _ModeFailed:
