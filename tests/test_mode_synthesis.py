@@ -161,3 +161,34 @@ def test_blade_costs_against_the_sweep(blade):
     print(f"blade, H = 7: hbm_sweep {t_sweep:.3f} s ({hb.omega.size} points), nonlinear_mode {t_mode:.3f} s "
           f"({nm.amplitude.size} amplitudes, {t_mode / t_sweep:.2f} of the sweep), synthesis {t_syn:.3f} s "
           f"({t_syn / t_sweep:.3f} of the sweep)")
+
+
+def test_refusals_and_the_plot(tmp_path):
+    """Bad arguments are a ParameterError naming them; the plot draws the branch, the limits and
+    the backbone; a mode whose amplitudes end below the peak is 'partial' and says so."""
+    system, *_ = _three_dof()
+    nm = nonlinear_mode(system, mode=1, amplitudes=np.geomspace(3e-3, 0.03, 6), n_harmonics=1)
+    with pytest.raises(ParameterError, match="mode must be a NonlinearMode"):
+        mode_synthesis("mode", system, "5:10:10")
+    with pytest.raises(ParameterError, match="omegas"):
+        mode_synthesis(nm, system, "10:5:-1")
+    with pytest.raises(ParameterError, match="omegas"):
+        mode_synthesis(nm, system, [-1.0, 5.0])
+    with pytest.raises(ParameterError, match="output"):
+        mode_synthesis(nm, system, "5:10:10", output="nowhere")
+    with pytest.raises(ParameterError, match="tol"):
+        mode_synthesis(nm, system, "5:10:10", tol=2.0)
+    with pytest.raises(ParameterError, match="max_iter"):
+        mode_synthesis(nm, system, "5:10:10", max_iter=0)
+    free = fj.FrictionSystem(system.structure, system.elements)
+    with pytest.raises(ParameterError, match="harmonic forces"):
+        mode_synthesis(nm, free, "5:10:10")
+    other = fj.FrictionSystem(fj.LinearStructure([[1.0]], [[1.0]], [[0.0]]), [fj.Jenkins(1.0, 1.0, dof=0)], omega=1.0,
+                              excitation=[fj.HarmonicForce(0, 1.0)])
+    with pytest.raises(ParameterError, match="DOFs"):
+        mode_synthesis(nm, other, "5:10:10")
+    syn = mode_synthesis(nm, system, "5:10:20", output=2)
+    assert syn.status == "partial" and not syn.success and "end below the peak" in syn.message
+    fig = syn.plot(path=tmp_path / "synthesis.png")
+    assert (tmp_path / "synthesis.png").stat().st_size > 0
+    assert any("backbone" in line.get_label() for line in fig.axes[0].lines)
