@@ -20,10 +20,16 @@ curve) is not seen: sample finely enough.
 
 With ``amplitude``: at each speed the nonlinear mode that starts from each stuck mode
 (:func:`~frictionjoint.solvers.frequency_domain.nonlinear_mode.nonlinear_mode`, EPMC with exact
-hysteresis, ``H`` small) at that first-harmonic amplitude of ``dof`` (default the root's
-tangential DOF): its frequency lies between the two limits, near the stuck one at high speed (the
-root's load grows like ``Omega^2``, the slip onset with it) and towards the free-slip one at low
-speed. Its crossings are located the same way, to Newton's tolerance of the mode (on the Ti-64
+hysteresis) at that first-harmonic amplitude of ``dof`` (default the root's tangential DOF): its
+frequency lies between the two limits, near the stuck one at high speed (the root's load grows
+like ``Omega^2``, the slip onset with it) and towards the free-slip one at low speed. Each speed's
+mode is followed in amplitude from its stuck linear mode. ``H = 1`` by default, the describing
+function's balance: smooth in speed and converged at every speed on the Ti-64 blade (50-1500
+rad/s, 5e-5 m at ``w0``, 3 modes). With ``H = 3`` the band moves by up to 3e-3 (relative) above
+500 rad/s for the two lowest modes, and more where a higher harmonic meets another mode (the third
+harmonic of the second mode meets the third mode: up to 4e-2) or the root slips deeply at low
+speed (up to 0.1); there the branch folds, 4 of 177 points did not converge and the curve jumps
+between branches from one speed to the next. Its crossings are located the same way, to Newton's tolerance of the mode (on the Ti-64
 blade within 5.7e-12 of the line).
 """
 from __future__ import annotations
@@ -58,9 +64,15 @@ class _Blade:
     def __init__(self, model: BladeModel, n_modes: int, reduction_modes: int, amplitude, dof, n_harmonics: int):
         self.model, self.n_modes, self.reduction_modes = model, n_modes, reduction_modes
         self.amplitude, self.dof, self.n_harmonics = amplitude, dof, n_harmonics
+        self._last = (None, None)
 
     def assembly(self, speed: float) -> BladeAssembly:
-        return BladeAssembly.from_model(self.model, self.reduction_modes, rotor_speed=float(speed))
+        """The assembly at ``speed`` (the last one kept: the limits and the nonlinear modes at a
+        speed share it; a solid blade's takes about a second)."""
+        if self._last[0] != float(speed):
+            self._last = (float(speed), BladeAssembly.from_model(self.model, self.reduction_modes,
+                                                                 rotor_speed=float(speed)))
+        return self._last[1]
 
     def limits(self, speed: float) -> dict[str, np.ndarray]:
         """``{'stuck': omega, 'slipping': omega}``: the lowest ``n_modes`` undamped natural
@@ -112,7 +124,7 @@ def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, r
 @owns_blas_threads
 def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, engine_orders: ArrayLike = (1, 2, 3, 4),
              n_modes: int = 3, amplitude: float | None = None, *,
-             n_harmonics: int = 3, dof: str | None = None, reduction_modes: int | None = None,
+             n_harmonics: int = 1, dof: str | None = None, reduction_modes: int | None = None,
              progress: bool = False) -> CampbellDiagram:
     """The Campbell diagram of a blade model on its friction root (module docstring): the modes'
     frequencies against rotor speed with the root stuck and slipping, the engine-order lines and
@@ -134,7 +146,8 @@ def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, eng
         First-harmonic amplitude [m] at ``dof`` of the nonlinear modes drawn between the limits;
         none if omitted.
     n_harmonics : int
-        ``H`` of the nonlinear modes, >= 1.
+        ``H`` of the nonlinear modes, >= 1 (module docstring: the default, 1, is the describing
+        function's balance).
     dof : str, optional
         The DOF of ``amplitude``, a DOF of the assembly's structure; default the root's
         tangential DOF (``w0`` on a beam blade's dovetail), or where the root has none (a solid
@@ -175,7 +188,14 @@ def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, eng
         slipping_frequency=curves["slipping"], crossings=crossing_table(rows), amplitude=amplitude,
         dof=blade.dof if amplitude is not None else None, n_harmonics=hh if amplitude is not None else None,
         nonlinear_frequency=nl, nonlinear_damping_ratio=zeta,
-        nonlinear_converged=None if nl is None else np.isfinite(nl), message=message)
+        nonlinear_converged=None if nl is None else np.isfinite(nl),
+        design_speed=_design_speed(definition), message=message)
+
+
+def _design_speed(model: BladeModel) -> float | None:
+    """The definition's ``[rotor] speed`` [rad/s], or None."""
+    speed = model.blade_parameters.get("rotor_speed")
+    return None if speed is None else float(speed)
 
 
 def _curves(blade: _Blade, speeds: np.ndarray, progress: bool) -> tuple[dict[str, np.ndarray], np.ndarray | None]:

@@ -389,8 +389,8 @@ def _add_campbell(sub) -> None:
     cb.add_argument("--amplitude", type=_positive_float, default=None, metavar="A",
                     help="first-harmonic amplitude [m] at the root's tangential DOF of the nonlinear modes drawn "
                          "between the limits (default: none)")
-    cb.add_argument("--harmonics", type=_count(1), default=3, metavar="H",
-                    help="harmonics of the nonlinear modes (default 3)")
+    cb.add_argument("--harmonics", type=_count(1), default=1, metavar="H",
+                    help="harmonics of the nonlinear modes (default 1, the describing function's balance)")
     cb.add_argument("--plot", dest="out", default=None, metavar="PNG", help="write the diagram to this file")
     _add_csv_and_progress(cb, "crossings")
 

@@ -74,7 +74,8 @@ def test_crossings_lie_on_their_line_and_their_mode(diagram):
         limit, eo, mode, speed, freq = (row[k] for k in ("limit", "engine_order", "mode", "speed", "frequency"))
         if limit == "nonlinear":
             system = BladeAssembly.from_model(load_blade_model(MODEL), 8, rotor_speed=speed).system(1.0)
-            w = fj.nonlinear_mode(system, mode=int(mode), amplitudes=[2e-5], n_harmonics=3, dof="w0").frequency[0]
+            w = fj.nonlinear_mode(system, mode=int(mode), amplitudes=[diagram.amplitude],
+                                  n_harmonics=diagram.n_harmonics, dof="w0").frequency[0]
         else:
             w = _limits(speed)[str(limit)][mode]
         on_line, on_curve = abs(w - eo * speed) / w, abs(w - freq) / w
@@ -177,15 +178,35 @@ def _cli(*argv, cwd):
                           timeout=120, cwd=cwd)
 
 
+@pytest.mark.slow  # about 4-10 s: the command in a subprocess
 def test_cli_on_the_ti64_model_file(tmp_path):
-    proc = _cli(str(MODEL), "--speed", "200:1500:8", "--engine-orders", "1,2,3,4,5,6,7,8", "--modes", "2",
+    proc = _cli(str(MODEL), "--speed", "200:1500:5", "--engine-orders", "1,2,3,4,5,6,7,8", "--modes", "2",
                 "--plot", "c.png", "--csv", "c.csv", "--no-progress", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
-    cd = campbell(MODEL, "200:1500:8", engine_orders=range(1, 9), n_modes=2)
+    cd = campbell(MODEL, "200:1500:5", engine_orders=range(1, 9), n_modes=2)
     assert cd.table() in proc.stdout and "crossings" in proc.stdout
     assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = [ln for ln in (tmp_path / "c.csv").read_text().splitlines() if not ln.startswith("#")]
     assert len(rows) == 1 + cd.crossings.size
+
+
+def test_cli_in_process_with_the_nonlinear_band(tmp_path, capsys):
+    from frictionjoint.cli import main
+
+    assert main(["campbell", str(MODEL), "--speed", "1100:1200:2", "--engine-orders", "2", "--modes", "1",
+                 "--amplitude", "2e-5", "--csv", str(tmp_path / "c.csv"), "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "nonlinear modes at 2e-05 m (w0, H = 1): 2 of 2 converged" in out
+    rows = _read_csv(tmp_path / "c.csv")
+    assert sorted(r["limit"] for r in rows) == ["nonlinear", "stuck"]  # the first mode crosses EO 2 at 1164 rad/s
+
+
+@pytest.mark.slow  # about 2-5 s: one assembly of the solid blade (sparse Craig-Bampton)
+def test_a_solid_blade_model():
+    """The solid blade's definition works the same way (BladeAssembly.from_model's solid path)."""
+    cd = campbell("ti64_solid_blade", [1000.0], engine_orders=[1], n_modes=2)
+    assert np.all(cd.slipping_frequency < cd.stuck_frequency) and cd.crossings.size == 0
+    assert cd.stuck_frequency[0, 0] == pytest.approx(1976.5, rel=1e-3)  # BladeAssembly's, measured
 
 
 @pytest.mark.parametrize("argv,words", [

@@ -71,6 +71,8 @@ class CampbellDiagram:
         [rad/s] and damping ratio [-]; NaN where it did not converge.
     nonlinear_converged : (n, n_modes) bool ndarray, optional
         Where it converged.
+    design_speed : float, optional
+        The model's own rotor speed [rad/s] (its ``[rotor] speed``), marked on the plot.
     message : str
         What was computed, and how accurately the crossings are located.
     """
@@ -87,6 +89,7 @@ class CampbellDiagram:
     nonlinear_frequency: Optional[np.ndarray] = None
     nonlinear_damping_ratio: Optional[np.ndarray] = None
     nonlinear_converged: Optional[np.ndarray] = None
+    design_speed: Optional[float] = None
     message: str = ""
 
     @property
@@ -147,7 +150,7 @@ class CampbellDiagram:
             The curves instead of the crossings.
         """
         with open(path, "w", newline="", encoding="utf-8") as fh:
-            for key in ("model", "amplitude", "dof", "n_harmonics"):
+            for key in ("model", "amplitude", "dof", "n_harmonics", "design_speed"):
                 fh.write(f"# {key} = {getattr(self, key)!r}\n")
             fh.write(f"# engine_orders = {[float(e) for e in self.engine_orders]!r}\n")
             w = csv.writer(fh)
@@ -195,7 +198,8 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
     [rad/s], each mode stuck (solid) and free-slip (dashed) with the band between them shaded,
     the nonlinear modes at the amplitude (dots), the engine-order lines (grey, labelled) and the
     crossings marked. Draws with the figure's own methods: matplotlib is imported by
-    :func:`frictionjoint.plotting.new_figure` only.
+    :func:`frictionjoint.plotting.new_figure` only. Each mode is labelled at its stuck curve's end
+    (0 the lowest) and each engine-order line at its end; the model's design speed is dotted.
 
     Parameters
     ----------
@@ -220,6 +224,8 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
         ax.fill_between(s, cd.slipping_frequency[:, k], cd.stuck_frequency[:, k], color="C0", alpha=0.12, lw=0,
                         label="between the limits" if first else None)
         ax.plot(s, cd.stuck_frequency[:, k], "-", color="C0", lw=1.4, label="stuck root" if first else None)
+        ax.annotate(f"mode {k}", (s[-1], cd.stuck_frequency[-1, k]), textcoords="offset points", xytext=(-4, 5),
+                    ha="right", va="bottom", fontsize="small", color="C0")
         ax.plot(s, cd.slipping_frequency[:, k], "--", color="C3", lw=1.2, label="free slip" if first else None)
         if cd.nonlinear_frequency is not None:
             ax.plot(s, cd.nonlinear_frequency[:, k], ".-", color="C1", lw=1.0, ms=4,
@@ -231,6 +237,8 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
         ax.annotate(f"{eo:g}", (end, eo * end), textcoords="offset points", xytext=(2, 2), fontsize="small",
                     color="0.35")
     ax.plot([], [], "-", color="0.55", lw=0.8, label="engine orders")
+    if cd.design_speed is not None:
+        ax.axvline(cd.design_speed, ls=":", color="k", lw=1.0, label=f"design speed {cd.design_speed:g} rad/s")
     for limit, style in _MARKERS.items():
         rows = cd.crossings[cd.crossings["limit"] == limit]
         if rows.size:
