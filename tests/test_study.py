@@ -303,3 +303,61 @@ def test_harmonic_balance_point_refines_its_peak_on_the_balance():
     assert row["peak_amplitude"] >= fr.amplitude.max() and row["points"] == fr.omega.size
     hb = fj.harmonic_balance(asm.system(row["peak_omega"]), n_harmonics=5)
     assert abs(abs(hb.harmonics[1] @ asm._row(asm.tip)) / row["peak_amplitude"] - 1) <= 1e-9
+
+
+def test_mode_damping_column_equals_the_nonlinear_mode_run_directly(tmp_path):
+    """[quantities] mode_damping (issue 31, part 5): each point's mode_frequency and
+    mode_damping_ratio equal fj.nonlinear_mode run directly on the point's blade, over
+    mode_amplitudes(amplitude) at the same H and DOF, to 1e-12 (here bit for bit: the same
+    computation); the sweep's columns are those of the study without it."""
+    from frictionjoint.study.definition import ModeDamping
+    from frictionjoint.study.execution import tasks
+    from frictionjoint.study.quantities import MODE_QUANTITIES, mode_amplitudes
+    from frictionjoint.sweep import blade_assembly
+
+    declared = ModeDamping(amplitude=3e-6, n_harmonics=3, dof="w0")
+    st = Study(model=BLADE, omega="1990:2060:4", vary={"centrifugal_force": Values((109.0, 259.0, 2000.0))},
+               refine_peak=False, mode_damping={"amplitude": 3e-6, "n_harmonics": 3, "dof": "w0"})
+    assert st.mode_damping == declared
+    plain = Study(model=BLADE, omega="1990:2060:4", vary={"centrifugal_force": Values((109.0, 259.0, 2000.0))},
+                  refine_peak=False)
+    assert st.fingerprint() != plain.fingerprint()
+    path = tmp_path / "root_damping.toml"
+    path.write_text(f'model = "{BLADE}"\n[vary.centrifugal_force]\nvalues = [109.0, 259.0, 2000.0]\n[sweep]\n'
+                    'omega = "1990:2060:4"\nrefine_peak = false\n[quantities]\n'
+                    'mode_damping = {amplitude = 3e-6, n_harmonics = 3, dof = "w0"}\n')
+    assert load_study(path).mode_damping == declared and load_study(path).fingerprint() == st.fingerprint()
+    # the declaration travels with each task (execution.tasks passes it once it knows the key)
+    rows = [evaluate_point({**t, "mode_damping": st.mode_damping}) for t in tasks(st)]
+    for row, p in zip(rows, st.points()):
+        assert row["status"] == "ok", row["error"]
+        nm = fj.nonlinear_mode(blade_assembly(BLADE, p).system(1990.0), mode=0, amplitudes=mode_amplitudes(3e-6),
+                               n_harmonics=3, dof="w0")
+        assert abs(row["mode_damping_ratio"] - nm.damping_ratio[-1]) <= 1e-12 * nm.damping_ratio[-1]
+        assert abs(row["mode_frequency"] - nm.frequency[-1]) <= 1e-12 * nm.frequency[-1]
+    zeta = [r["mode_damping_ratio"] for r in rows]
+    print("root damping at 3e-6 m of w0 (H = 3) against the centrifugal force 109, 259, 2000 N:",
+          ", ".join(f"{z:.4f}" for z in zeta))
+    assert zeta[0] > zeta[-1]  # the lightly loaded root slips at this amplitude, the heavily loaded one sticks
+    without = evaluate_point(tasks(plain)[0])
+    assert all(math.isnan(without[q]) for q in MODE_QUANTITIES)
+    assert {q: without[q] for q in ("peak_amplitude", "peak_omega")} == {q: rows[0][q] for q in ("peak_amplitude", "peak_omega")}
+
+
+@pytest.mark.parametrize("entry, match", [
+    ("mode_damping = {amplitude = -1e-5}", "quantities.mode_damping.amplitude"),
+    ("mode_damping = {amplitude = 1e-5, mode = -1}", "quantities.mode_damping.mode"),
+    ("mode_damping = {amplitude = 1e-5, n_harmonics = 0}", "quantities.mode_damping.n_harmonics"),
+    ("mode_damping = {amplitude = 1e-5, harmonics = 3}", "unknown keys \\['harmonics'\\]"),
+    ("mode_damping = {mode = 0}", "amplitude is missing"),
+    ("mode_damping = 1e-5", "must be a table"),
+    ("root_damping = {amplitude = 1e-5}", "unknown keys in \\[quantities\\]"),
+])
+def test_bad_mode_damping_declaration_is_refused(tmp_path, entry, match):
+    """A bad [quantities] declaration is a ParameterError naming the key and what it takes, when the
+    file is loaded (before any point runs)."""
+    path = tmp_path / "study.toml"
+    path.write_text(f'model = "{BLADE}"\n[vary.centrifugal_force]\nvalues = [100.0]\n[sweep]\nomega = "1990:2060:4"\n'
+                    f"[quantities]\n{entry}\n")
+    with pytest.raises(ParameterError, match=match):
+        load_study(path)

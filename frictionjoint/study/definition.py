@@ -37,6 +37,9 @@ TOML form::
     refine_peak = true                   # a blade's peak refined between the sweep's points
     time_limit = 600.0                   # [s] per point (default 600): then a failed row
 
+    [quantities]                         # optional: the root damping at a vibration level
+    mode_damping = {mode = 0, amplitude = 1e-5, n_harmonics = 7, dof = "w0"}
+
 The points are the Cartesian product of the grids and lists, times the ``n`` random samples
 (drawn once, the same for every grid point).
 
@@ -46,6 +49,11 @@ definition is checked whole when it is loaded, before any point runs: the model 
 fixed and varied parameter is one of the model's (a switch such as ``normal_load_variation`` takes
 ``true``/``false`` or 1/0), fixed values are finite, and the number of points, counted from the
 grids' sizes before any is built, is at most :data:`MAX_POINTS`.
+
+``[quantities] mode_damping`` (:class:`ModeDamping`) adds, to every point's row, its blade's
+nonlinear mode at a first-harmonic amplitude: frequency and damping ratio
+(:func:`~frictionjoint.study.quantities.mode_quantities`), so that a study maps the root's damping
+over the root's parameters. The sweep's columns stay.
 """
 from __future__ import annotations
 
@@ -65,7 +73,8 @@ import numpy as np
 from ..errors import ParameterError, check_bool
 from ..frequencies import FORM, check_omegas
 
-__all__ = ["Grid", "Values", "Random", "Study", "load_study", "MAX_POINTS", "DEFAULT_TIME_LIMIT", "model_parameters"]
+__all__ = ["Grid", "Values", "Random", "ModeDamping", "Study", "load_study", "MAX_POINTS", "DEFAULT_TIME_LIMIT",
+           "model_parameters"]
 
 SPACINGS = ("linear", "log")
 METHODS = ("time", "hbm")
@@ -166,6 +175,66 @@ class Random:
             raise ParameterError(f"vary.{name}: parameters {dict(self.parameters)!r} are outside the range of "
                                  f"{self.distribution!r} (e.g. scale must be > 0)")
         return frozen
+
+
+@dataclass(frozen=True)
+class ModeDamping:
+    """The nonlinear mode a study evaluates at every point (``[quantities] mode_damping``): the
+    columns ``mode_frequency`` [rad/s] and ``mode_damping_ratio`` of the blade's mode ``mode`` at
+    the first-harmonic amplitude ``amplitude`` [m] of ``dof``, with ``n_harmonics`` harmonics
+    (:func:`~frictionjoint.study.quantities.mode_quantities`; the same as
+    ``fj.nonlinear_mode(system, mode, amplitudes=mode_amplitudes(amplitude), n_harmonics, dof)``
+    at its last amplitude).
+
+    Parameters
+    ----------
+    amplitude : float
+        [m], finite and > 0.
+    mode : int
+        The stuck blade's mode, from 0.
+    n_harmonics : int
+        ``H`` >= 1.
+    dof : str, optional
+        A DOF of the blade's (reduced) structure; default the root's tangential DOF (``'w0'`` on a
+        :class:`~frictionjoint.elements.DovetailRoot`), the same at every point.
+    """
+
+    amplitude: float
+    mode: int = 0
+    n_harmonics: int = 7
+    dof: Any = None
+
+    #: the keys of ``[quantities] mode_damping``
+    KEYS = ("amplitude", "mode", "n_harmonics", "dof")
+
+    def __post_init__(self):
+        where = "quantities.mode_damping"
+        a = self.amplitude
+        if isinstance(a, bool) or not isinstance(a, (Real, np.number)) or not (math.isfinite(a) and a > 0):
+            raise ParameterError(f"{where}.amplitude must be a finite amplitude > 0 [m], got {a!r}")
+        object.__setattr__(self, "amplitude", float(a))
+        object.__setattr__(self, "mode", _count(f"{where}.mode", self.mode, 0))
+        object.__setattr__(self, "n_harmonics", _count(f"{where}.n_harmonics", self.n_harmonics))
+        if self.dof is not None and not isinstance(self.dof, str):
+            raise ParameterError(f"{where}.dof must be the name of a DOF of the blade (e.g. 'w0'), got {self.dof!r}")
+
+    @classmethod
+    def from_table(cls, entry) -> "ModeDamping":
+        """The declaration of a study file's ``mode_damping`` table (its keys :attr:`KEYS`)."""
+        if isinstance(entry, ModeDamping):
+            return entry
+        if not isinstance(entry, dict):
+            raise ParameterError(f"quantities.mode_damping must be a table {{amplitude = ..., mode = 0, n_harmonics "
+                                 f"= 7, dof = 'w0'}}, got {entry!r}")
+        unknown = set(entry) - set(cls.KEYS)
+        if unknown or "amplitude" not in entry:
+            raise ParameterError(f"quantities.mode_damping: {'unknown keys ' + str(sorted(unknown)) if unknown else 'amplitude is missing'}"
+                                 f" (its keys: {list(cls.KEYS)}, amplitude required)")
+        return cls(**entry)
+
+    def key(self) -> list:
+        """The declaration in a study's fingerprint."""
+        return [repr(self.amplitude), self.mode, self.n_harmonics, self.dof]
 
 
 #: the kinds of a parameter's value: a real number, a whole number or a switch
@@ -312,6 +381,10 @@ class Study:
         A point's time limit [s], > 0 (default :data:`DEFAULT_TIME_LIMIT`): a point not finished by
         then is a failed row saying so (:mod:`frictionjoint.study.execution`). Not part of the
         study's fingerprint: a resumed study computes such points again.
+    mode_damping : ModeDamping or dict, optional
+        Evaluate every point's nonlinear mode at an amplitude (:class:`ModeDamping`, or its keys
+        as a dict): the columns ``mode_frequency`` and ``mode_damping_ratio``. A blade definition
+        or assembly only (not an FMU).
     """
 
     model: Any
@@ -326,8 +399,14 @@ class Study:
     refine_peak: bool = True
     table: Any = None
     time_limit: float = DEFAULT_TIME_LIMIT
+    mode_damping: Any = None
 
     def __post_init__(self):
+        if self.mode_damping is not None:
+            self.mode_damping = ModeDamping.from_table(self.mode_damping)
+            if isinstance(self.model, (str, os.PathLike)) and Path(self.model).suffix == ".fmu":
+                raise ParameterError("quantities.mode_damping: the nonlinear mode needs the blade itself (a models/ "
+                                     "definition, a .toml or a BladeAssembly), not an FMU")
         omega = check_omegas("omega", self.omega)
         if self.method == "hbm" and omega.min() == omega.max():
             raise ParameterError(f"omega: the harmonic-balance branch needs two frequencies at least, from the "
@@ -470,6 +549,8 @@ class Study:
                     direction=self.direction, method=self.method,
                     harmonics=int(self.harmonics) if self.method == "hbm" else None, refine=self.refine_peak,
                     points=[[repr(v) for v in p.values()] for p in self.points()], varied=self.varied)
+        if self.mode_damping is not None:  # only then: the fingerprints of studies without it are unchanged
+            desc["mode_damping"] = self.mode_damping.key()
         return hashlib.sha256(json.dumps(desc, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
@@ -523,8 +604,8 @@ def load_study(path: str | os.PathLike) -> Study:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not valid TOML: {exc}") from None
-    known = {"model", "table", "fixed", "vary", "samples", "sweep"}
-    for key in ("fixed", "vary", "samples", "sweep"):
+    known = {"model", "table", "fixed", "vary", "samples", "sweep", "quantities"}
+    for key in ("fixed", "vary", "samples", "sweep", "quantities"):
         if key in data and not isinstance(data[key], dict):
             raise ParameterError(f"{path}: [{key}] must be a table, got {data[key]!r}")
     if "table" in data and not isinstance(data["table"], str):
@@ -549,6 +630,10 @@ def load_study(path: str | os.PathLike) -> Study:
     if unknown:
         raise ParameterError(f"{path}: unknown keys in [samples]: {sorted(unknown)} (n, seed)")
     vary = {name: _spec(name, entry) for name, entry in dict(data.get("vary", {})).items()}
+    declared = dict(data.get("quantities", {}))
+    unknown = set(declared) - {"mode_damping"}
+    if unknown:
+        raise ParameterError(f"{path}: unknown keys in [quantities]: {sorted(unknown)} (mode_damping)")
     table = data.get("table")
     table = (path.parent / table) if table is not None else path.with_suffix(".csv")
     try:
@@ -556,6 +641,6 @@ def load_study(path: str | os.PathLike) -> Study:
                      n_samples=samples.get("n", 1), seed=samples.get("seed", 0),
                      direction=sweep.get("direction", "up"), method=sweep.get("method", "time"),
                      harmonics=sweep.get("harmonics", 7), refine_peak=sweep.get("refine_peak", True), table=table,
-                     time_limit=sweep.get("time_limit", DEFAULT_TIME_LIMIT))
+                     time_limit=sweep.get("time_limit", DEFAULT_TIME_LIMIT), mode_damping=declared.get("mode_damping"))
     except ParameterError as exc:  # the file and the key
         raise ParameterError(f"{path}: {exc}") from None

@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 import scipy.optimize
 
+from ..errors import ParameterError
 from ..threads import owns_blas_threads
-from .quantities import QUANTITIES, quantities
+from .quantities import QUANTITIES, mode_quantities, quantities
 
 __all__ = ["evaluate_point", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
@@ -170,6 +171,17 @@ def _base_model(model):
     return None
 
 
+def _mode_row(asm, omega: float, declared) -> tuple[dict, str]:
+    """The nonlinear mode's quantities of a point's blade (:func:`.quantities.mode_quantities`)
+    for the declaration ``declared`` (a :class:`~.definition.ModeDamping` or its keys), at its DOF
+    or the root's tangential DOF."""
+    from .definition import ModeDamping
+
+    md = ModeDamping.from_table(declared)
+    dof = md.dof if md.dof is not None else getattr(asm.joints[0], "tangential_dof", None) if asm.joints else None
+    return mode_quantities(asm.system(omega), md.mode, md.amplitude, md.n_harmonics, dof)
+
+
 @owns_blas_threads
 def evaluate_point(task: dict) -> dict:
     """One point's row: its sweep (:func:`frictionjoint.sweep`; a blade's peak refined between the
@@ -182,14 +194,16 @@ def evaluate_point(task: dict) -> dict:
         ``point``, ``model``, ``omega`` (the frequencies [rad/s], any form of
         :mod:`frictionjoint.frequencies`), ``fixed``, ``varied``, ``direction``, ``method``,
         ``harmonics``, ``refine``, and optionally ``kinds`` (``{parameter: 'real' | 'int' |
-        'bool'}``) and ``time_limit`` [s] (:func:`frictionjoint.study.execution.tasks`).
+        'bool'}``), ``time_limit`` [s] (:func:`frictionjoint.study.execution.tasks`) and
+        ``mode_damping`` (a :class:`~.definition.ModeDamping`: the nonlinear mode's columns).
 
     Returns
     -------
     dict
         The row: ``point``, the varied parameters, :data:`~.quantities.QUANTITIES`, ``status``
         (``'ok'``; ``'partial'``: some frequencies without a periodic orbit, the peak may be among
-        them; ``'no orbit'``; ``'failed'``) and ``error``.
+        them, or no nonlinear mode at the declared amplitude; ``'no orbit'``; ``'failed'``) and
+        ``error``.
     """
     from ..frequencies import check_omegas
     from ..sweep import blade_assembly, sweep
@@ -216,10 +230,17 @@ def evaluate_point(task: dict) -> dict:
                 fr = sweep(model, ws, params, direction=task["direction"], method=task["method"],
                            n_harmonics=task["harmonics"])
             row.update(quantities(fr.omega, fr.amplitude, fr.converged, fr.dissipated_per_cycle, fr.stuck, refined))
+            mode_error = ""
+            if task.get("mode_damping") is not None:
+                if base is None:
+                    raise ParameterError("quantities.mode_damping: the nonlinear mode needs the blade itself, not an FMU")
+                values, mode_error = _mode_row(asm, float(ws[0]), task["mode_damping"])
+                row.update(values)
         n_ok, n_all = row["converged_points"], row["points"]
         # 'partial': frequencies without a periodic orbit, the peak may lie among them
-        row.update(status="ok" if n_ok == n_all else ("partial" if n_ok else "no orbit"),
-                   error="" if n_ok == n_all else f"{n_all - n_ok} of {n_all} frequencies without a periodic orbit")
+        errors = [f"{n_all - n_ok} of {n_all} frequencies without a periodic orbit"] if n_ok < n_all else []
+        row.update(status="ok" if n_ok == n_all and not mode_error else ("partial" if n_ok else "no orbit"),
+                   error="; ".join(errors + ([mode_error] if mode_error else [])))
     except PointTimeLimit:
         return time_limit_row(task, limit)
     except Exception as exc:  # noqa: BLE001 - a failed point is a row of the table, the study goes on

@@ -15,6 +15,13 @@ sweep or branch order):
 - ``slipping_at_peak``: whether the joint slips at the peak point;
 - ``peak_at_edge``: the peak is the first or last point of the sweep (widen the range);
 - ``converged_points`` of ``points``.
+
+With a nonlinear mode declared (:class:`~frictionjoint.study.definition.ModeDamping`: ``[quantities]
+mode_damping`` in a study file), from the mode of the point's blade at the declared amplitude
+(:func:`mode_quantities`; NaN without it):
+
+- ``mode_frequency`` [rad/s] and ``mode_damping_ratio``: the mode's frequency and damping ratio
+  (friction and the structure's dashpots together), the root damping at that vibration level.
 """
 from __future__ import annotations
 
@@ -22,11 +29,16 @@ import math
 
 import numpy as np
 
-__all__ = ["QUANTITIES", "quantities"]
+__all__ = ["QUANTITIES", "MODE_QUANTITIES", "quantities", "mode_quantities", "mode_amplitudes"]
 
+#: the nonlinear mode's columns of a study table (NaN unless the study declares the mode)
+MODE_QUANTITIES = ("mode_frequency", "mode_damping_ratio")
 #: the quantity columns of a study table, in order
 QUANTITIES = ("peak_amplitude", "peak_omega", "damping_ratio", "dissipated_at_peak", "slipping_at_peak",
-              "peak_at_edge", "converged_points", "points")
+              "peak_at_edge", "converged_points", "points", *MODE_QUANTITIES)
+#: points of the ladder of amplitudes a study's mode is followed over, from a thousandth of the
+#: declared amplitude (stuck, on a blade's root) to the amplitude itself
+MODE_LADDER_POINTS = 13
 
 
 def _crossing(w: np.ndarray, a: np.ndarray, i: int, level: float, step: int) -> float:
@@ -80,3 +92,42 @@ def quantities(omega, amplitude, converged, dissipated, stuck, peak: tuple | Non
                damping_ratio=float(abs(w2 - w1) / (2.0 * w_pk)) if not (math.isnan(w1) or math.isnan(w2)) else math.nan,
                dissipated_at_peak=e_pk, slipping_at_peak=slip_pk, peak_at_edge=bool(i in (0, a.size - 1)))
     return out
+
+
+def mode_amplitudes(amplitude: float) -> np.ndarray:
+    """The amplitudes a study's nonlinear mode is followed over [m]: ``np.geomspace(amplitude /
+    1000, amplitude, MODE_LADDER_POINTS)``, the last the declared one (a ladder, so that a fold of
+    the branch on the way is passed by arc length, as :func:`~frictionjoint.nonlinear_mode` does
+    between its amplitudes)."""
+    return np.geomspace(amplitude / 1000.0, amplitude, MODE_LADDER_POINTS)
+
+
+def mode_quantities(system, mode: int, amplitude: float, n_harmonics: int, dof) -> tuple[dict, str]:
+    """The nonlinear mode's quantities (module docstring) of ``system`` at ``amplitude``:
+    :func:`~frictionjoint.nonlinear_mode` over :func:`mode_amplitudes`, its last point.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The point's system (its excitation is removed by the mode).
+    mode : int
+        The stuck system's mode, from 0.
+    amplitude : float
+        First-harmonic amplitude at ``dof`` [m], > 0.
+    n_harmonics : int
+        ``H`` >= 1.
+    dof : str or int or None
+        The DOF of the amplitude (None: the mode's default).
+
+    Returns
+    -------
+    values : dict
+        ``{name: value}`` for :data:`MODE_QUANTITIES` (NaN where the mode did not converge there).
+    error : str
+        Empty, or why the mode has no value at the amplitude.
+    """
+    from ..solvers.frequency_domain.nonlinear_mode import nonlinear_mode
+
+    nm = nonlinear_mode(system, mode=mode, amplitudes=mode_amplitudes(amplitude), n_harmonics=n_harmonics, dof=dof)
+    values = {"mode_frequency": float(nm.frequency[-1]), "mode_damping_ratio": float(nm.damping_ratio[-1])}
+    return values, ("" if nm.converged[-1] else f"the nonlinear mode did not converge at {amplitude:g} m ({nm.message})")
