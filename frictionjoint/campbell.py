@@ -38,6 +38,7 @@ import math
 import os
 import sys
 from numbers import Real
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.optimize
@@ -48,9 +49,11 @@ from .frequencies import check_omegas
 from .linear_limits import limit_structures
 from .results.campbell import CampbellDiagram, crossing_table
 from .solvers.frequency_domain.nonlinear_mode import nonlinear_mode
-from .structures.assembly import BladeAssembly
-from .structures.models import BladeModel, load_blade_model
 from .threads import owns_blas_threads
+
+if TYPE_CHECKING:  # structures/ is imported when a diagram is computed, not with the package
+    from .structures.assembly import BladeAssembly
+    from .structures.models import BladeModel
 
 __all__ = ["campbell", "XTOL"]
 
@@ -69,6 +72,8 @@ class _Blade:
     def assembly(self, speed: float) -> BladeAssembly:
         """The assembly at ``speed`` (the last one kept: the limits and the nonlinear modes at a
         speed share it; a solid blade's takes about a second)."""
+        from .structures.assembly import BladeAssembly
+
         if self._last[0] != float(speed):
             self._last = (float(speed), BladeAssembly.from_model(self.model, self.reduction_modes,
                                                                  rotor_speed=float(speed)))
@@ -99,6 +104,8 @@ class _Blade:
 
 
 def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, reduction_modes):
+    from .structures.models import BladeModel, load_blade_model
+
     if isinstance(model, BladeModel):
         definition = model
     elif isinstance(model, (str, bytes)) or hasattr(model, "__fspath__"):

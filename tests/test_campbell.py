@@ -232,3 +232,19 @@ def test_cli_misspelt_model_prints_nothing(capsys):
         main(["campbell", "ti64_compressor_blad", "--speed", "100:200:3"])
     out = capsys.readouterr()
     assert out.out == "" and "not found" in out.err
+
+
+def test_guide_example_runs(tmp_path, monkeypatch):
+    """The Python example of docs/campbell.md."""
+    import re
+
+    text = (ROOT / "docs" / "campbell.md").read_text()
+    blocks = [b for b in re.findall(r"^```python\n(.*?)^```", text, re.S | re.M) if "cd = fj.campbell(" in b]
+    assert len(blocks) == 1
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "guide"}
+    exec(compile(blocks[0], "docs/campbell.md:python-example", "exec"), namespace)
+    cd = namespace["cd"]
+    assert cd.success and cd.nonlinear_frequency.shape == (8, 3)
+    assert {"stuck", "slipping", "nonlinear"} <= set(cd.crossings["limit"])
+    assert (tmp_path / "campbell.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
