@@ -52,7 +52,7 @@ grids' sizes before any is built, is at most :data:`MAX_POINTS`.
 
 ``[quantities] mode_damping`` (:class:`ModeDamping`) adds, to every point's row, its blade's
 nonlinear mode at a first-harmonic amplitude: frequency and damping ratio
-(:func:`~frictionjoint.study.quantities.mode_quantities`), so that a study maps the root's damping
+(:func:`~frictionjoint.study.point.mode_quantities`), so that a study maps the root's damping
 over the root's parameters. The sweep's columns stay.
 """
 from __future__ import annotations
@@ -182,7 +182,7 @@ class ModeDamping:
     """The nonlinear mode a study evaluates at every point (``[quantities] mode_damping``): the
     columns ``mode_frequency`` [rad/s] and ``mode_damping_ratio`` of the blade's mode ``mode`` at
     the first-harmonic amplitude ``amplitude`` [m] of ``dof``, with ``n_harmonics`` harmonics
-    (:func:`~frictionjoint.study.quantities.mode_quantities`; the same as
+    (:func:`~frictionjoint.study.point.mode_quantities`; the same as
     ``fj.nonlinear_mode(system, mode, amplitudes=mode_amplitudes(amplitude), n_harmonics, dof)``
     at its last amplitude).
 

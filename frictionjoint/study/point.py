@@ -25,9 +25,9 @@ import scipy.optimize
 
 from ..errors import ParameterError
 from ..threads import owns_blas_threads
-from .quantities import QUANTITIES, mode_quantities, quantities
+from .quantities import QUANTITIES, mode_amplitudes, quantities
 
-__all__ = ["evaluate_point", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
+__all__ = ["evaluate_point", "mode_quantities", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
 #: relative tolerance of a refined peak's frequency
 PEAK_XTOL = 1e-7
@@ -171,10 +171,43 @@ def _base_model(model):
     return None
 
 
+def mode_quantities(system, mode: int, amplitude: float, n_harmonics: int, dof) -> tuple[dict, str]:
+    """The nonlinear mode's quantities (:data:`~.quantities.MODE_QUANTITIES`) of ``system`` at
+    ``amplitude``: :func:`~frictionjoint.nonlinear_mode` over
+    :func:`~.quantities.mode_amplitudes`, its last point.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The point's system (its excitation is removed by the mode).
+    mode : int
+        The stuck system's mode, from 0.
+    amplitude : float
+        First-harmonic amplitude at ``dof`` [m], > 0.
+    n_harmonics : int
+        ``H`` >= 1.
+    dof : str or int or None
+        The DOF of the amplitude (None: the mode's default).
+
+    Returns
+    -------
+    values : dict
+        ``{name: value}`` of ``mode_frequency`` [rad/s] and ``mode_damping_ratio`` (NaN where the
+        mode did not converge there).
+    error : str
+        Empty, or why the mode has no value at the amplitude.
+    """
+    from ..solvers.frequency_domain.nonlinear_mode import nonlinear_mode
+
+    nm = nonlinear_mode(system, mode=mode, amplitudes=mode_amplitudes(amplitude), n_harmonics=n_harmonics, dof=dof)
+    values = {"mode_frequency": float(nm.frequency[-1]), "mode_damping_ratio": float(nm.damping_ratio[-1])}
+    return values, ("" if nm.converged[-1] else f"the nonlinear mode did not converge at {amplitude:g} m ({nm.message})")
+
+
 def _mode_row(asm, omega: float, declared) -> tuple[dict, str]:
-    """The nonlinear mode's quantities of a point's blade (:func:`.quantities.mode_quantities`)
-    for the declaration ``declared`` (a :class:`~.definition.ModeDamping` or its keys), at its DOF
-    or the root's tangential DOF."""
+    """The nonlinear mode's quantities of a point's blade (:func:`mode_quantities`) for the
+    declaration ``declared`` (a :class:`~.definition.ModeDamping` or its keys), at its DOF or the
+    root's tangential DOF."""
     from .definition import ModeDamping
 
     md = ModeDamping.from_table(declared)

@@ -18,7 +18,7 @@ sweep or branch order):
 
 With a nonlinear mode declared (:class:`~frictionjoint.study.definition.ModeDamping`: ``[quantities]
 mode_damping`` in a study file), from the mode of the point's blade at the declared amplitude
-(:func:`mode_quantities`; NaN without it):
+(:func:`frictionjoint.study.point.mode_quantities`, over :func:`mode_amplitudes`; NaN without it):
 
 - ``mode_frequency`` [rad/s] and ``mode_damping_ratio``: the mode's frequency and damping ratio
   (friction and the structure's dashpots together), the root damping at that vibration level.
@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-__all__ = ["QUANTITIES", "MODE_QUANTITIES", "quantities", "mode_quantities", "mode_amplitudes"]
+__all__ = ["QUANTITIES", "MODE_QUANTITIES", "quantities", "mode_amplitudes"]
 
 #: the nonlinear mode's columns of a study table (NaN unless the study declares the mode)
 MODE_QUANTITIES = ("mode_frequency", "mode_damping_ratio")
@@ -101,33 +101,3 @@ def mode_amplitudes(amplitude: float) -> np.ndarray:
     between its amplitudes)."""
     return np.geomspace(amplitude / 1000.0, amplitude, MODE_LADDER_POINTS)
 
-
-def mode_quantities(system, mode: int, amplitude: float, n_harmonics: int, dof) -> tuple[dict, str]:
-    """The nonlinear mode's quantities (module docstring) of ``system`` at ``amplitude``:
-    :func:`~frictionjoint.nonlinear_mode` over :func:`mode_amplitudes`, its last point.
-
-    Parameters
-    ----------
-    system : FrictionSystem
-        The point's system (its excitation is removed by the mode).
-    mode : int
-        The stuck system's mode, from 0.
-    amplitude : float
-        First-harmonic amplitude at ``dof`` [m], > 0.
-    n_harmonics : int
-        ``H`` >= 1.
-    dof : str or int or None
-        The DOF of the amplitude (None: the mode's default).
-
-    Returns
-    -------
-    values : dict
-        ``{name: value}`` for :data:`MODE_QUANTITIES` (NaN where the mode did not converge there).
-    error : str
-        Empty, or why the mode has no value at the amplitude.
-    """
-    from ..solvers.frequency_domain.nonlinear_mode import nonlinear_mode
-
-    nm = nonlinear_mode(system, mode=mode, amplitudes=mode_amplitudes(amplitude), n_harmonics=n_harmonics, dof=dof)
-    values = {"mode_frequency": float(nm.frequency[-1]), "mode_damping_ratio": float(nm.damping_ratio[-1])}
-    return values, ("" if nm.converged[-1] else f"the nonlinear mode did not converge at {amplitude:g} m ({nm.message})")
