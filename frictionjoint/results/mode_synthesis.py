@@ -43,10 +43,11 @@ class SynthesisedResponse(OutputSweep):
     note : str
         What the synthesis did (the peak's refinement, tails left out), appended to
         :attr:`message`.
-    (other attributes)
-        As :class:`~frictionjoint.results.OutputSweep`; ``stuck`` and ``dissipated_per_cycle`` are
-        the mode's at the point's amplitude (friction is rate-independent: the mode's orbit and the
-        forced one dissipate alike); ``stable`` and ``truncation_error`` are not judged.
+    omega, output, response, limits, stuck, converged, dissipated_per_cycle, messages, fold
+        As :class:`~frictionjoint.results.OutputSweep`'s; ``stuck`` and ``dissipated_per_cycle``
+        are the mode's at the point's amplitude (friction is rate-independent: the mode's orbit
+        and the forced one dissipate alike); ``stable`` and ``truncation_error`` are not judged
+        (None).
     """
 
     mode_amplitude: Optional[np.ndarray] = None
