@@ -1,5 +1,6 @@
 """Nonlinear-mode results: a mode's frequency and damping ratio against amplitude
-(:class:`NonlinearMode`) and its check against the exact free decay (:class:`DecayCheck`)."""
+(:class:`NonlinearMode`), its check against the exact free decay (:class:`DecayCheck`) and the
+EPMC orbit solved exactly in time (:class:`ModeOrbit`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -7,7 +8,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["NonlinearMode", "DecayCheck"]
+__all__ = ["NonlinearMode", "DecayCheck", "ModeOrbit"]
 
 
 @dataclass
@@ -61,6 +62,61 @@ class DecayCheck:
     def status(self) -> str:
         """``'compared'`` or ``'failed'``."""
         return "compared" if self.success else "failed"
+
+
+@dataclass
+class ModeOrbit:
+    """The EPMC orbit at one amplitude, solved exactly in time (:func:`frictionjoint.solvers.marcher.autonomous.mode_orbit`).
+
+    Attributes
+    ----------
+    amplitude : float
+        First-harmonic amplitude at the DOF [m].
+    frequency : float
+        ``omega = 2 pi / T`` [rad/s] (NaN unless converged).
+    damping_ratio : float
+        ``zeta = xi / (2 omega)`` (NaN unless converged).
+    negative_damping : float
+        ``xi`` [1/s].
+    harmonics : (H + 1, n_dof) complex ndarray
+        The orbit's exact harmonics, ``x(t) = Re(sum_h harmonics[h] e^{i h omega t})`` [m], shifted
+        in time so that the first harmonic at the DOF is real and positive (as the harmonic
+        balance's).
+    friction_per_cycle : float
+        Energy friction dissipates over the period [J].
+    state : (2 n_dof + n_sliders,) ndarray
+        ``[x, v, w]`` at the section.
+    residual : float
+        Scaled residual of the last iterate (periodicity, phase, amplitude).
+    iterations : int
+        Newton iterations.
+    converged : bool
+        The residual is within the tolerance.
+    message : str
+        What happened.
+    """
+
+    amplitude: float
+    frequency: float
+    damping_ratio: float
+    negative_damping: float
+    harmonics: np.ndarray
+    friction_per_cycle: float
+    state: np.ndarray
+    residual: float
+    iterations: int
+    converged: bool
+    message: str = ""
+
+    @property
+    def success(self) -> bool:
+        """Newton converged (the result contract)."""
+        return bool(self.converged)
+
+    @property
+    def status(self) -> str:
+        """``'periodic'`` or ``'not converged'``."""
+        return "periodic" if self.converged else "not converged"
 
 
 @dataclass

@@ -48,7 +48,7 @@ from ...threads import owns_blas_threads
 from . import hysteresis
 from .hbm import Condensed, balanced_state
 
-__all__ = ["nonlinear_mode"]
+__all__ = ["nonlinear_mode", "orbit_starts"]
 
 #: cycles of the free decay compared per checked point
 DECAY_CYCLES = 4
@@ -635,3 +635,33 @@ def _coefficients(eq: _Equations, harmonics: np.ndarray) -> np.ndarray:
     c[:, 1::2] = harmonics[1:].real.T
     c[:, 2::2] = -harmonics[1:].imag.T
     return c.reshape(-1)
+
+
+def orbit_starts(system: FrictionSystem, mode: NonlinearMode, points) -> list:
+    """Starts of the EPMC orbits solved exactly in time
+    (:func:`frictionjoint.solvers.marcher.autonomous.mode_orbits`) from points of ``mode``.
+
+    Parameters
+    ----------
+    system : FrictionSystem
+        The system of ``mode`` (its excitation is removed: :func:`free_system`).
+    mode : NonlinearMode
+        The harmonic balance's mode.
+    points : sequence of int
+        Its converged points.
+
+    Returns
+    -------
+    list of tuple
+        Per point ``(amplitude [m], x0 [m], v0 [m/s], w0 [m], period [s], xi [1/s], x_scale [m])``:
+        the balanced state at ``t = 0`` (:func:`.hbm.balanced_state`), the period and negative
+        damping, and each DOF's first-harmonic amplitude as its scale.
+    """
+    free = free_system(system)
+    out = []
+    for k in points:
+        w, xi = float(mode.frequency[k]), float(mode.negative_damping[k])
+        x0, v0, w0 = balanced_state(FrictionSystem(free.structure, free.elements, omega=w), mode.harmonics[k],
+                                    mode.slider_positions[k])
+        out.append((float(mode.amplitude[k]), x0, v0, w0, 2 * math.pi / w, xi, np.abs(mode.harmonics[k, 1])))
+    return out
