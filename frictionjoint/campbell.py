@@ -113,9 +113,14 @@ def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, r
     else:
         raise ParameterError(f"model must be a blade model's name, a .toml path or a BladeModel, got "
                              f"{type(model).__name__}")
-    speeds = check_omegas("speeds", speeds)
+    try:
+        speeds = check_omegas("speeds", speeds)
+    except ParameterError as exc:
+        if "> 0" not in str(exc):
+            raise
+        raise ParameterError(f"{exc} (the dovetail root carries no load at rest)") from None
     if speeds.size > 1 and not np.all(np.diff(speeds) > 0):
-        raise ParameterError(f"speeds must increase strictly [rad/s], got {speeds!r}")
+        raise ParameterError(f"speeds must increase strictly [rad/s], got {speeds.tolist()!r}")
     if isinstance(engine_orders, Real):
         engine_orders = [engine_orders]
     eos = check_grid("engine_orders", engine_orders)

@@ -49,6 +49,30 @@ def test_lowest_speed_is_the_assembly_s_linear_limits(diagram):
     np.testing.assert_allclose(diagram.slipping_frequency[0], ref["slipping"], rtol=1e-13)
 
 
+def test_at_rest_the_stuck_frequencies_are_the_assembly_s():
+    """Speed to zero: the BladeAssembly of the blade at rest (built here by hand, as from_model
+    builds it but on the non-rotating blade; the stuck limit does not depend on the root's load,
+    so a nominal 1 N carries it) has the stuck frequencies the diagram finds at 1e-3 rad/s, to the
+    centrifugal stiffening there (about 1e-11). Its free slip has a mechanism: 0 rad/s, to the
+    eigenvalues' rounding (sqrt(eps |K| / |M|), a few 1e-3 rad/s), and so does the diagram's at
+    1e-3 rad/s."""
+    from frictionjoint.structures import craig_bampton
+
+    model = load_blade_model(MODEL)
+    cd = campbell(model, [1e-3], engine_orders=[1], n_modes=3)
+    blade = model.blade(rotor_speed=0.0)
+    reduced = craig_bampton(blade.structure, ["u0", "w0", "t0"], 8, loaded_dofs=["w30"])
+    root = DovetailRoot(1.0, tangential_dof="w0", radial_dof="u0", rocking_dof="t0", **model.root)
+    limits = limit_structures(BladeAssembly(reduced, [root]).system(1.0))
+    at_rest = limits["stuck"].natural_frequencies()[:3]
+    err = np.max(np.abs(cd.stuck_frequency[0] / at_rest - 1))
+    print(f"stuck at 1e-3 rad/s against the assembly at rest: {err:.1e}")
+    assert err <= 1e-10
+    slip = limits["slipping"].natural_frequencies()[:3]
+    assert slip[0] < 0.1 and cd.slipping_frequency[0, 0] < 0.1
+    np.testing.assert_allclose(cd.slipping_frequency[0, 1:], slip[1:], rtol=1e-10)
+
+
 def test_limits_against_the_unreduced_blade_on_its_dovetail():
     """Independently: the full beam blade (93 DOFs) on the same flat-flank dovetail, rocking on
     its flanks, at the centrifugal force of the speed."""
