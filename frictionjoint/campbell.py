@@ -98,9 +98,16 @@ class _Blade:
         return float(nm.frequency[0]), float(nm.damping_ratio[0])
 
     def frequency(self, limit: str, mode: int, speed: float) -> float:
-        if limit == "nonlinear":
-            return self.nonlinear(speed, mode)[0]
-        return float(self.limits(speed)[limit][mode])
+        """Mode ``mode``'s frequency on the curve ``limit`` at ``speed`` [rad/s]; :class:`_NoValue`
+        where the nonlinear mode did not converge."""
+        w = self.nonlinear(speed, mode)[0] if limit == "nonlinear" else float(self.limits(speed)[limit][mode])
+        if not math.isfinite(w):
+            raise _NoValue(speed)
+        return w
+
+
+class _NoValue(Exception):
+    """A curve without a value at a trial speed (a nonlinear mode that did not converge)."""
 
 
 def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, reduction_modes):
@@ -182,14 +189,17 @@ def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, eng
         tangential = getattr(blade.assembly(speeds[0]).joints[0], "tangential_dof", None)
         blade.dof = None if tangential is None else str(tangential)
     curves, zeta = _curves(blade, speeds, progress)
-    rows = []
+    rows, missed = [], 0
     for limit, omega in curves.items():
-        rows += _crossings(blade, limit, speeds, omega, eos)
+        found, lost = _crossings(blade, limit, speeds, omega, eos)
+        rows, missed = rows + found, missed + lost
     n_found = {limit: sum(r[0] == limit for r in rows) for limit in curves}
     message = (f"{definition.name}: {speeds.size} speeds from {speeds[0]:g} to {speeds[-1]:g} rad/s, "
                f"{n_modes} modes, engine orders {', '.join(f'{e:g}' for e in eos)}; crossings "
                + ", ".join(f"{n} {limit}" for limit, n in n_found.items())
-               + f", each located by Brent's method to |dOmega| <= {XTOL:g} Omega")
+               + f", each located by Brent's method to |dOmega| <= {XTOL:g} Omega"
+               + (f"; {missed} sign changes of the nonlinear curves not located (the mode did not converge at a "
+                  "trial speed)" if missed else ""))
     nl = curves.get("nonlinear")
     if nl is not None:
         ok = np.isfinite(nl)
@@ -229,11 +239,13 @@ def _curves(blade: _Blade, speeds: np.ndarray, progress: bool) -> tuple[dict[str
     return out, zeta
 
 
-def _crossings(blade: _Blade, limit: str, speeds: np.ndarray, omega: np.ndarray, eos: np.ndarray) -> list[tuple]:
+def _crossings(blade: _Blade, limit: str, speeds: np.ndarray, omega: np.ndarray,
+               eos: np.ndarray) -> tuple[list[tuple], int]:
     """The crossings of the curves ``omega`` (``(n_speeds, n_modes)``) of ``limit`` with the
-    engine-order lines: ``(limit, EO, mode, speed, frequency)`` each, the speed by Brent's
-    method between the samples where ``omega_k - EO Omega`` changes sign."""
-    rows = []
+    engine-order lines, ``(limit, EO, mode, speed, frequency)`` each, the speed by Brent's
+    method between the samples where ``omega_k - EO Omega`` changes sign; and how many sign
+    changes were not located (a curve without a value at a trial speed)."""
+    rows, missed = [], 0
     for eo in eos:
         g = omega - eo * speeds[:, None]
         for mode in range(blade.n_modes):
@@ -244,7 +256,10 @@ def _crossings(blade: _Blade, limit: str, speeds: np.ndarray, omega: np.ndarray,
                     continue
                 if i + 1 == speeds.size or not a * g[i + 1, mode] < 0.0:  # NaN: no bracket
                     continue
-                s = scipy.optimize.brentq(lambda x: blade.frequency(limit, mode, x) - eo * x, speeds[i],
-                                          speeds[i + 1], xtol=XTOL * speeds[i + 1], rtol=4 * np.finfo(float).eps)
-                rows.append((limit, float(eo), mode, float(s), blade.frequency(limit, mode, s)))
-    return rows
+                try:
+                    s = scipy.optimize.brentq(lambda x: blade.frequency(limit, mode, x) - eo * x, speeds[i],
+                                              speeds[i + 1], xtol=XTOL * speeds[i + 1], rtol=4 * np.finfo(float).eps)
+                    rows.append((limit, float(eo), mode, float(s), blade.frequency(limit, mode, s)))
+                except _NoValue:
+                    missed += 1
+    return rows, missed

@@ -272,3 +272,17 @@ def test_guide_example_runs(tmp_path, monkeypatch):
     assert cd.success and cd.nonlinear_frequency.shape == (8, 3)
     assert {"stuck", "slipping", "nonlinear"} <= set(cd.crossings["limit"])
     assert (tmp_path / "campbell.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_crossing_the_nonlinear_mode_cannot_reach_is_counted_not_invented(monkeypatch):
+    """Where the nonlinear mode does not converge at a trial speed between two samples, the sign
+    change is not located: no row, and the message counts it."""
+    module = sys.modules["frictionjoint.campbell"]  # the package's attribute is the function
+
+    samples = (1100.0, 1200.0)
+    solve = module._Blade.nonlinear
+    monkeypatch.setattr(module._Blade, "nonlinear",
+                        lambda self, speed, mode: solve(self, speed, mode) if speed in samples else (np.nan, np.nan))
+    cd = campbell(MODEL, list(samples), engine_orders=[2], n_modes=1, amplitude=2e-5)
+    assert list(cd.crossings["limit"]) == ["stuck"] and cd.success
+    assert "1 sign changes of the nonlinear curves not located" in cd.message
