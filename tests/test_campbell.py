@@ -286,3 +286,16 @@ def test_a_crossing_the_nonlinear_mode_cannot_reach_is_counted_not_invented(monk
     cd = campbell(MODEL, list(samples), engine_orders=[2], n_modes=1, amplitude=2e-5)
     assert list(cd.crossings["limit"]) == ["stuck"] and cd.success
     assert "1 sign changes of the nonlinear curves not located" in cd.message
+
+
+@pytest.mark.slow  # about 4-10 s: the example script in a subprocess
+def test_example_script_draws_the_readme_diagram(tmp_path):
+    """examples/campbell_diagram.py (which draws docs/campbell_ti64.png) on 4 speeds."""
+    import os
+
+    env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="4")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "campbell_diagram.py"), "c.png"],
+                          capture_output=True, text=True, timeout=120, cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("| curve | EO | mode |") and "4 speeds in" in proc.stdout
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
