@@ -66,6 +66,7 @@ from ...frequencies import check_omegas
 from ...results.mode_synthesis import SynthesisedResponse
 from ...results.nonlinear_mode import NonlinearMode
 from ...system import FrictionSystem
+from ...threads import owns_blas_threads
 from .nonlinear_mode import _coefficients, _Equations, _reach, free_system
 
 __all__ = ["mode_synthesis"]
@@ -222,6 +223,7 @@ def _check_args(mode, system, omegas, tol, max_iter):
     return ws, force, check_count("max_iter", max_iter, 1)
 
 
+@owns_blas_threads
 def mode_synthesis(mode: NonlinearMode, system: FrictionSystem, omegas: ArrayLike, output: str | int | None = None, *,
                    tol: float = 1e-11, max_iter: int = 40) -> SynthesisedResponse:
     """Forced response of ``system`` near the resonance of ``mode``, synthesised from the mode's
