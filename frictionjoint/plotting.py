@@ -11,7 +11,8 @@ import os
 import numpy as np
 
 __all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
-           "new_figure", "plot_target", "plot_study_curve", "plot_study_contour", "plot_study_monte_carlo"]
+           "new_figure", "plot_target", "plot_study_curve", "plot_study_contour", "plot_study_monte_carlo",
+           "plot_slip_pattern"]
 
 _DPI = 130
 
@@ -688,3 +689,80 @@ def plot_study_monte_carlo(table, quantity: str = "peak_amplitude", path=None):
     ax.set_title(f"{int(ok.sum())} of {len(table)} points", fontsize="small")
     _save(fig, path)
     return fig
+
+
+# --------------------------------------------------------------------------- contact patches
+
+
+#: colours of a slider's status (SlipPattern's codes 0 stuck, 1 slipping, 2 open)
+_SLIP_COLOURS = ("#c6dbef", "#d62728", "#252525")
+
+
+def plot_slip_pattern(pattern, sliders=None, positions=None, static_load=None, ax=None, path=None,
+                      position_label: str = "node", load_label: str = "static normal load [N]",
+                      title: str | None = None):
+    """The stick/slip pattern of a contact patch over one cycle: its nodes (along the patch) against
+    the time in the cycle, each piece coloured stuck, slipping or open, exact between the events;
+    beside it, the nodes' static normal load.
+
+    Parameters
+    ----------
+    pattern : SlipPattern
+        Result of :func:`frictionjoint.solvers.marcher.slip_pattern.slip_pattern`.
+    sliders : (n,) sequence of int, optional
+        The rows to draw (e.g. one flank's nodes), in the order of ``positions``; default all.
+    positions : (n,) array_like, optional
+        Each row's position along the patch (the y axis; e.g. its chord coordinate [mm]); default
+        its index.
+    static_load : (n,) array_like, optional
+        A static quantity per node drawn beside the pattern (e.g. the normal load per unit length).
+    ax : matplotlib Axes or (2,) sequence of Axes, optional
+        The pattern's axes, or the pattern's and the static load's; a new figure if omitted.
+    path : str or os.PathLike, optional
+        Write the figure there.
+    position_label, load_label : str
+        Labels of the y axis and of the static load's axis.
+    title : str, optional
+        The pattern's title (default: the frequency).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The pattern's axes.
+    """
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    from .results.slip_pattern import STATUS_NAMES
+
+    rows = np.arange(pattern.n_sliders) if sliders is None else np.asarray(sliders, dtype=int)
+    y = np.arange(rows.size, dtype=float) if positions is None else np.asarray(positions, dtype=float)
+    if y.shape != rows.shape:
+        raise ValueError(f"positions has {y.size} entries for {rows.size} sliders")
+    if ax is None:
+        fig = new_figure((9.0, 3.2) if static_load is not None else (7.5, 3.2))
+        axes = fig.subplots(1, 2, sharey=True, width_ratios=(4, 1)) if static_load is not None else [fig.subplots()]
+    else:
+        axes = list(ax) if isinstance(ax, (list, tuple, np.ndarray)) else [ax]
+        fig = axes[0].figure
+    ax_map = axes[0]
+    order = np.argsort(y)
+    cmap = ListedColormap(_SLIP_COLOURS)
+    ax_map.pcolormesh(pattern.times / pattern.period, _edges(y[order]), pattern.pattern[rows[order]], cmap=cmap,
+                      norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N), shading="flat")
+    ax_map.set_xlim(0.0, 1.0)
+    ax_map.set_xlabel("time in the cycle t / T (force cos(omega t))")
+    ax_map.set_ylabel(position_label)
+    ax_map.set_title(title if title is not None else f"omega = {pattern.omega:g} rad/s", fontsize="medium",
+                     loc="left")
+    shown = sorted(set(np.unique(pattern.pattern[rows]).tolist()) | {0, 1})
+    ax_map.legend(handles=[Patch(facecolor=_SLIP_COLOURS[s], edgecolor="0.3", lw=0.5, label=STATUS_NAMES[s])
+                           for s in shown], loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=len(shown),
+                  fontsize="small", frameon=False, borderaxespad=0.2, handlelength=1.2)
+    if static_load is not None and len(axes) > 1:
+        load = np.asarray(static_load, dtype=float)
+        axes[1].plot(load[order], y[order], "o-", color="C0", ms=4)
+        axes[1].set_xlabel(load_label)
+        axes[1].grid(True, alpha=0.3)
+    _save(fig, path)
+    return ax_map
