@@ -169,13 +169,16 @@ def test_result_contract_table_csv_and_plot(diagram, tmp_path):
     np.testing.assert_array_equal([float(r["stuck_2"]) for r in curves], diagram.stuck_frequency[:, 2])
     np.testing.assert_array_equal([float(r["nonlinear_0"]) for r in curves], diagram.nonlinear_frequency[:, 0])
     fig = diagram.plot(path=tmp_path / "c.png")
-    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and fig.axes
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(fig.axes) == 2  # the frequencies, and the nonlinear modes' damping ratios
+    assert len(diagram.plot(ax=fig.axes[0]).axes) == 2  # into given axes: the frequencies only
 
 
 def test_no_crossing_is_a_table_that_says_so():
     cd = campbell("ti64_compressor_blade", "900:1000:2", engine_orders=[1], n_modes=1)
     assert cd.crossings.size == 0 and cd.success
     assert "no crossing" in cd.table()
+    assert len(cd.plot().axes) == 1  # no nonlinear modes: no damping panel
 
 
 @pytest.mark.parametrize("kwargs,name", [

@@ -170,12 +170,12 @@ class CampbellDiagram:
     def plot(self, ax=None, path=None):
         """Frequency against rotor speed (:func:`plot_campbell`): each mode in both limits with
         the band between them, the nonlinear modes at the amplitude, the engine-order lines and
-        the crossings.
+        the crossings; with the nonlinear modes, their damping ratios below.
 
         Parameters
         ----------
-        ax : matplotlib Axes, optional
-            Axes to draw in (a new figure if omitted).
+        ax : matplotlib Axes or (2,) sequence of Axes, optional
+            Axes for the frequencies (and, given two, the damping ratios); a new figure if omitted.
         path : str or os.PathLike, optional
             Write the figure there.
 
@@ -197,14 +197,16 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
     """The Campbell diagram of a :class:`CampbellDiagram`: frequency [rad/s] against rotor speed
     [rad/s], each mode stuck (solid) and free-slip (dashed) with the band between them shaded,
     the nonlinear modes at the amplitude (dots), the engine-order lines (grey, labelled) and the
-    crossings marked. Draws with the figure's own methods: matplotlib is imported by
+    crossings marked; with the nonlinear modes, their damping ratios against speed in a panel below
+    (log scale). Draws with the figure's own methods: matplotlib is imported by
     :func:`frictionjoint.plotting.new_figure` only. Each mode is labelled at its stuck curve's end
     (0 the lowest) and each engine-order line at its end; the model's design speed is dotted.
 
     Parameters
     ----------
     cd : CampbellDiagram
-    ax : matplotlib Axes, optional
+    ax : matplotlib Axes or (2,) sequence of Axes, optional
+        The frequencies' axes, or those and the damping ratios' (a new figure if omitted).
     path : str or os.PathLike, optional
 
     Returns
@@ -213,9 +215,16 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
     """
     from ..plotting import new_figure
 
-    if ax is None:
+    band = cd.nonlinear_damping_ratio is not None
+    ax_z = None
+    if ax is None and band:
+        fig = new_figure((8.0, 8.0))
+        ax, ax_z = fig.subplots(2, 1, sharex=True, height_ratios=(3.0, 1.2))
+    elif ax is None:
         fig = new_figure((8.0, 6.0))
         ax = fig.subplots()
+    elif isinstance(ax, (list, tuple)):
+        ax, ax_z = ax
     fig = ax.figure
     s = cd.speed
     where = f" at {cd.dof}" if cd.dof else ""
@@ -245,7 +254,9 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
             ax.plot(rows["speed"], rows["frequency"], ls="none", ms=6, label=f"crossings ({limit})", **style)
     ax.set_xlim(0.0, 1.02 * s[-1])
     ax.set_ylim(0.0, top)
-    ax.set_xlabel("rotor speed [rad/s]")
+    if ax_z is not None and band:
+        _draw_damping(cd, ax_z)
+    (ax if ax_z is None else ax_z).set_xlabel("rotor speed [rad/s]")
     ax.set_ylabel("frequency [rad/s]")
     ax.set_title(f"Campbell diagram: {cd.model}")
     ax.grid(True, alpha=0.3)
@@ -253,3 +264,16 @@ def plot_campbell(cd: CampbellDiagram, ax=None, path=None):
     if path is not None:
         fig.savefig(path, dpi=130)
     return fig
+
+
+def _draw_damping(cd: CampbellDiagram, ax) -> None:
+    """The nonlinear modes' damping ratios against speed, one line per mode, log scale."""
+    for k in range(cd.n_modes):
+        ax.plot(cd.speed, cd.nonlinear_damping_ratio[:, k], ".-", lw=1.0, ms=3, color=f"C{k + 4}", label=f"mode {k}")
+    if cd.design_speed is not None:
+        ax.axvline(cd.design_speed, ls=":", color="k", lw=1.0)
+    ax.set_yscale("log")
+    ax.set_ylabel("damping ratio [-]")
+    ax.set_title(f"nonlinear modes at {cd.amplitude:.3g} m{f' at {cd.dof}' if cd.dof else ''}", fontsize="medium")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small", loc="upper right")
