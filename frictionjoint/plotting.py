@@ -694,7 +694,9 @@ def plot_study_monte_carlo(table, quantity: str = "peak_amplitude", path=None):
 # --------------------------------------------------------------------------- contact patches
 
 
-#: colours of a slider's status (SlipPattern's codes 0 stuck, 1 slipping, 2 open)
+#: words and colours of a slider's status, by SlipPattern's codes (frictionjoint.results.slip_pattern:
+#: 0 stuck, 1 slipping, 2 open; not imported here: the results import this module)
+_SLIP_NAMES = ("stuck", "slipping", "open")
 _SLIP_COLOURS = ("#c6dbef", "#d62728", "#252525")
 
 
@@ -733,8 +735,6 @@ def plot_slip_pattern(pattern, sliders=None, positions=None, static_load=None, a
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    from .results.slip_pattern import STATUS_NAMES
-
     rows = np.arange(pattern.n_sliders) if sliders is None else np.asarray(sliders, dtype=int)
     y = np.arange(rows.size, dtype=float) if positions is None else np.asarray(positions, dtype=float)
     if y.shape != rows.shape:
@@ -756,7 +756,7 @@ def plot_slip_pattern(pattern, sliders=None, positions=None, static_load=None, a
     ax_map.set_title(title if title is not None else f"omega = {pattern.omega:g} rad/s", fontsize="medium",
                      loc="left")
     shown = sorted(set(np.unique(pattern.pattern[rows]).tolist()) | {0, 1})
-    ax_map.legend(handles=[Patch(facecolor=_SLIP_COLOURS[s], edgecolor="0.3", lw=0.5, label=STATUS_NAMES[s])
+    ax_map.legend(handles=[Patch(facecolor=_SLIP_COLOURS[s], edgecolor="0.3", lw=0.5, label=_SLIP_NAMES[s])
                            for s in shown], loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=len(shown),
                   fontsize="small", frameon=False, borderaxespad=0.2, handlelength=1.2)
     if static_load is not None and len(axes) > 1:
