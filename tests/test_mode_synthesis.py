@@ -204,9 +204,9 @@ def test_blade_peaks_at_three_force_levels(n_harmonics):
     """One mode (41 amplitudes of w0 from 1e-8 to 1e-4 m, through the 3:1 interaction's folds),
     synthesised at 0.3, 1 and 3 N at the tip, against hbm_sweep's refined peaks at the same H:
     within 2.5 % in amplitude and frequency (measured at H = 7: -0.8, +0.4, +1.0 % in amplitude,
-    -0.16, -0.04, -1.3 % in frequency; H = 15: -0.5, +0.3, +1.4 % and -0.14, +0.08, -1.2 %). At 3 N the peak's w0 amplitude (9e-6 m) is
-    near the interaction with the second flapwise mode, which one mode leaves out: the frequency's
-    error grows there. Printed, for the README."""
+    -0.16, -0.04, -1.3 % in frequency; H = 15: -0.5, +0.3, +1.4 % and -0.14, +0.08, -1.2 %). At
+    3 N the peak's w0 amplitude (9e-6 m) is near the interaction with the second flapwise mode,
+    which one mode leaves out: the frequency's error grows there. Printed, for the README."""
     from frictionjoint.structures import BladeAssembly, load_blade_model
     from frictionjoint.study.point import _refined_peak
 

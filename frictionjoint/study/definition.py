@@ -228,8 +228,8 @@ class ModeDamping:
                                  f"= 7, dof = 'w0'}}, got {entry!r}")
         unknown = set(entry) - set(cls.KEYS)
         if unknown or "amplitude" not in entry:
-            raise ParameterError(f"quantities.mode_damping: {'unknown keys ' + str(sorted(unknown)) if unknown else 'amplitude is missing'}"
-                                 f" (its keys: {list(cls.KEYS)}, amplitude required)")
+            what = f"unknown keys {sorted(unknown)}" if unknown else "amplitude is missing"
+            raise ParameterError(f"quantities.mode_damping: {what} (its keys: {list(cls.KEYS)}, amplitude required)")
         return cls(**entry)
 
     def key(self) -> list:
