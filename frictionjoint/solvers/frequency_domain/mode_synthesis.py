@@ -1,6 +1,7 @@
 """Forced response near a resonance synthesised from one nonlinear mode (single-nonlinear-mode
-theory: Szemplinska-Stupnicka, "The behaviour of non-linear vibrating systems", vol. 2, Kluwer
-1990; Krack, Computers & Structures 154, 2015, section 4).
+theory: Szemplinska-Stupnicka, "The behavior of nonlinear vibrating systems", vol. 2, Kluwer
+1990; Krack, "Nonlinear modal analysis of nonconservative systems: extension of the periodic
+motion concept", Computers & Structures 154, 2015).
 
 **Derivation.** The forced system is ``M x'' + C x' + K x + g(x) = Re(F e^{i Omega t})``, ``g`` the
 joints' forces less their stuck springs (in ``K``). Its nonlinear mode (:mod:`.nonlinear_mode`) at
