@@ -228,14 +228,14 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
         rhs = f_ext - matvec(k_sys, x)
         if has_slip:
             rhs -= f_slip
-        dx = np.empty(nj)
+        # each stuck spring's force k (d.x - w) as one scalar (Marcher.interval)
+        sf = np.empty(nj)
         for q in range(nj):
             s = 0.0
             for k in range(n):
                 s += jst_dt[k, q] * x[k]
-            dx[q] = jst_k[q] * s
-        rhs -= matvec(jst_dt, dx)
-        rhs += matvec(jst_dt, kw)
+            sf[q] = jst_k[q] * (s - w[jst_idx[q]])
+        rhs -= matvec(jst_dt, sf)
     else:
         rhs = f_const - kx0
     u = v.copy() if identity else matvec(nt, v)

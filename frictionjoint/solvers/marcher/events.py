@@ -409,15 +409,16 @@ class Marcher:
         f_const = self._f_const(state, f_ext, pat)
         rhs = None
         if pat.has_jst:
-            # f_const - K_c x in spring form (see Interval): each stuck spring's k (d.x) as one
-            # scalar along d (its rounding is ~ eps k |d.x|, not eps k |x|); the k w d terms stay
-            # apart (constant in x: the period map stays smooth when a spring carries a preload)
+            # f_const - K_c x in spring form (see Interval): each stuck spring's force k (d.x - w)
+            # as one scalar along d, its stretch d.x - w formed first (rounding ~ eps k |x|, along
+            # d only). Neither k (d.x) nor k w d (each ~ kt |x|) may enter the load vector alone:
+            # its rounding there, eps kt |x| in every DOF, drives the soft modes (a 1e-3 slip
+            # force beside a stuck kt = 1e8 spring at |x| = 1 lost 2e-6 of its response)
             jd = pat.jst_dt
             rhs = f_ext - pat.cfg.base_stiffness @ state.x
             if pat.f_slip is not None:
                 rhs -= pat.f_slip
-            rhs -= jd @ (pat.jst_k * (jd.T @ state.x))
-            rhs += jd @ (pat.jst_k * state.w[pat.jst])
+            rhs -= jd @ (pat.jst_k * (jd.T @ state.x - state.w[pat.jst]))
         itv = Interval(self.system, pat.cfg, state.t, state.x, state.v, f_const, rhs)
         return self._attach(itv, state, f_ext, pat)
 
