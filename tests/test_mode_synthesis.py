@@ -168,7 +168,8 @@ def test_blade_costs_against_the_sweep(blade):
 
 
 def test_refusals_and_the_plot(tmp_path):
-    """Bad arguments are a ParameterError naming them; the plot draws the branch, the limits and
+    """Bad arguments are a ParameterError naming them (a mode of another system too: its first
+    point's residual in this system's equations); the plot draws the branch, the limits and
     the backbone; a mode whose amplitudes end below the peak is 'partial' and says so."""
     system, *_ = _three_dof()
     nm = nonlinear_mode(system, mode=1, amplitudes=np.geomspace(3e-3, 0.03, 6), n_harmonics=1)
@@ -191,6 +192,10 @@ def test_refusals_and_the_plot(tmp_path):
                               excitation=[fj.HarmonicForce(0, 1.0)])
     with pytest.raises(ParameterError, match="DOFs"):
         mode_synthesis(nm, other, "5:10:10")
+    stiffer = fj.FrictionSystem(system.structure, [fj.Jenkins(60.0, 1e6, dof=0)], omega=10.0,
+                                excitation=system.excitation)
+    with pytest.raises(ParameterError, match="not a mode of this system"):
+        mode_synthesis(nm, stiffer, "5:10:10")
     syn = mode_synthesis(nm, system, "5:10:20", output=2)
     assert syn.status == "partial" and not syn.success and "end below the peak" in syn.message
     fig = syn.plot(path=tmp_path / "synthesis.png")

@@ -72,6 +72,9 @@ from .nonlinear_mode import _coefficients, _Equations, _reach, free_system
 
 __all__ = ["mode_synthesis"]
 
+#: the largest relative residual the mode's first point may leave in the system's own equations
+MODE_CHECK = 1e-6
+
 
 class _Point:
     """The modal data of the mode at one amplitude (module docstring): ``omega``, ``c``, ``delta``,
@@ -145,6 +148,13 @@ class _Mode:
         self.solved = [(float(mode.amplitude[k]), np.r_[_coefficients(self.eq, mode.harmonics[k]), mode.frequency[k],
                                                         mode.negative_damping[k]]) for k in ok]
         self.solves = 0
+        if ok.size:  # the mode's own equations on this system: a mode of another system is refused
+            a, y = self.solved[0]
+            r = self.eq.residual(y, a, jacobian=False)[0]
+            size = float(np.max(np.abs(r / np.r_[self.eq.row_scale * a, a, a])))
+            if not size <= MODE_CHECK:
+                raise ParameterError(f"mode: not a mode of this system (its point at {a:.4g} m leaves a relative "
+                                     f"residual {size:.2g} in this system's equations, more than {MODE_CHECK:g})")
 
     def _point(self, a, w, xi, harmonics, stuck, friction) -> _Point:
         return _Point(a, w, xi, harmonics[1], self.eq.mass, self.eq.damping, self.force, self.row, stuck, friction)
