@@ -19,6 +19,7 @@ import math
 import os
 import threading
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.optimize
@@ -26,6 +27,9 @@ import scipy.optimize
 from ..errors import ParameterError
 from ..threads import owns_blas_threads
 from .quantities import QUANTITIES, mode_amplitudes, quantities
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..system import FrictionSystem
 
 __all__ = ["evaluate_point", "mode_quantities", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
@@ -171,7 +175,8 @@ def _base_model(model):
     return None
 
 
-def mode_quantities(system, mode: int, amplitude: float, n_harmonics: int, dof) -> tuple[dict, str]:
+def mode_quantities(system: FrictionSystem, mode: int, amplitude: float, n_harmonics: int,
+                    dof: str | int | None) -> tuple[dict, str]:
     """The nonlinear mode's quantities (:data:`~.quantities.MODE_QUANTITIES`) of ``system`` at
     ``amplitude``: :func:`~frictionjoint.nonlinear_mode` over
     :func:`~.quantities.mode_amplitudes`, its last point.
