@@ -16,6 +16,7 @@ from .solvers.marcher.events import EventLog, Marcher
 from .solvers.frequency_domain.continuation import hbm_sweep
 from .solvers.frequency_domain.hbm import harmonic_balance
 from .solvers.frequency_domain.nonlinear_mode import nonlinear_mode
+from .solvers.frequency_domain.mode_synthesis import mode_synthesis
 from .campbell import campbell
 from .solvers.marcher.response import simulate
 from .solvers.sdof.kernel import SdofCoulomb
@@ -53,6 +54,7 @@ __all__ = [
     "harmonic_balance",
     "hbm_sweep",
     "nonlinear_mode",
+    "mode_synthesis",
     "campbell",
     "Iwan",
     "Jenkins",

@@ -10,12 +10,16 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 - :mod:`.frequency`: :class:`FrequencyResponse`, :class:`SystemSweep`, :class:`OutputSweep`;
 - :mod:`.harmonic`: :class:`HarmonicBalance`, :class:`HarmonicBalanceSweep`;
 - :mod:`.nonlinear_mode`: :class:`NonlinearMode`;
+- :mod:`.mode_synthesis`: :class:`SynthesisedResponse`;
+- :mod:`.campbell`: :class:`CampbellDiagram`;
 - :mod:`.regime_map`: :class:`RegimeMap`;
 - :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`.
 """
 from .frequency import FrequencyResponse, OutputSweep, SystemSweep
 from .harmonic import HarmonicBalance, HarmonicBalanceSweep
 from .nonlinear_mode import NonlinearMode
+from .mode_synthesis import SynthesisedResponse
+from .campbell import CampbellDiagram
 from .regime_map import RegimeMap
 from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
 from .shakedown import CycleResult, MelanResult, ShakedownResult
@@ -23,4 +27,5 @@ from .study import StudyTable
 
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
            "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
-           "collection_status", "StudyTable", "NonlinearMode"]
+           "collection_status", "StudyTable", "NonlinearMode",
+           "SynthesisedResponse", "CampbellDiagram"]

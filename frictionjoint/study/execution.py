@@ -63,7 +63,8 @@ def tasks(study: Study) -> list[dict]:
     kinds = {k: v for k, v in study.kinds.items() if v != "real"}
     return [dict(point=k, model=study.model, omega=study.omega, fixed=dict(study.fixed), varied=p,
                  direction=study.direction, method=study.method, harmonics=int(study.harmonics),
-                 refine=bool(study.refine_peak), kinds=kinds, time_limit=float(study.time_limit))
+                 refine=bool(study.refine_peak), kinds=kinds, time_limit=float(study.time_limit),
+                 mode_damping=study.mode_damping)
             for k, p in enumerate(study.points())]
 
 

@@ -31,6 +31,14 @@ def _forced(elements=()):
     return fj.FrictionSystem(_s2(), list(elements), omega=1.0, excitation=[fj.HarmonicForce(0, 1.0)])
 
 
+def _mode():
+    return fj.nonlinear_mode(_free_jenkins(), amplitudes=[0.01, 1.0], n_harmonics=1)
+
+
+def _synth_system():
+    return _forced([fj.Jenkins(1.0, 0.1, dof=0)])
+
+
 def _free_jenkins():
     return fj.FrictionSystem(_s2(), [fj.Jenkins(1.0, 0.1, dof=0)])
 
@@ -249,6 +257,12 @@ CASES = [
     ("nonlinear_mode n_harmonics 0", lambda: fj.nonlinear_mode(_free_jenkins(), n_harmonics=0), "n_harmonics"),
     ("nonlinear_mode mode beyond", lambda: fj.nonlinear_mode(_free_jenkins(), mode=5), "mode"),
     ("nonlinear_mode tol 0", lambda: fj.nonlinear_mode(_free_jenkins(), tol=0.0), "tol"),
+    ("mode_synthesis omegas nan", lambda: fj.mode_synthesis(_mode(), _synth_system(), [NAN, 2.0]), "omegas"),
+    ("mode_synthesis omegas < 0", lambda: fj.mode_synthesis(_mode(), _synth_system(), "-1:2:5"), "omegas"),
+    ("mode_synthesis tol 0", lambda: fj.mode_synthesis(_mode(), _synth_system(), [1.0, 2.0], tol=0.0), "tol"),
+    ("mode_synthesis max_iter 0", lambda: fj.mode_synthesis(_mode(), _synth_system(), [1.0, 2.0], max_iter=0),
+     "max_iter"),
+    ("mode_synthesis output 7", lambda: fj.mode_synthesis(_mode(), _synth_system(), [1.0, 2.0], output=7), "output"),
     ("campbell speeds 0", lambda: fj.campbell("ti64_compressor_blade", "0:1000:5"), "speeds"),
     ("campbell speeds decreasing", lambda: fj.campbell("ti64_compressor_blade", [300.0, 200.0]), "speeds"),
     ("campbell speeds nan", lambda: fj.campbell("ti64_compressor_blade", [100.0, NAN]), "speeds"),
