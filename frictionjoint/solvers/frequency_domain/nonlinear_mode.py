@@ -30,6 +30,10 @@ the DOF over the cycle; the mode is solved at that amplitude and compared. The c
 is exact only for a stationary motion: over a cycle the decay's amplitude falls by about ``2 pi
 zeta``, so the decay's frequency and energy differ from the mode's at one amplitude in the second
 order of it (on a Jenkins chain about ``zeta^2`` and ``3 zeta^2``), besides the truncation.
+
+The reference at any damping is the EPMC's own orbit solved exactly in time
+(:mod:`frictionjoint.solvers.marcher.autonomous`, started from the points :func:`orbit_starts`
+gives): its frequency and damping ratio differ from the ones here by the truncation alone.
 """
 from __future__ import annotations
 

@@ -167,7 +167,7 @@ def section_state(free: FrictionSystem, x0, v0, w0, period: float, xi: float) ->
 
 
 def mode_orbit(free: FrictionSystem, z0, period: float, xi: float, dof: int, amplitude: float, *,
-               x_scale=None, n_harmonics: int = 15, tol: float = 1e-10, max_iter: int = 30) -> ModeOrbit:
+               x_scale=None, n_harmonics: int = 15, tol: float = 1e-10, max_iter: int = 15) -> ModeOrbit:
     """The EPMC orbit of ``free`` (no excitation) at the first-harmonic amplitude ``amplitude`` [m]
     at ``dof``, by shooting on the exact march (module docstring) from the start ``z0 = [x, v, w of
     the Jenkins sliders]`` (e.g. :func:`section_state` of a harmonic balance's point), ``period``
@@ -240,11 +240,11 @@ def mode_orbit(free: FrictionSystem, z0, period: float, xi: float, dof: int, amp
 
 
 #: halvings (in log amplitude) of a step from the last solved orbit that Newton could not take
-MAX_HALVINGS = 4
+MAX_HALVINGS = 3
 
 
 def mode_orbits(free: FrictionSystem, dof: int, starts, *, n_harmonics: int = 15, tol: float = 1e-10,
-                max_iter: int = 30) -> list:
+                max_iter: int = 15) -> list:
     """The EPMC orbit at each of several amplitudes, each from its start (e.g. a harmonic
     balance's point; the section is put on a smooth stretch of it, :func:`section_state`); where Newton fails from it, from the last orbit solved
     (in the order given), by steps in log amplitude halved down to :data:`MAX_HALVINGS` times.
