@@ -29,7 +29,7 @@ from pathlib import Path
 
 from .bundle_loader import ARCHIVE, BUNDLE, EXCLUDED, IDENTITY, identity
 
-__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
            "SYSTEM_SCRIPT3", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
@@ -54,8 +54,11 @@ FMUS3 = {
 FMI3_BINARIES = {"x86_64-linux": Path(__file__).resolve().parent / "fmi3_wrapper" / "binaries" / "x86_64-linux"
                  / "libpythonfmu-export.so"}
 #: FMUs that carry a blade model definition in their resources: FMU name -> the definition
-#: (a name in the repository's ``models/``)
+#: (a name in the repository's ``models/``); ``build_fmus(blades=...)`` builds one such FMU per
+#: definition, beam or solid (e.g. ``blades=["ti64_solid_blade"]``: ``Ti64SolidBlade.fmu``)
 BLADE_MODELS = {"BladeDovetail": "ti64_compressor_blade"}
+#: the FMU script of every blade FMU: one slave for every definition, which it reads from its resources
+BLADE_SCRIPT = FMUS["BladeDovetail"]
 #: the script of LinearStructure.fmu (one per structure definition, built by ``structures=``)
 STRUCTURE_SCRIPT = "fj_linear_structure_fmu.py"
 #: the script of a friction system FMU (one per system definition, built by ``systems=``)
@@ -103,12 +106,15 @@ def _bundle(tmp: Path) -> list:
     return [archive, loader]
 
 
-def postprocess(fmu: Path) -> None:
-    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits."""
+def postprocess(fmu: Path, description: str | None = None) -> None:
+    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits; with
+    ``description``, write it as the model's (pythonfmu writes the slave class's)."""
     fmu = Path(fmu)
     with zipfile.ZipFile(fmu) as z:
         items = {name: z.read(name) for name in z.namelist()}
     root = ET.fromstring(items["modelDescription.xml"])
+    if description is not None:
+        root.set("description", description)
     variables = root.find("ModelVariables").findall("ScalarVariable")
     outputs = [i + 1 for i, v in enumerate(variables) if v.get("causality") == "output"]
     structure = root.find("ModelStructure")
@@ -187,7 +193,7 @@ def validate(fmu: Path) -> list[str]:
 
 
 def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=(), systems=(),
-               fmi_version: int = 2, early_return: bool = True) -> list[Path]:
+               fmi_version: int = 2, early_return: bool = True, blades=()) -> list[Path]:
     """Build, post-process and (optionally) validate the FMUs.
 
     Parameters
@@ -195,7 +201,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     out_dir : path
         Folder for the ``.fmu`` files (created).
     names : sequence of str, optional
-        Which of :data:`FMUS` to build; all by default, none when ``structures`` or ``systems`` are given.
+        Which of :data:`FMUS` to build; all by default, none when ``structures``, ``systems`` or
+        ``blades`` are given.
     source_dir : path, optional
         Folder of the FMU scripts; the repository's ``fmus/`` by default.
     check : bool
@@ -210,10 +217,14 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         definition in its resources.
     fmi_version : {2, 3}
         3: the FMI 3.0 FMUs of :data:`FMUS3` (``names`` among them) and of ``systems``, as
-        ``<name>Fmi3.fmu``; structures are FMI 2 only.
+        ``<name>Fmi3.fmu``; structures and blades are FMI 2 only.
     early_return : bool
         FMI 3: early return at events with the patched wrapper (x86_64-linux); False: pythonfmu3's stock
         binaries, whole steps (see the module docstring).
+    blades : sequence of str or path
+        Blade model definitions, beam or solid (:func:`~frictionjoint.structures.load_blade_model`):
+        each becomes ``<name>.fmu``, the blade FMU (:data:`BLADE_SCRIPT`, model identifier
+        ``BladeDovetail``) carrying it in its resources (:func:`_blade_jobs`).
 
     Returns
     -------
@@ -228,7 +239,7 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
 
     structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
     systems = [s if isinstance(s, SystemDefinition) else load_system_definition(s) for s in systems]
-    names = _names(names, structures, systems, fmi_version)
+    names = _names(names, [*structures, *blades], systems, fmi_version)
     built = []
     # the builder imports each script, and so the bundle: set aside a bundle this process has
     # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
@@ -248,9 +259,10 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         sys.path.insert(0, str(tmp))
         try:
             jobs = (_jobs3(names, systems, out, tmp, bundle) if fmi_version == 3
-                    else _jobs(names, structures, systems, out, tmp, bundle))
-            for script_name, dest, project_files in jobs:
-                built.append(_build_one(source / script_name, dest, project_files, check, fmi_version, early_return))
+                    else _jobs(names, structures, systems, out, tmp, bundle) + _blade_jobs(blades, out, tmp, bundle))
+            for script_name, dest, project_files, *description in jobs:
+                built.append(_build_one(source / script_name, dest, project_files, check, fmi_version, early_return,
+                                        *description))
         finally:
             sys.path.remove(str(tmp))
             for mod in [m for m in sys.modules if ours(m)]:
@@ -264,7 +276,7 @@ def _names(names, structures, systems, fmi_version: int) -> list:
     if fmi_version not in (2, 3):
         raise ValueError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
     if fmi_version == 3 and structures:
-        raise ValueError("structures are built as FMI 2.0 FMUs only (fmi_version=2)")
+        raise ValueError("structures and blades are built as FMI 2.0 FMUs only (fmi_version=2)")
     table = FMUS3 if fmi_version == 3 else FMUS
     names = ([] if structures or systems else list(table)) if names is None else list(names)
     for n in names:
@@ -328,9 +340,28 @@ def _jobs(names, structures, systems, out: Path, tmp: Path, bundle: list) -> lis
     return jobs + _system_jobs(systems, SYSTEM_SCRIPT, "", out, tmp, bundle)
 
 
+def _blade_jobs(blades, out: Path, tmp: Path, bundle: list) -> list:
+    """The jobs of one blade FMU per blade model definition (a name in ``models/`` or a ``.toml``
+    path): :data:`BLADE_SCRIPT`, ``<name>.fmu`` (the definition's ``name``), the bundle and the
+    definition's file, and the model description's ``description`` of a solid blade (whose FMU
+    has the outputs of its contact patches, :func:`~frictionjoint.structures.blade_run.blade_outputs`)."""
+    from ..structures import load_blade_model
+    from .slaves import BLADE_RESOURCE, SOLID_BLADE_DESCRIPTION
+
+    jobs = []
+    for model in map(load_blade_model, blades):
+        data = tmp / ("blade_" + model.name) / BLADE_RESOURCE
+        data.parent.mkdir()
+        shutil.copyfile(model.path, data)
+        jobs.append((BLADE_SCRIPT, out / f"{model.name}.fmu", [*bundle, data],
+                     SOLID_BLADE_DESCRIPTION if model.kind == "solid" else None))
+    return jobs
+
+
 def _build_one(script: Path, dest: Path, project_files, check: bool, fmi_version: int = 2,
-               early_return: bool = True) -> Path:
-    """Build one FMU from ``script`` to ``dest``, post-process it and, with ``check``, validate it
+               early_return: bool = True, description: str | None = None) -> Path:
+    """Build one FMU from ``script`` to ``dest``, post-process it (``description``: the model
+    description's, see :func:`postprocess`) and, with ``check``, validate it
     (:class:`~frictionjoint.errors.FMUError` listing the problems)."""
     from ..errors import FMUError
 
@@ -341,7 +372,7 @@ def _build_one(script: Path, dest: Path, project_files, check: bool, fmi_version
         postprocess3(path, early_return)
     else:
         path = _pythonfmu_build(script, dest, project_files)
-        postprocess(path)
+        postprocess(path, description)
     if check:
         problems = validate(path)
         if problems:

@@ -53,18 +53,25 @@ from ..errors import ConvergenceError, ParameterError, check_positive
 from ..solvers.marcher.held import HeldPortStructure
 from ..stepping import OSCILLATOR_OUTPUTS, OSCILLATOR_PARAMETERS, OscillatorRun
 from ..structure_file import StructureDefinition
-from ..structures.blade_run import BLADE_OUTPUTS, BladeRun, blade_parameters
+from ..structures.blade_run import BladeRun, blade_outputs, blade_parameters
 from ..structures.models import load_blade_model
 from .wrapper import BalancedSlave
 
 __all__ = ["CoulombOscillatorSlave", "JenkinsJointSlave", "IwanJointSlave", "MicroslipJointSlave",
            "DovetailRootSlave", "LinearStructureSlave", "BladeDovetailSlave", "STRUCTURE_RESOURCE",
-           "BLADE_RESOURCE"]
+           "BLADE_RESOURCE", "SOLID_BLADE_DESCRIPTION"]
 
 #: file name of the structure definition in LinearStructure.fmu's resources
 STRUCTURE_RESOURCE = "structure.json"
-#: file name of the blade model definition in BladeDovetail.fmu's resources
+#: file name of the blade model definition in BladeDovetail.fmu's resources (and in every blade FMU's)
 BLADE_RESOURCE = "blade_model.toml"
+#: the model description's ``description`` of a blade FMU carrying a solid blade definition
+#: (``[blade] kind = "solid"``; :func:`~frictionjoint.fmi.build.build_fmus` ``blades=``)
+SOLID_BLADE_DESCRIPTION = ("Solid blade (27-node hexahedra, Craig-Bampton to its flank nodes, rotating) on a "
+                           "dovetail root whose flanks are contact patches (a Jenkins slider and a normal spring per "
+                           "node, static node loads from the spun-up contact solution), harmonic tip force; exact "
+                           "event-driven stick/slip of every node (and lift-off with normal_load_variation) located "
+                           "inside do_step")
 
 _TYPES = {float: Real, int: Integer, bool: Boolean}
 #: the range of an FMI 2.0 Integer (fmi2Integer is a C int)
@@ -964,6 +971,12 @@ class BladeDovetailSlave(_RunSlave):
     """A blade model definition on its dovetail root (the definition in the FMU's resources),
     marched exactly inside ``do_step`` (:class:`~frictionjoint.structures.blade_run.BladeRun`).
 
+    The definition is a beam blade on a point-contact dovetail (``BladeDovetail.fmu``) or a solid
+    blade on contact-patch flanks (``build_fmus(blades=...)``): the outputs are the run's
+    (:func:`~frictionjoint.structures.blade_run.blade_outputs`: the beam's, or the same names as
+    flank aggregates and the patch's own), and a step of a solid blade marches at most
+    :attr:`max_cycles_patch` cycles.
+
     What does not change between the resets of a sweep is built once: the definition (per file
     contents) and its reduced assembly (per process, :func:`~frictionjoint.structures.blade_run._reduced`).
     With ``start_from_last_orbit`` the shooting starts from the orbit this instance found at its
@@ -980,6 +993,10 @@ class BladeDovetailSlave(_RunSlave):
     # about 2 ms per period of the default blade with slipping flanks (8 events), 2.6 cycles per
     # period: 5000 cycles take ~4 s
     max_cycles = 5000.0
+    # the solid blade on patches (models/ti64_solid_blade.toml, 42 DOFs, 18 nodes): about 60 ms per
+    # period on its partial-slip orbit at 1900 rad/s (32 events), 2 cycles per period; from rest up to
+    # 0.9 s for the first period (its configurations built): 200 cycles take ~6 s on the orbit
+    max_cycles_patch = 200.0
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -991,8 +1008,11 @@ class BladeDovetailSlave(_RunSlave):
             if len(_BLADE_MODELS) >= 8:
                 _BLADE_MODELS.clear()
             self._model = _BLADE_MODELS[data] = load_blade_model(path)
+        self._outputs = blade_outputs(self._model)
+        if self._model.kind == "solid":
+            self.max_cycles = self.max_cycles_patch
         self._declare_run(blade_parameters(self._model),
-                          "extra force at the tip, added to the harmonic one, held over a step [N]", BLADE_OUTPUTS)
+                          "extra force at the tip, added to the harmonic one, held over a step [N]", self._outputs)
 
     def _initialise(self):
         params = {k: getattr(self, k) for k in blade_parameters(self._model)}
@@ -1009,11 +1029,13 @@ class BladeDovetailSlave(_RunSlave):
             memory.clear()
         memory[key] = self._run.orbit_state
         freqs = self._run.system.structure.natural_frequencies()
-        positive = freqs[freqs > 0]
+        # the first elastic one: rigid-body modes of the free root are 0 to rounding (sqrt(eps) of
+        # the largest: 0.08 rad/s on the solid blade)
+        positive = freqs[freqs > 1e-6 * freqs.max()]
         self._natural = float(positive[0]) if positive.size else 0.0
 
     def _cycle_rate(self):
         return (self._run.parameters["omega"] + self._natural) / (2 * math.pi)
 
     def _idle(self, name):
-        return BLADE_OUTPUTS[name][0]()
+        return self._outputs[name][0]()

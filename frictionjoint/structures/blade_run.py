@@ -18,6 +18,15 @@ initialisations with ``start_from_last_orbit``), from rest where that does not c
 What a run builds that depends on the definition, ``n_modes`` and ``rotor_speed`` only (the blade's
 finite elements and their Craig-Bampton reduction) is built once per process (:func:`_reduced`):
 an FMU's instance is constructed anew at every reset, and a sweep resets once per frequency.
+
+The root is the definition's: a :class:`~frictionjoint.elements.DovetailRoot` (two point contacts,
+a beam blade) or, for a solid blade (``[blade] kind = "solid"``), a
+:class:`~frictionjoint.structures.solid_root.SolidBladeRoot` whose flanks are contact patches of
+many nodes. The flank outputs are the same names for both (:func:`blade_outputs`): for a patch,
+each is its flank's aggregate -- the sum of its nodes' normal and friction forces, slipping while
+any node slips, lifted while every node is -- and the patch adds what a point contact cannot
+say: how many nodes slip or are lifted now, and the share of the flank's node time spent
+slipping since the start (over one period of an orbit: the mean slipping share of the flank).
 """
 from __future__ import annotations
 
@@ -28,6 +37,7 @@ import numpy as np
 
 from ..threads import owns_blas_threads
 from ..elements.dovetail import FLANK_OUTPUTS
+from ..elements.patch import PatchDovetailRoot
 from ..errors import ParameterError, check_bool, check_positive, check_real
 from ..solvers.marcher.eventlog import MarchState
 from ..solvers.marcher.events import EventLog, Marcher
@@ -36,7 +46,7 @@ from ..solvers.steady_state import periodic_response
 from ..stepping import run_parameters
 from .assembly import BladeAssembly
 
-__all__ = ["BladeRun", "blade_parameters", "BLADE_OUTPUTS"]
+__all__ = ["BladeRun", "blade_parameters", "blade_outputs", "BLADE_OUTPUTS", "PATCH_OUTPUTS"]
 
 #: output name -> (type, description with unit)
 BLADE_OUTPUTS = {
@@ -54,6 +64,44 @@ BLADE_OUTPUTS = {
     "tip_sin_integral": (float, "integral of tip_displacement sin(omega t) dt since the start, exact [m s]"),
     "orbit_found": (bool, "true when start_on_orbit found the periodic steady state (the run starts on it)"),
 }
+
+#: a root on contact patches (a solid blade's): its flank outputs as aggregates of the nodes, and the
+#: outputs of the patch besides :data:`BLADE_OUTPUTS`'s: output name -> (type, description with unit)
+PATCH_OUTPUTS = {
+    "root_tangential": (float, "tangential root displacement X from the static state, the mean over the flank "
+                               "nodes (each weighted by its share of its flank's stiffness) [m]"),
+    "root_radial": (float, "radial root displacement Y from the static state, outward, the mean over the flank "
+                           "nodes [m]"),
+    "root_rocking": (float, "root rocking theta [rad]: the left flank's mean Y minus the right flank's, over the "
+                            "blade's thickness (the slope of the root face's mid line)"),
+    "normal_force_right": (float, "normal force of the right flank, the sum over its nodes [N]"),
+    "normal_force_left": (float, "normal force of the left flank, the sum over its nodes [N]"),
+    "friction_force_right": (float, "friction force of the right flank, the sum over its nodes, positive radially "
+                                    "inward on the blade [N]"),
+    "friction_force_left": (float, "friction force of the left flank, the sum over its nodes, positive radially "
+                                   "inward on the blade [N]"),
+    "slipping_right": (bool, "true while any node of the right flank slips"),
+    "slipping_left": (bool, "true while any node of the left flank slips"),
+    "lifted_right": (bool, "true while every node of the right flank is lifted off (normal_load_variation)"),
+    "lifted_left": (bool, "true while every node of the left flank is lifted off (normal_load_variation)"),
+    "slipping_nodes_right": (int, "number of nodes of the right flank slipping now"),
+    "slipping_nodes_left": (int, "number of nodes of the left flank slipping now"),
+    "lifted_nodes_right": (int, "number of nodes of the right flank lifted off now (normal_load_variation)"),
+    "lifted_nodes_left": (int, "number of nodes of the left flank lifted off now (normal_load_variation)"),
+    "slip_fraction_right": (float, "share of the right flank's node time spent slipping since the start [-], "
+                                   "exact (over one period of an orbit: the mean share of the flank that slips)"),
+    "slip_fraction_left": (float, "share of the left flank's node time spent slipping since the start [-], exact"),
+}
+
+
+def blade_outputs(model) -> dict:
+    """The outputs of a run of the definition ``model``: :data:`BLADE_OUTPUTS` for a beam blade on
+    its point-contact dovetail; for a solid blade on contact patches the same names (their
+    descriptions the patch's, :data:`PATCH_OUTPUTS`) and the patch's own after them. Name ->
+    (type, description with unit)."""
+    if getattr(model, "kind", "beam") != "solid":
+        return BLADE_OUTPUTS
+    return {**{name: PATCH_OUTPUTS.get(name, value) for name, value in BLADE_OUTPUTS.items()}, **PATCH_OUTPUTS}
 
 
 def blade_parameters(model) -> dict:
@@ -161,8 +209,14 @@ class BladeRun:
         self._tip_row = asm._row(tip)
         root = asm.joints[0]
         self._root = root
-        self._root_map = root._root_map(self.system.structure)
-        self.t = check_real("start_time", start_time)
+        patch = getattr(root, "patch_root", root)
+        #: a root on contact patches: its nodes' outputs (None for a DovetailRoot)
+        self._patch = (_PatchFlanks(patch, self.system, model.blade_parameters.get("thickness"))
+                       if isinstance(patch, PatchDovetailRoot) else None)
+        self._root_map = root._root_map(self.system.structure) if self._patch is None else self._patch.root_map
+        #: each patch node's time spent slipping since the start [s] (empty for a DovetailRoot)
+        self.slip_time = np.zeros(0 if self._patch is None else patch.n_nodes)
+        self._t_start = self.t = check_real("start_time", start_time)
         self.orbit_found = False
         self.orbit_state = None
         n = self.system.n_dof
@@ -220,6 +274,8 @@ class BladeRun:
             x0 = itv.x0
             x1 = itv.state(tau_end)[0][:, 0]
             self.dissipated_energy += piece_slip(self.system, itv, tau_end, x1 - x0)[1]
+            if self.slip_time.size:
+                self.slip_time[np.abs(itv.status[:self.slip_time.size]) == 1] += tau_end
 
         self.itv = self.marcher.march(self.state, t_end, self.log if record else None,
                                       on_interval=on_interval, itv=self.itv)
@@ -254,6 +310,8 @@ class BladeRun:
         if name == "orbit_found":
             return bool(self.orbit_found)
         side = 0 if name.endswith("right") else 1
+        if self._patch is not None:
+            return self._patch.output(name, side, st, self.slip_time, self.t - self._t_start)
         if name.startswith("normal_force"):
             n0 = self._root.static.normal_force
             load = n0 - self._root.normal_stiffness * float(self._root.normal_rows[side] @ u)
@@ -263,9 +321,9 @@ class BladeRun:
             # on the status: slipping sig mu N, zero on an open contact)
             k = sysm.slider_stiffness[side]
             return float(k * (sysm.slider_direction[side] @ st.x - st.w[side]))
-        if name.startswith("slipping"):
+        if name in ("slipping_right", "slipping_left"):
             return bool(st.status[side] in (1, -1))
-        if name.startswith("lifted"):
+        if name in ("lifted_right", "lifted_left"):
             return bool(st.status[side] == 2)
         raise ParameterError(f"unknown output {name!r}; allowed: {sorted(BLADE_OUTPUTS)}")
 
@@ -274,7 +332,7 @@ class BladeRun:
         st = self.state
         return {"t": self.t, "x": st.x.copy(), "v": st.v.copy(), "w": st.w.copy(), "status": st.status.copy(),
                 "v_scale": st.v_scale, "diss": self.dissipated_energy, "integrals": self.integrals.copy(),
-                "events": len(self.log), "tip_force": self.tip_force}
+                "events": len(self.log), "tip_force": self.tip_force, "slip_time": self.slip_time.copy()}
 
     def restore(self, snap: dict) -> None:
         """Back to a state from :meth:`snapshot` (its events beyond it forgotten)."""
@@ -283,7 +341,72 @@ class BladeRun:
         self.t = snap["t"]
         self.dissipated_energy = snap["diss"]
         self.integrals = snap["integrals"].copy()
+        self.slip_time = snap["slip_time"].copy()
         for lst in (self.log.time, self.log.element, self.log.slider, self.log.kind):
             del lst[snap["events"]:]
         self.hold(snap["tip_force"])
         self.itv = None  # the piece of another state: settle again
+
+
+class _PatchFlanks:
+    """The flank outputs of a root on contact patches (:class:`~frictionjoint.elements.PatchDovetailRoot`,
+    a :class:`~frictionjoint.structures.solid_root.SolidBladeRoot`'s) in a run's system, whose
+    sliders and contacts are the root's nodes in order (right flank first): see :data:`PATCH_OUTPUTS`.
+
+    Parameters
+    ----------
+    root : PatchDovetailRoot
+    system : FrictionSystem
+        The run's system, the root its only joint.
+    thickness : float or None
+        The distance [m] between the flanks' lines (a solid blade's thickness), the lever of
+        ``root_rocking``; None: ``root_rocking`` is 0.
+    """
+
+    def __init__(self, root: PatchDovetailRoot, system, thickness) -> None:
+        structure = system.structure
+        if system.n_sliders != root.n_nodes:
+            raise ParameterError(f"a blade run on patches needs the root as its only joint ({system.n_sliders} "
+                                 f"sliders, {root.n_nodes} nodes)")
+        index, normal, _ = root._node_rows(structure)
+        self.normal_rows = root._rows(structure, index, normal)  # (n_nodes, n_dof): each node's normal
+        self.normal_stiffness = root.normal_stiffness
+        self.static_normal_force = root.static_state(structure).normal_force
+        self.nodes = [np.flatnonzero(root.flank == side) for side in (0, 1)]
+        # root coordinates: per flank the stiffness-weighted mean of its nodes' (X, Y), averaged
+        # over the flanks; rocking from the flanks' mean Y across the thickness
+        means = np.zeros((2, 2, structure.n_dof))  # flank, (X, Y), dofs
+        for side, nodes in enumerate(self.nodes):
+            w = root.normal_stiffness[nodes] / root.normal_stiffness[nodes].sum()
+            for k in range(2):
+                np.add.at(means[side, k], index[nodes, k], w)
+        self.root_map = np.vstack([0.5 * (means[0] + means[1]),
+                                   (means[1, 1] - means[0, 1])[None] / thickness if thickness
+                                   else np.zeros((1, structure.n_dof))])
+        self.system = system
+
+    def output(self, name: str, side: int, state, slip_time: np.ndarray, elapsed: float):
+        """The flank output ``name`` of the flank ``side`` (0 right, 1 left) in the march state
+        ``state``; ``slip_time`` the nodes' slip times [s] over the ``elapsed`` time [s]."""
+        sysm, nodes = self.system, self.nodes[side]
+        status = state.status[nodes]
+        if name.startswith("normal_force"):
+            if sysm.n_contacts:  # each node's contact, lift-off included
+                return float(sysm.normal_loads(state.x)[nodes].sum())
+            return float(np.sum(self.static_normal_force[nodes]
+                                - self.normal_stiffness[nodes] * (self.normal_rows[nodes] @ state.x)))
+        if name.startswith("friction_force"):
+            # the nodes' Jenkins spring forces k (d.x - w), their static preloads included
+            k = sysm.slider_stiffness[nodes]
+            return float(np.sum(k * (sysm.slider_direction[nodes] @ state.x - state.w[nodes])))
+        if name.startswith("slipping_nodes"):
+            return int(np.count_nonzero(np.abs(status) == 1))
+        if name.startswith("lifted_nodes"):
+            return int(np.count_nonzero(status == 2))
+        if name.startswith("slipping"):
+            return bool(np.any(np.abs(status) == 1))
+        if name.startswith("lifted"):
+            return bool(np.all(status == 2))
+        if name.startswith("slip_fraction"):
+            return float(slip_time[nodes].sum() / (nodes.size * elapsed)) if elapsed > 0 else 0.0
+        raise ParameterError(f"unknown output {name!r}; allowed: {sorted(BLADE_OUTPUTS)} and {sorted(PATCH_OUTPUTS)}")
