@@ -701,7 +701,7 @@ _SLIP_COLOURS = ("#c6dbef", "#d62728", "#252525")
 
 
 def plot_slip_pattern(pattern, sliders=None, positions=None, static_load=None, ax=None, path=None,
-                      position_label: str = "node", load_label: str = "static normal load [N]",
+                      position_label: str = "position along the patch", load_label: str = "static normal load [N]",
                       title: str | None = None):
     """The stick/slip pattern of a contact patch over one cycle: its nodes (along the patch) against
     the time in the cycle, each piece coloured stuck, slipping or open, exact between the events;

@@ -30,6 +30,7 @@ GUIDE_EXAMPLES = {
     "harmonic-balance.md": "hb = fj.harmonic_balance(",
     "studies.md": "study = Study(",
     "nonlinear-modes.md": "nm = fj.nonlinear_mode(",
+    "solid-blades.md": "pattern = slip_pattern(",
 }
 
 
@@ -230,3 +231,29 @@ def test_study_example_runs(tmp_path, monkeypatch):
     assert len(table) == 5 and table.success
     assert 0 < int(np.argmin(table["peak_amplitude"])) < 4
     assert (tmp_path / "damper.csv").exists() and (tmp_path / "damper.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.slow  # about 5 s: a coarse solid blade reduced to its flanks, one steady state
+def test_solid_blades_example_runs(tmp_path, monkeypatch):
+    """The step-by-step example of docs/solid-blades.md: partial slip over the flanks at 2050 rad/s
+    (the ends of each flank stick, the inner nodes slip), its picture written."""
+    block, origin = guide_example("solid-blades.md")
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "guide"}
+    exec(compile(block, origin, "exec"), namespace)
+    fraction = namespace["pattern"].fraction()
+    assert namespace["static"].regime == "slipping" and namespace["reduced"].n_dof == 26
+    assert fraction.max() > 0.1 and fraction[[0, 4, 5, 9]].max() < 1e-3
+    assert (tmp_path / "slip_pattern.png").read_bytes()[:8] == PNG_MAGIC
+
+
+@pytest.mark.slow  # about 30 s of CPU: three frequencies, two of them slipping, and the varying loads
+def test_solid_blade_root_example(tmp_path):
+    env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "solid_blade_root.py"), str(tmp_path / "study")],
+                          capture_output=True, text=True, timeout=600, cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    for name in ("study_response.png", "study_slip.png"):
+        assert (tmp_path / name).read_bytes()[:8] == PNG_MAGIC
+    assert "slipping during run-up" in proc.stdout and "gross slip" in proc.stdout
+    assert "varying normal loads at 1920 rad/s: periodic steady state found" in proc.stdout
