@@ -108,13 +108,13 @@ def main(argv):
     patterns = [slip_pattern(r, asm.system(r.omega)) if r.converged else None for r in states]
     regimes = [regime(p, flanks) if p is not None else "no orbit" for p in patterns]
     fine = np.linspace(*BAND, 801)
-    force = asm.loads[asm.tip] * asm.structure.transformation[list(asm.structure.full_dof_names).index(asm.tip)]
-    limits = {name: s.harmonic_response(fine, force) @ (force / asm.loads[asm.tip])
-              for name, s in limit_structures(asm.system(fine[0])).items()}
-    print(f"\n{'omega [rad/s]':>13} {'tip [mm]':>9} {'stuck limit':>11} {'free slip':>10}  regime (frozen normal loads)")
-    lim_at = {name: np.interp(omegas, fine, np.abs(v)) for name, v in limits.items()}
-    for w, x, a, b, reg in zip(omegas, np.abs(tip), lim_at["stuck"], lim_at["slipping"], regimes):
-        print(f"{w:13.1f} {1e3 * x:9.4f} {1e3 * a:11.4f} {1e3 * b:10.4f}  {reg}")
+    tip_row = asm.structure.transformation[list(asm.structure.full_dof_names).index(asm.tip)]  # x_tip = row . x_r
+    limit_structure = limit_structures(asm.system(fine[0]))  # every node stuck; every node slipping freely
+    limits, lim_at = ({name: s.harmonic_response(ws, asm.loads[asm.tip] * tip_row) @ tip_row
+                       for name, s in limit_structure.items()} for ws in (fine, omegas))
+    print(f"\n{'omega [rad/s]':>13} {'tip [mm]':>9} {'stuck limit':>11} {'free slip':>10}  regime (frozen N0)")
+    for w, x, a, b, reg in zip(omegas, tip, lim_at["stuck"], lim_at["slipping"], regimes):
+        print(f"{w:13.1f} {1e3 * abs(x):9.4f} {1e3 * abs(a):11.4f} {1e3 * abs(b):10.4f}  {reg}")
     for name, v in limits.items():
         k = int(np.argmax(np.abs(v)))
         print(f"linear limit '{name}': peak {1e3 * abs(v[k]):.4g} mm at {fine[k]:.5g} rad/s")
