@@ -83,3 +83,19 @@ def test_refused_input():
         slip_pattern(r, other)
     with pytest.raises(ParameterError, match="converged"):
         slip_pattern(failed_response(system.omega, system.n_dof, "made to fail"), system)
+
+
+def test_plot_writes_the_pattern(tmp_path):
+    """The pattern's picture: one flank with a static quantity beside it, or into given axes."""
+    from frictionjoint.plotting import new_figure
+
+    system = _shaken(True)
+    p = slip_pattern(fj.periodic_response(system), system)
+    ax = p.plot(path=tmp_path / "pattern.png", sliders=[1], positions=[0.0], static_load=[FC])
+    assert ax.get_xlim() == (0.0, 1.0) and (tmp_path / "pattern.png").read_bytes()[:4] == b"\x89PNG"
+    fig = new_figure()
+    axes = fig.subplots(1, 2)
+    assert p.plot(ax=tuple(axes), static_load=[1.0, 2.0], title="both flanks") is axes[0]
+    assert {t.get_text() for t in axes[0].get_legend().get_texts()} == {"stuck", "slipping", "open"}
+    with pytest.raises(ValueError, match="positions"):
+        p.plot(positions=[0.0])
