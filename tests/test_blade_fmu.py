@@ -166,3 +166,116 @@ def test_blade_fmu_rejects_bad_parameters_with_a_message(fmus, name, value, text
     res = run("bad_parameter", fmus["BladeDovetail"], name, json.dumps(value))
     assert res["raised"] is not None
     assert any(text in m for m in res["messages"]), res["messages"]
+
+
+# ---------------------------------------------------------------------------------------------------
+# The solid blade on contact-patch flanks (models/ti64_solid_blade.toml) as a blade FMU: the same
+# slave and script as BladeDovetail.fmu, carrying the solid definition (build_fmus(blades=...)),
+# built here only (the default build, and so the README's build-fmus, is unchanged).
+SOLID = "ti64_solid_blade"
+#: stuck (1894 rad/s) and partial slip (1916, 1938 rad/s) near the first flapwise resonance, 50 N
+SOLID_OMEGAS = np.array([1894.0, 1916.0, 1938.0])
+#: FMU against the library's sweep of the same definition: the two reduce the blade separately, and
+#: two Craig-Bampton reductions of one definition differ by ARPACK's start vector (the modes to
+#: ~3e-12, and a torsion mode's sign where its two largest entries tie): two library sweeps of the
+#: definition differ by 1.6e-9 to 3.2e-9 (measured), their stuck orbit is 9.6e-10 from the exact
+#: linear response of the same reduced model
+SOLID_DEFINITION_TOL = 2e-8
+#: FMU against the library's sweep of the very same reduced assembly (the FMU running the installed
+#: library, whose reductions it shares): measured up to 2.2e-11 (first harmonics) and 6e-11
+#: (amplitudes) over 6 points from 1850 to 1960 rad/s in two runs
+SOLID_SAME_MODEL_TOL = 2e-10
+
+
+@pytest.fixture(scope="module")
+def solid_fmu(tmp_path_factory):
+    from frictionjoint.fmi.build import build_fmus
+
+    return build_fmus(tmp_path_factory.mktemp("solid_fmu"), blades=[SOLID])[0]
+
+
+@pytest.mark.slow
+@pytest.mark.fmu
+def test_solid_blade_fmu_validates_with_the_patch_outputs(solid_fmu, fmus):
+    """The solid blade's FMU is named after its definition, validates (fmpy), carries the definition
+    and has the beam FMU's variables (its flank outputs as aggregates of the nodes) and the patch's
+    own after them; BladeDovetail.fmu's variables are unchanged."""
+    from fmpy import read_model_description
+
+    from frictionjoint.fmi.build import validate
+    from frictionjoint.structures.blade_run import BLADE_OUTPUTS, PATCH_OUTPUTS, blade_outputs
+
+    assert solid_fmu.name == "Ti64SolidBlade.fmu"
+    assert validate(solid_fmu) == []
+    md = read_model_description(str(solid_fmu))
+    beam = read_model_description(str(fmus["BladeDovetail"]))
+    names = [v.name for v in md.modelVariables]
+    beam_names = [v.name for v in beam.modelVariables]
+    assert names == beam_names + [n for n in PATCH_OUTPUTS if n not in BLADE_OUTPUTS]
+    assert beam_names[-len(BLADE_OUTPUTS):] == list(BLADE_OUTPUTS)
+    assert blade_outputs(load_blade_model("ti64_compressor_blade")) is BLADE_OUTPUTS
+    assert "contact patches" in md.description and "contact patches" not in beam.description
+    assert md.coSimulation.modelIdentifier == "BladeDovetail"
+
+
+@pytest.mark.slow
+@pytest.mark.fmu
+def test_solid_blade_fmu_sweep_equals_the_library_sweep(solid_fmu):
+    """frictionjoint.sweep of the solid blade's FMU (through fmpy, as BladeDovetail.fmu's) equals the
+    library's sweep of the definition (SOLID_DEFINITION_TOL, see there) and, where the FMU ran the
+    installed library, the library's sweep of the FMU's own reduced assembly to SOLID_SAME_MODEL_TOL;
+    the dissipation per cycle likewise where the flanks slip."""
+    from frictionjoint.structures import blade_run
+
+    blade_run._REDUCED.clear()
+    a = fj.sweep(str(solid_fmu), SOLID_OMEGAS)
+    b = fj.sweep(SOLID, SOLID_OMEGAS)
+    assert a.converged.all() and b.converged.all(), (a.messages, b.messages)
+    # 1894 rad/s sticks: its dissipation is rounding (~1e-13 J, or 0), the flag may say either
+    slip = b.dissipated_per_cycle > 1e-6
+    assert list(slip) == [False, True, True] and not a.stuck[1:].any()
+    assert np.max(np.abs(a.response - b.response) / np.abs(b.response)) <= SOLID_DEFINITION_TOL
+    diss = np.abs(a.dissipated_per_cycle - b.dissipated_per_cycle)[slip] / b.dissipated_per_cycle[slip]
+    assert np.max(diss) <= SOLID_DEFINITION_TOL
+    if len(blade_run._REDUCED) == 1:  # the FMU ran the installed library (the bundle where it is edited)
+        c = fj.sweep(next(iter(blade_run._REDUCED.values())), SOLID_OMEGAS)
+        assert np.max(np.abs(a.response - c.response) / np.abs(c.response)) <= SOLID_SAME_MODEL_TOL
+        diss = np.abs(a.dissipated_per_cycle - c.dissipated_per_cycle)[slip] / c.dissipated_per_cycle[slip]
+        assert np.max(diss) <= SOLID_SAME_MODEL_TOL
+
+
+def test_solid_blade_run_outputs_are_the_flank_nodes_aggregates():
+    """BladeRun on the solid blade (what its FMU steps): at the static state the flank outputs are the
+    patch's static flank totals; on the partial-slip orbit at 1916 rad/s the exact slip fraction of
+    a period equals the slipping-node count sampled at 400 points of it (to the sampling's
+    1/400 per event, measured 1.3e-3), and some nodes slip while the others stick (partial
+    slip, which a point contact cannot show: there every node slips 40 % of the period, each at
+    its own time)."""
+    from frictionjoint.structures.blade_run import BladeRun
+
+    model = load_blade_model(SOLID)
+    run = BladeRun(model, {"omega": 1916.0})
+    root = run.assembly.joints[0]
+    static = root.static_state(run.system.structure)
+    for side, name in enumerate(("right", "left")):
+        assert run.output(f"normal_force_{name}") == pytest.approx(static.flank_normal_force[side], rel=1e-12)
+        assert run.output(f"friction_force_{name}") == pytest.approx(static.flank_friction_force[side], rel=1e-9)
+    assert run.output("slip_fraction_right") == 0.0
+
+    run = BladeRun(model, {"omega": 1916.0, "start_on_orbit": True})
+    assert run.orbit_found
+    period = 2 * math.pi / 1916.0
+    n = 400
+    counts = np.zeros((n, 2))
+    for k in range(n):
+        run.advance(period * (k + 0.5) / n)
+        counts[k] = run.output("slipping_nodes_right"), run.output("slipping_nodes_left")
+        for name in ("right", "left"):
+            assert run.output(f"slipping_{name}") == (run.output(f"slipping_nodes_{name}") > 0)
+            assert run.output(f"lifted_{name}") is False and run.output(f"lifted_nodes_{name}") == 0
+    run.advance(period)
+    sampled = counts.mean(axis=0) / 9
+    exact = [run.output("slip_fraction_right"), run.output("slip_fraction_left")]
+    assert 0 < min(exact) < max(exact) < 1 and counts.max() > 0
+    assert np.any((counts > 0) & (counts < 9))  # some nodes slip while the others stick
+    assert np.max(np.abs(np.array(exact) - sampled)) <= 5e-3
