@@ -22,7 +22,7 @@ import pytest
 import frictionjoint as fj
 from frictionjoint.errors import ParameterError
 from frictionjoint.solvers.frequency_domain.nonlinear_mode import free_system, nonlinear_mode, orbit_starts
-from frictionjoint.solvers.marcher.autonomous import mode_orbit, mode_orbits
+from frictionjoint.solvers.marcher.autonomous import mode_branch, mode_orbit, mode_orbits
 
 CLOSED_FORM_TOL = 1e-9
 #: the exact orbit against a closed form, and against itself from another start
@@ -243,7 +243,7 @@ def test_exact_orbit_closed_form_and_harmonic_convergence():
     from a start 10 % off, omega = the undamped mode's and xi = alpha + beta omega^2 exactly, for
     both modes; (2) on the single-DOF Jenkins, the same orbit from the H = 1 and the H = 45 points
     (to 1e-9), and the harmonic balance converging to it as H grows (measured: H = 1 3.4e-2 in
-    zeta, H = 15 2.5e-5, H = 45 3.5e-7)."""
+    zeta, H = 15 2.5e-5, H = 45 3.5e-7); (3) its branch by arc length through the same orbits."""
     import scipy.linalg
 
     alpha, beta, kt = 0.01, 0.002, 0.3
@@ -270,6 +270,16 @@ def test_exact_orbit_closed_form_and_harmonic_convergence():
         errors[hh] = max(dw.max(), dz.max())
     np.testing.assert_allclose(exact[1], exact[45], rtol=EXACT_TOL)
     assert errors[1] > 1e-2 and errors[15] <= 5e-5 and errors[45] <= 1e-6, errors
+    # (3) the branch by pseudo-arclength from the orbits at 0.1 and 0.12 to 1: each point is the
+    # orbit solved at its amplitude from a start 1 % off (measured 7e-12)
+    nm = nonlinear_mode(system, amplitudes=[0.1, 0.12], n_harmonics=15)
+    first, second = mode_orbits(free_system(system), 0, orbit_starts(system, nm, [0, 1]))
+    branch = mode_branch(free_system(system), 0, first, second, 1.0, x_scale=[0.1])
+    assert len(branch) >= 5 and branch[-1].amplitude >= 1.0 and np.all(np.diff([o.amplitude for o in branch]) > 0)
+    for o in branch:
+        ref = mode_orbit(free_system(system), o.state, 2 * math.pi / o.frequency * 1.01, o.negative_damping * 1.01,
+                         0, o.amplitude)
+        assert abs(o.frequency / ref.frequency - 1) <= EXACT_TOL and abs(o.damping_ratio / ref.damping_ratio - 1) <= EXACT_TOL
 
 
 def blade(normal_load_variation=False):
@@ -325,9 +335,10 @@ def test_blade_with_normal_load_variation_against_the_exact_epmc_orbit():
     """The blade with its flanks' normal loads varying, H = 15, from stuck (1e-7 m at w0) through the
     damping peak (zeta = 0.132 at 1.8e-5 m) to 5.6e-5 m, against the exact EPMC orbit: stuck the
     same; up to 2.5e-3 in frequency and 2.9e-2 in zeta (measured 2.4e-3 and 2.8e-2), the same
-    truncation as with frozen loads. Beyond, the branch folds twice between 5.6e-5 and 1e-4 m (the
-    balance passes by arc length); the exact orbit, continued in amplitude only, stops there
-    (solved at 6.5e-5 m, not at 8.0e-5 m), and the balance itself stops at 1.15e-4 m."""
+    truncation as with frozen loads. Beyond, the exact orbit's flanks lift off (its least normal
+    load 5.4 N at 5.6e-5 m; lifted 3 % of the period at 6.5e-5 m): a motion of impacts on the stiff
+    normal contact, where the exact orbit was solved at 6.3e-5 and 6.5e-5 m and not beyond, by
+    amplitude or by arc length, and where the balance folds twice and stops at 1.15e-4 m."""
     system = blade(normal_load_variation=True)
     nm = nonlinear_mode(system, amplitudes=np.geomspace(1e-7, 1e-4, 13)[:12], n_harmonics=15, dof="w0")
     assert nm.success, nm.message

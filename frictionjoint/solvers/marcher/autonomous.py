@@ -40,7 +40,7 @@ from .events import Marcher
 from .response import displacement_fourier, piece_slip
 from .steady import _PeriodMap
 
-__all__ = ["mode_orbit", "mode_orbits", "section_state", "negative_damping_system"]
+__all__ = ["mode_orbit", "mode_orbits", "mode_branch", "section_state", "negative_damping_system"]
 
 #: forward-difference step of the Jacobian, relative to each unknown's scale
 FD_STEP = 1e-7
@@ -205,15 +205,27 @@ def mode_orbit(free: FrictionSystem, z0, period: float, xi: float, dof: int, amp
     if x_scale is None:
         x_scale = np.maximum(np.abs(z0[:n]), np.abs(z0[n:2 * n]) / w0)
     x_scale = np.maximum(np.asarray(x_scale, dtype=float), SCALE_FLOOR * float(np.max(x_scale)))
-    u0 = np.r_[z0, period, xi]
-    qmap = _ModeMap(free, dof, amplitude, u0, x_scale)
-    qu0 = qmap(u0)
+    qmap = _ModeMap(free, dof, amplitude, np.r_[z0, period, xi], x_scale)
+    ok, u, rnorm, its = _solve(qmap, np.r_[z0, period, xi], tol, max_iter)
+    return _result(qmap, u, ok, rnorm, its, amplitude, n_harmonics)
+
+
+def _solve(qmap, u0: np.ndarray, tol: float, max_iter: int):
+    """:func:`fixed_point_newton` on ``qmap`` from ``u0``: ``(converged, u, residual, Newton
+    iterations)``."""
     its = [0]
 
     def jacobian(u, qu):
         its[0] += 1
         return qmap.jacobian(u, qu)
-    ok, u, qu, rnorm, _, _ = fixed_point_newton(qmap, jacobian, u0, qu0, qmap.scale, tol, max_iter, chord=False)
+    ok, u, _, rnorm, _, _ = fixed_point_newton(qmap, jacobian, u0, qmap(u0), qmap.scale, tol, max_iter, chord=False)
+    return ok, u, rnorm, its[0]
+
+
+def _result(qmap, u: np.ndarray, ok: bool, rnorm: float, its: int, amplitude: float, n_harmonics: int) -> ModeOrbit:
+    """The :class:`ModeOrbit` of the unknowns ``u = (z, T, xi)``: its harmonics and friction
+    energy from one more march over its pieces."""
+    n, dof = qmap.n, qmap.dof
     big_t, xi = float(u[-2]), float(u[-1])
     omega = 2 * math.pi / big_t
     harm = np.zeros((n_harmonics + 1, n), complex)
@@ -230,12 +242,12 @@ def mode_orbit(free: FrictionSystem, z0, period: float, xi: float, dof: int, amp
     harm[0] *= 0.5
     shift = -np.angle(harm[1, dof])  # the first harmonic at the DOF real and positive
     harm *= np.exp(1j * shift * np.arange(n_harmonics + 1))[:, None]
-    message = (f"EPMC orbit solved exactly in time ({its[0]} Newton iterations, {qmap.calls} periods marched, "
+    message = (f"EPMC orbit solved exactly in time ({its} Newton iterations, {qmap.calls} periods marched, "
                f"residual {rnorm:.3g})" if ok else
-               f"the exact EPMC orbit was not found (residual {rnorm:.3g} after {its[0]} Newton iterations)")
+               f"the exact EPMC orbit was not found (residual {rnorm:.3g} after {its} Newton iterations)")
     return ModeOrbit(amplitude=float(amplitude), frequency=omega if ok else math.nan,
                      damping_ratio=xi / (2 * omega) if ok else math.nan, negative_damping=xi, harmonics=harm,
-                     friction_per_cycle=friction[0], state=u[:-2].copy(), residual=rnorm, iterations=its[0],
+                     friction_per_cycle=friction[0], state=u[:-2].copy(), residual=rnorm, iterations=its,
                      converged=bool(ok), message=message)
 
 
@@ -246,8 +258,9 @@ MAX_HALVINGS = 3
 def mode_orbits(free: FrictionSystem, dof: int, starts, *, n_harmonics: int = 15, tol: float = 1e-10,
                 max_iter: int = 15) -> list:
     """The EPMC orbit at each of several amplitudes, each from its start (e.g. a harmonic
-    balance's point; the section is put on a smooth stretch of it, :func:`section_state`); where Newton fails from it, from the last orbit solved
-    (in the order given), by steps in log amplitude halved down to :data:`MAX_HALVINGS` times.
+    balance's point; the section is put on a smooth stretch of it, :func:`section_state`); where
+    Newton fails from it, from the last orbit solved (in the order given), by steps in log
+    amplitude halved down to :data:`MAX_HALVINGS` times.
 
     Parameters
     ----------
@@ -294,3 +307,83 @@ def _reach(free, dof, last: ModeOrbit, amplitude, x_scale, n_harmonics, tol, max
     if not mid.converged:
         return mid
     return _reach(free, dof, mid, amplitude, x_scale, n_harmonics, tol, max_iter, depth + 1)
+
+
+class _ArcMap(_ModeMap):
+    """:class:`_ModeMap` with the amplitude an unknown too, ``u = (z, T, xi, A)``, and one more
+    equation: the step ``ds`` along the branch's unit tangent ``t`` from the point ``base``, in
+    the scaled unknowns ``u / scale`` (pseudo-arclength; its residual times ``A``'s scale)."""
+
+    def __init__(self, free, dof, base: np.ndarray, tangent: np.ndarray, ds: float, x_scale: np.ndarray):
+        super().__init__(free, dof, float(base[-1]), base[:-1], x_scale)
+        self.scale = np.r_[self.scale, base[-1]]
+        self.base, self.tangent, self.ds = base, tangent, ds
+
+    def residual(self, u: np.ndarray) -> np.ndarray:
+        self.amplitude = float(u[-1])
+        arc = (self.tangent @ ((u - self.base) / self.scale) - self.ds) * self.scale[-1]
+        return np.r_[super().residual(u[:-1]), arc]
+
+    def march(self, u: np.ndarray, on_interval=None):
+        return super().march(u[:self.nz + 2], on_interval)
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        if not (u[-3] > 0 and u[-1] > 0 and np.all(np.isfinite(u))):
+            return np.full(u.size, np.inf)
+        return u + self.residual(u)
+
+
+def mode_branch(free: FrictionSystem, dof: int, first: ModeOrbit, second: ModeOrbit, amplitude_end: float, *,
+                x_scale, n_harmonics: int = 15, tol: float = 1e-10, max_iter: int = 15,
+                max_points: int = 60) -> list:
+    """The EPMC orbit continued along its branch by pseudo-arclength from two solved orbits
+    ``first`` and ``second`` (their secant the first tangent), until the amplitude passes
+    ``amplitude_end`` [m]: turning points in amplitude (folds) are passed, which continuation in the
+    amplitude alone (:func:`mode_orbits`) cannot. Each point is solved by the same Newton with the
+    amplitude an unknown and the step's length an equation; a step that fails is halved (down to
+    1/64 of the first), a step that succeeds grows by half.
+
+    Parameters
+    ----------
+    free : FrictionSystem
+        The system without excitation.
+    dof : int
+        The DOF of the amplitude.
+    first, second : ModeOrbit
+        Two converged orbits of the branch, the direction of continuation from ``first`` to
+        ``second``.
+    amplitude_end : float
+        Stop once the amplitude passes it [m].
+    x_scale : (n_dof,) array_like
+        Each DOF's displacement scale [m] (:func:`mode_orbit`).
+    n_harmonics, tol, max_iter :
+        As :func:`mode_orbit`'s.
+    max_points : int
+        Branch points at most.
+
+    Returns
+    -------
+    list of ModeOrbit
+        The branch's points after ``second``, in order (their amplitudes need not grow).
+    """
+    x_scale = np.maximum(np.asarray(x_scale, dtype=float), SCALE_FLOOR * float(np.max(x_scale)))
+
+    def unknowns(o):
+        return np.r_[o.state, 2 * math.pi / o.frequency, o.negative_damping, o.amplitude]
+    u0, u1 = unknowns(first), unknowns(second)
+    scale = _ArcMap(free, dof, u1, np.zeros(u1.size), 0.0, x_scale).scale
+    step = (u1 - u0) / scale
+    ds0 = ds = float(np.linalg.norm(step))
+    tangent = step / ds
+    out = []
+    while len(out) < max_points and u1[-1] < amplitude_end and ds >= ds0 / 64:
+        qmap = _ArcMap(free, dof, u1, tangent, ds, x_scale)
+        ok, u, rnorm, its = _solve(qmap, u1 + ds * tangent * qmap.scale, tol, max_iter)
+        if not ok:
+            ds *= 0.5
+            continue
+        step = (u - u1) / qmap.scale
+        tangent = step / float(np.linalg.norm(step))
+        out.append(_result(qmap, u[:-1], ok, rnorm, its, float(u[-1]), n_harmonics))
+        u1, ds = u, ds * 1.5
+    return out
