@@ -70,3 +70,30 @@ def test_compiled_piece_kernels_match_numpy():
         assert np.max(np.abs(v - vr[:, 0])) <= 1e-14 * np.max(np.abs(xr)) * itv.config.max_rate
         checked += 1
     assert checked > 10
+
+
+def test_left_modes_are_the_inverse_of_refined_modes():
+    """propagator._left_modes: V^-1 of a symmetric pencil's refined modes from their shapes. Against
+    inv(V) on a damped 3-DOF configuration with a stuck spring at kt/k = 1e4 (inv(V) is accurate
+    there: ~eps cond(V), cond ~ 1e3), to 1e-12 of each row; None where it does not apply (an
+    unsymmetric damping, a repeated eigenvalue whose shapes are not M-orthogonal)."""
+    mr = np.diag([1.0, 0.5, 2.0])
+    kr = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    cr = 0.01 * kr + 0.002 * mr
+    dr = np.array([[1.0], [0.0], [-1.0]])
+    kt = np.array([1e4])
+    kc = kr + kt[0] * dr @ dr.T
+    a = np.block([[np.zeros((3, 3)), np.eye(3)], [-np.linalg.solve(mr, kc), -np.linalg.solve(mr, cr)]])
+    lam, (tsc, v), _ = propagator._general_modes(a)
+    lam, v = propagator._refine_modes(lam.astype(complex), v, mr, cr, kr, dr, kt)
+    w = propagator._left_modes(lam, v, mr, cr, kr)
+    ref = np.linalg.inv(v)
+    assert w is not None
+    assert np.all(np.max(np.abs(w - ref), axis=1) <= 1e-12 * np.max(np.abs(ref), axis=1))
+    assert propagator._left_modes(lam, v, mr, cr + np.triu(cr, 1) * 1e-3, kr) is None
+    # K = M = I: every mode at +-i; shapes (1, 0) and (1, 1)/sqrt(2) are modes but not M-orthogonal
+    phi = np.array([[1.0, 0.0], [1.0, 1.0]]).T / [1.0, math.sqrt(2.0)]
+    lam2 = np.array([1j, 1j, -1j, -1j])
+    shapes = np.hstack([phi, phi]).astype(complex)
+    v2 = np.vstack([shapes, shapes * lam2])
+    assert propagator._left_modes(lam2, v2, np.eye(2), np.zeros((2, 2)), np.eye(2)) is None
