@@ -128,8 +128,17 @@ def main(argv):
     varying = asm.with_root(normal_load_variation=True)
     first = max([k for k in range(k_peak) if regimes[k] == "stuck"], default=k_peak)
     var_states, var_tip = sweep(varying, omegas[first:k_peak + 1])
+    m = asm.structure.n_dof
     r_var, x_var = var_states[-1], var_tip[-1]
     p_var = slip_pattern(r_var, varying.system(r_var.omega)) if r_var.converged else None
+    if r_var.converged:  # each node's normal load over the cycle, from the orbit marched once more
+        system, z, period = varying.system(r_var.omega), r_var.initial_state, 2 * np.pi / r_var.omega
+        x = varying.simulate(r_var.omega, period, x0=z[:m], v0=z[m:2 * m], w0=z[2 * m:],
+                             t_eval=np.linspace(0.0, period, 401), record=("x",)).x
+        ratio = system.normal_loads(x) / system.contact_preload[:, None]
+        print(f"normal loads varying, {r_var.omega:g} rad/s: each node's between {ratio.min(axis=1).min():.2f}-"
+              f"{ratio.min(axis=1).max():.2f} and {ratio.max(axis=1).min():.2f}-{ratio.max(axis=1).max():.2f} "
+              "times its static load over the cycle")
     print(f"varying normal loads at {omegas[k_peak]:g} rad/s: {r_var.message}; tip {1e3 * abs(x_var):.4g} mm, "
           f"{regime(p_var, flanks) if p_var is not None else 'no orbit'}")
 

@@ -247,7 +247,7 @@ def test_solid_blades_example_runs(tmp_path, monkeypatch):
     assert (tmp_path / "slip_pattern.png").read_bytes()[:8] == PNG_MAGIC
 
 
-@pytest.mark.slow  # about 30 s of CPU: three frequencies, two of them slipping, and the varying loads
+@pytest.mark.slow  # about 50 s of CPU: three frequencies far apart, two of them slipping, the varying loads
 def test_solid_blade_root_example(tmp_path):
     env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "solid_blade_root.py"), str(tmp_path / "study")],
