@@ -30,6 +30,7 @@ GUIDE_EXAMPLES = {
     "harmonic-balance.md": "hb = fj.harmonic_balance(",
     "studies.md": "study = Study(",
     "nonlinear-modes.md": "nm = fj.nonlinear_mode(",
+    "campbell.md": "cd = fj.campbell(",
     "solid-blades.md": "pattern = slip_pattern(",
 }
 

@@ -347,3 +347,25 @@ def test_blade_with_normal_load_variation_against_the_exact_epmc_orbit():
     assert np.all(dw[nm.stuck] <= EXACT_TOL) and np.all(dz[nm.stuck] <= EXACT_TOL)
     assert np.max(dw) <= 2.5e-3 and np.max(dz) <= 2.9e-2, (dw, dz)
     assert 0.125 <= max(o.damping_ratio for o in orbits) <= 0.14  # measured 0.132
+
+
+def test_exact_option_gives_the_orbits_without_truncation():
+    """``exact=True``: the EPMC orbit solved exactly at every point, in the result beside the
+    balance's values: on the single-DOF Jenkins at H = 15 the balance's truncation is within 5e-5
+    (measured 2.5e-5 in zeta, as test_exact_orbit_closed_form_and_harmonic_convergence), the stuck
+    point's orbit is the linear mode's (EXACT_TOL), and ``exact=[A]`` solves the point nearest A
+    only, to the same numbers (one computation, the same start)."""
+    system = fj.FrictionSystem(fj.LinearStructure([[1.0]], [[1.0]], [[0.02]]), [fj.Jenkins(5.0, 0.1, dof=0)])
+    amps = np.array([0.001, 0.03, 0.1, 1.0])
+    nm = nonlinear_mode(system, amplitudes=amps, n_harmonics=15, exact=True)
+    assert len(nm.orbits) == 4 and all(o.converged for o in nm.orbits)
+    dw = np.abs(nm.frequency / nm.exact_frequency - 1)
+    dz = np.abs(nm.damping_ratio / nm.exact_damping_ratio - 1)
+    print("truncation at H = 15: frequency", dw, "zeta", dz)
+    assert nm.stuck[0] and dw[0] <= EXACT_TOL and dz[0] <= EXACT_TOL
+    assert dw.max() <= 5e-5 and dz.max() <= 5e-5
+    one = nonlinear_mode(system, amplitudes=amps, n_harmonics=15, exact=[0.09])
+    assert np.isnan(one.exact_frequency[[0, 1, 3]]).all() and len(one.orbits) == 1
+    assert abs(one.exact_damping_ratio[2] / nm.exact_damping_ratio[2] - 1) <= EXACT_TOL
+    with pytest.raises(ParameterError, match="exact"):
+        nonlinear_mode(system, amplitudes=amps, exact=[-1.0])

@@ -169,6 +169,13 @@ class NonlinearMode:
         decay's cycles from the mode (:class:`DecayCheck`), NaN elsewhere.
     decays : tuple of DecayCheck
         With ``check``: the comparisons.
+    exact_frequency, exact_damping_ratio : (n,) ndarray or None
+        With ``exact``: per picked point, the EPMC orbit solved exactly in time (no truncation)
+        [rad/s], [-]; NaN elsewhere and where it did not converge. ``frequency / exact_frequency -
+        1`` and ``damping_ratio / exact_damping_ratio - 1`` are the harmonic balance's truncation
+        errors.
+    orbits : tuple of ModeOrbit
+        With ``exact``: the exact orbits.
     """
 
     amplitude: np.ndarray
@@ -195,6 +202,9 @@ class NonlinearMode:
     frequency_error: Optional[np.ndarray] = None
     energy_error: Optional[np.ndarray] = None
     decays: tuple = field(default_factory=tuple)
+    exact_frequency: Optional[np.ndarray] = None
+    exact_damping_ratio: Optional[np.ndarray] = None
+    orbits: tuple = field(default_factory=tuple)
 
     @property
     def success(self) -> bool:

@@ -401,8 +401,8 @@ def _check_args(system, mode, amplitudes, n_harmonics, dof, check, tol, max_iter
 
 @owns_blas_threads
 def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike = (1e-3,), n_harmonics: int = 7,
-                   dof: str | int | None = None, *, check: bool | ArrayLike = False, tol: float = 1e-11,
-                   max_iter: int = 40) -> NonlinearMode:
+                   dof: str | int | None = None, *, check: bool | ArrayLike = False,
+                   exact: bool | ArrayLike = False, tol: float = 1e-11, max_iter: int = 40) -> NonlinearMode:
     """Nonlinear mode of ``system`` by the extended periodic motion concept (module docstring):
     frequency and damping ratio against amplitude, with exact hysteresis.
 
@@ -425,6 +425,13 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     check : bool or sequence of float
         Compare points with the exact free decay from them (module docstring): True every point,
         amplitudes [m] the points nearest each.
+    exact : bool or sequence of float
+        Solve the EPMC orbit exactly in time at points of the mode (shooting on the event-driven
+        march for the state, the period and ``xi``:
+        :func:`~frictionjoint.solvers.marcher.autonomous.mode_orbits`, from each point's balanced
+        state): ``exact_frequency`` and ``exact_damping_ratio``, the model's values without
+        truncation; True every converged point, amplitudes [m] the points nearest each. About
+        0.1-3 s a point on the reduced blade.
     tol : float
         Newton's tolerance on the relative step, in (0, 1).
     max_iter : int
@@ -436,6 +443,8 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     """
     mode, amps, hh, dof, max_iter = _check_args(system, mode, amplitudes, n_harmonics, dof, check, tol,
                                                 max_iter)
+    if exact is not True and exact is not False:
+        check_grid("exact", exact, unit="m")
     free = free_system(system)
     k_stuck = free.stiffness + (free.slider_direction.T * free.slider_stiffness) @ free.slider_direction
     w_lin, shape, _, _ = _linear_mode(k_stuck, free.mass, mode)
@@ -451,7 +460,37 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     out.message += note
     if check is not False:
         _check(free, eq, out, check, tol, max_iter)
+    if exact is not False:
+        _exact(system, eq, out, exact)
     return out
+
+
+def _picked(out: NonlinearMode, which) -> list:
+    """The converged points ``which`` names: True all, amplitudes [m] the points nearest each."""
+    if which is True:
+        picked = range(out.amplitude.size)
+    else:
+        targets = np.asarray(which, dtype=float).reshape(-1)
+        picked = sorted({int(np.argmin(np.abs(out.amplitude - a))) for a in targets})
+    return [k for k in picked if out.converged[k]]
+
+
+def _exact(system: FrictionSystem, eq: _Equations, out: NonlinearMode, which) -> None:
+    """The EPMC orbit solved exactly in time at each picked point (``exact``)."""
+    from ..marcher import mode_orbits
+
+    picked = _picked(out, which)
+    orbits = mode_orbits(free_system(system), eq.dof, orbit_starts(system, out, picked),
+                         n_harmonics=out.n_harmonics)
+    out.exact_frequency = np.full(out.amplitude.size, np.nan)
+    out.exact_damping_ratio = np.full(out.amplitude.size, np.nan)
+    for k, orbit in zip(picked, orbits):
+        if orbit.converged:
+            out.exact_frequency[k], out.exact_damping_ratio[k] = orbit.frequency, orbit.damping_ratio
+    out.orbits = tuple(orbits)
+    failed = sum(not o.converged for o in orbits)
+    if failed:
+        out.message += f"; the exact orbit did not converge at {failed} of {len(orbits)} points"
 
 
 def _follow(eq: _Equations, amps: np.ndarray, y_lin: np.ndarray, tol: float, max_iter: int):
@@ -511,11 +550,7 @@ def _result(system, free, eq, mode, amps, rows, tol) -> NonlinearMode:
 
 def _check(free, eq, out: NonlinearMode, check, tol, max_iter) -> None:
     """Each checked point against the exact free decay from it (:func:`free_decay`)."""
-    if check is True:
-        picked = range(out.amplitude.size)
-    else:
-        targets = np.asarray(check, dtype=float).reshape(-1)
-        picked = sorted({int(np.argmin(np.abs(out.amplitude - a))) for a in targets})
+    picked = _picked(out, check)
     out.frequency_error = np.full(out.amplitude.size, np.nan)
     out.energy_error = np.full(out.amplitude.size, np.nan)
     checks = []
