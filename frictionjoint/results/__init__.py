@@ -9,7 +9,7 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 - :mod:`.response`: :class:`TimeResponse`, :class:`PeriodicResponse`, :class:`CoSimulationResult`;
 - :mod:`.frequency`: :class:`FrequencyResponse`, :class:`SystemSweep`, :class:`OutputSweep`;
 - :mod:`.harmonic`: :class:`HarmonicBalance`, :class:`HarmonicBalanceSweep`;
-- :mod:`.nonlinear_mode`: :class:`NonlinearMode`;
+- :mod:`.nonlinear_mode`: :class:`NonlinearMode`, :class:`ModeOrbit`;
 - :mod:`.mode_synthesis`: :class:`SynthesisedResponse`;
 - :mod:`.campbell`: :class:`CampbellDiagram`;
 - :mod:`.regime_map`: :class:`RegimeMap`;
@@ -17,7 +17,7 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 """
 from .frequency import FrequencyResponse, OutputSweep, SystemSweep
 from .harmonic import HarmonicBalance, HarmonicBalanceSweep
-from .nonlinear_mode import NonlinearMode
+from .nonlinear_mode import ModeOrbit, NonlinearMode
 from .mode_synthesis import SynthesisedResponse
 from .campbell import CampbellDiagram
 from .regime_map import RegimeMap
@@ -28,4 +28,4 @@ from .study import StudyTable
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
            "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
            "collection_status", "StudyTable", "NonlinearMode",
-           "SynthesisedResponse", "CampbellDiagram"]
+           "SynthesisedResponse", "CampbellDiagram", "ModeOrbit"]
