@@ -136,3 +136,22 @@ def test_bad_definitions_are_refused(tmp_path):
         path.write_text(text)
         with pytest.raises(ParameterError, match=words):
             BladeAssembly.from_model(load_blade_model(path))
+
+
+def test_a_spinning_blades_exported_matrices_reduce_on_the_flanks():
+    """A spinning blade's FE export (stress stiffening and spin softening in K) is indefinite
+    until the root is held: FEModel(indefinite_stiffness=True) reduces on the flank nodes as the
+    blade itself does (the same matrices: 1e-12) and the reduced structure carries the flag."""
+    from frictionjoint.structures import craig_bampton, dof_name
+
+    b = _blade(0.35)
+    right, left = flank_edges(b)
+    boundary = [dof_name(i + 1, d) for i in np.r_[right, left] for d in (3, 1)]
+    boundary += [dof_name(i + 1, 2) for i in b._sets["root"]]  # the slot holds the face along the chord
+    fe = b.fe_model
+    assert fe.indefinite_stiffness
+    a, r = craig_bampton(b, boundary, 4), craig_bampton(fe, boundary, 4)
+    assert np.max(np.abs(r.stiffness - a.stiffness)) <= 1e-12 * np.max(np.abs(a.stiffness))
+    assert r.indefinite_stiffness and not FEModel(fe.mass, fe.stiffness, dofs=fe.dofs).indefinite_stiffness
+    with pytest.raises(ParameterError, match="indefinite_stiffness"):
+        FEModel(fe.mass, fe.stiffness, dofs=fe.dofs, indefinite_stiffness=2.5)

@@ -77,7 +77,7 @@ from typing import Mapping, Sequence
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ParameterError, check_count
+from ..errors import ParameterError, check_bool, check_count
 from ..structure import LinearStructure
 
 __all__ = ["FEModel", "read_fe_model", "read_dof_table", "read_node_sets", "FE_FORMATS", "dof_name"]
@@ -140,6 +140,11 @@ class FEModel:
     files : dict, optional
         ``"mass"``, ``"stiffness"``, ``"damping"``, ``"dofs"``, ``"node_sets"`` -> the file each
         was read from: the errors name it.
+    indefinite_stiffness : bool
+        The stiffness may have negative directions where the joints do not hold it: a spinning
+        blade's (stress stiffening and spin softening in ``K``), whose free root the contacts
+        hold. Passed on to the structures made from the model
+        (:func:`~frictionjoint.structures.craig_bampton`), which otherwise refuse it.
 
     Attributes
     ----------
@@ -156,8 +161,10 @@ class FEModel:
     node_sets: Mapping = field(default_factory=dict)
     source: str = ""
     files: Mapping = field(default_factory=dict)
+    indefinite_stiffness: bool = False
 
     def __post_init__(self):
+        object.__setattr__(self, "indefinite_stiffness", check_bool("indefinite_stiffness", self.indefinite_stiffness))
         files = {k: str(v) for k, v in dict(self.files).items()}
         label = {role: f"{files[role]}: {role}" if role in files else role for role in _ROLES + ("dofs", "node_sets")}
         n = None
@@ -380,7 +387,8 @@ def _check_positive_definite(label: str, a: sp.csr_array, names: tuple) -> None:
 
 def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, damping: str | Path | tuple | None = None,
                   *, dofs: str | Path | np.ndarray | None = None, node_sets: str | Path | Mapping | None = None,
-                  format: str | None = None, source: str | None = None) -> FEModel:
+                  format: str | None = None, source: str | None = None,
+                  indefinite_stiffness: bool = False) -> FEModel:
     """Read an FE model's matrices, DOF table and node sets (module docstring for the formats).
 
     Parameters
@@ -399,6 +407,9 @@ def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, dampi
         One of :data:`FE_FORMATS`; from each file's suffix (and first line for ``.mtx``) if omitted.
     source : str, optional
         Where the model comes from; the files' names if omitted.
+    indefinite_stiffness : bool
+        The stiffness of a spinning structure, indefinite until its joints hold it
+        (:class:`FEModel`).
 
     Returns
     -------
@@ -430,7 +441,7 @@ def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, dampi
     if source is None:
         source = ", ".join(f"{role}: {Path(p).name}" for role, p in files.items())
     return FEModel(matrices["mass"], matrices["stiffness"], matrices.get("damping"), table, node_sets or {},
-                   source, files)
+                   source, files, indefinite_stiffness)
 
 
 def _spec(role: str, value) -> tuple[Path, str | None]:

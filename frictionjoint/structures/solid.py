@@ -306,7 +306,7 @@ class SolidBlade:
         positive definiteness: about 3 s at 50,000 DOFs). Its DOF names are ``n<node>_u<d>``."""
         damping = self.damping if any(self.rayleigh) else None
         return FEModel(self.mass, self.stiffness, damping, dofs=self.dofs, node_sets=self.node_sets,
-                       source=repr(self))
+                       source=repr(self), indefinite_stiffness=self.indefinite_stiffness)
 
     @property
     def dof_names(self) -> tuple:
