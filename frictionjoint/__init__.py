@@ -19,6 +19,7 @@ from .solvers.frequency_domain.nonlinear_mode import nonlinear_mode
 from .solvers.frequency_domain.mode_synthesis import mode_synthesis
 from .campbell import campbell
 from .solvers.marcher.response import simulate
+from .solvers.marcher.slip_pattern import slip_pattern
 from .solvers.sdof.kernel import SdofCoulomb
 from .solvers.steady_state import periodic_response
 from .regime import RegimeMap, regime_map
@@ -55,6 +56,7 @@ __all__ = [
     "hbm_sweep",
     "nonlinear_mode",
     "mode_synthesis",
+    "slip_pattern",
     "campbell",
     "Iwan",
     "Jenkins",

@@ -12,6 +12,7 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 - :mod:`.nonlinear_mode`: :class:`NonlinearMode`, :class:`ModeOrbit`;
 - :mod:`.mode_synthesis`: :class:`SynthesisedResponse`;
 - :mod:`.campbell`: :class:`CampbellDiagram`;
+- :mod:`.slip_pattern`: :class:`SlipPattern`;
 - :mod:`.regime_map`: :class:`RegimeMap`;
 - :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`.
 """
@@ -20,6 +21,7 @@ from .harmonic import HarmonicBalance, HarmonicBalanceSweep
 from .nonlinear_mode import ModeOrbit, NonlinearMode
 from .mode_synthesis import SynthesisedResponse
 from .campbell import CampbellDiagram
+from .slip_pattern import SlipPattern
 from .regime_map import RegimeMap
 from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
 from .shakedown import CycleResult, MelanResult, ShakedownResult
@@ -28,4 +30,4 @@ from .study import StudyTable
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
            "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
            "collection_status", "StudyTable", "NonlinearMode",
-           "SynthesisedResponse", "CampbellDiagram", "ModeOrbit"]
+           "SynthesisedResponse", "CampbellDiagram", "ModeOrbit", "SlipPattern"]

@@ -15,8 +15,9 @@ from .events import Marcher
 from .held import HeldPortStructure
 from .monodromy import march_jacobian
 from .response import gauss_nodes, simulate
+from .slip_pattern import slip_pattern
 from .steady import SECTION_MARGIN, failed_response, periodic_response
 
 __all__ = ["Marcher", "EventLog", "MarchState", "EVENT_KINDS", "periodic_response", "simulate",
            "march_jacobian", "failed_response", "HeldPortStructure", "SECTION_MARGIN", "gauss_nodes",
-           "mode_orbit", "mode_orbits", "mode_branch"]
+           "mode_orbit", "mode_orbits", "mode_branch", "slip_pattern"]

@@ -28,7 +28,9 @@ import math
 import numpy as np
 
 from ...errors import ParameterError
+from ...results.response import PeriodicResponse
 from ...results.slip_pattern import OPEN, SLIPPING, STUCK, SlipPattern
+from ...system import FrictionSystem
 
 __all__ = ["slip_pattern", "STATUS_AFTER"]
 
@@ -37,7 +39,7 @@ STATUS_AFTER = {"stick": STUCK, "closure": STUCK, "slip": SLIPPING, "normal stop
                 "abnormal stop": SLIPPING, "lift-off": OPEN}
 
 
-def slip_pattern(response, system) -> SlipPattern:
+def slip_pattern(response: PeriodicResponse, system: FrictionSystem) -> SlipPattern:
     """The status of every slider of ``system`` over one period of its periodic orbit ``response``
     (module docstring).
 
