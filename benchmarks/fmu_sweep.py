@@ -22,6 +22,17 @@ from the previous point's, and one period) against ``sweep('ti64_compressor_blad
 library's sweep (the baseline, target <= 1.5x); the largest differences of their first harmonics
 and of the harmonics' amplitudes.
 
+Solid blade on contact-patch flanks (models/ti64_solid_blade.toml, 42 reduced DOFs, 9 nodes per
+flank, 50 N at the tip, 6 frequencies 1850 ... 1960 rad/s up: stuck, then partial slip): its blade
+FMU (``build_fmus(blades=["ti64_solid_blade"])``, ``Ti64SolidBlade.fmu``) swept as the beam's against
+``sweep('ti64_solid_blade')`` (the baseline; it reduces the blade at each call, ~0.5 s, where the FMU
+reuses its process's reduction), and, where the FMU ran the installed library, against the library's
+sweep of the FMU's own reduced assembly: the differences of the first harmonics and amplitudes
+(two reductions of one definition differ by ARPACK's start vector: see tests/test_blade_fmu.py).
+Measured (2 shared cores at load 5-10, best of 2, two runs): FMU 17.0 and 17.6 s, library 16.7 and
+17.3 s: 1.02x (2.9 s per point); against the definition's sweep 2.8e-9 and 9.3e-9 (harmonics), 1.3e-9
+and 1.8e-9 (amplitudes); against the same reduced model 2.2e-11 and 4.8e-11, 6.0e-11 and 3.6e-11.
+
 Linear structure (models/two_dof_chain.toml as ``LinearStructure`` FMU, ``--structure``): a run of
 200 communication steps of T/50 with the joint inputs held at 0 (load, initialise, step, read
 x1 and x2 at each step, free) against the library's
@@ -38,7 +49,7 @@ difference of the displacements.
 Each FMU sweep or run includes loading and freeing its FMU (a sweep's one instance). Each method
 is timed best-of-N, interleaved. Usage:
 
-    python benchmarks/fmu_sweep.py [--repeat N] [--out DIR]
+    python benchmarks/fmu_sweep.py [--repeat N] [--out DIR] [--solid-only]
 """
 from __future__ import annotations
 
@@ -64,6 +75,8 @@ BLADE_OMEGAS = np.linspace(1600.0, 2200.0, 13)
 STRUCTURE = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain.toml"
 STRUCTURE_STEPS = 200  # of T/50: four periods
 SYSTEM = Path(__file__).resolve().parents[1] / "models" / "two_dof_chain_system.toml"
+SOLID = "ti64_solid_blade"
+SOLID_OMEGAS = np.linspace(1850.0, 1960.0, 6)
 
 
 def _best(runs: dict, repeat: int) -> tuple[dict, dict]:
@@ -151,8 +164,13 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="best of N runs (default 3)")
     ap.add_argument("--out", default=None, help="folder for the built FMUs (default: a temporary one)")
+    ap.add_argument("--solid-only", action="store_true", help="only the solid blade's rows")
     args = ap.parse_args(argv)
     out = args.out or tempfile.mkdtemp(prefix="fj-bench-")
+    solid_fmu = str(build_fmus(out, blades=[SOLID])[0])
+    if args.solid_only:
+        solid_rows(solid_fmu, args.repeat)
+        return
     from frictionjoint.structure_file import load_structure_definition
 
     built = {p.stem: str(p) for p in build_fmus(out, names=["CoulombOscillator", "BladeDovetail"])}
@@ -223,6 +241,38 @@ def main(argv=None):
     print(f"system FMU run: {best['run(fmu)'] / best['fj.simulate']:.2f}x fj.simulate on the same times, "
           f"{best['run(fmu)'] / best['SystemRun']:.2f}x its run object stepped the same; largest displacement "
           f"difference {diff:.1e} of the largest displacement")
+    solid_rows(solid_fmu, args.repeat)
+
+
+def solid_rows(fmu: str, repeat: int) -> None:
+    """The solid blade's FMU sweep against the library's (module docstring): its table and line."""
+    from frictionjoint.structures import blade_run
+
+    runs = {f"sweep({Path(fmu).name})": lambda: sweep(fmu, SOLID_OMEGAS),
+            f"sweep('{SOLID}')": lambda: sweep(SOLID, SOLID_OMEGAS)}
+    sweep(SOLID, SOLID_OMEGAS[:1])  # the compiled kernels loaded before the timing
+    blade_run._REDUCED.clear()
+    best, results = _best(runs, repeat)
+    (fmu_name, a), (lib_name, b) = results.items()
+    base = best[lib_name]
+    print(f"# solid blade {SOLID}: {len(SOLID_OMEGAS)} points, omega = {SOLID_OMEGAS[0]:g} ... "
+          f"{SOLID_OMEGAS[-1]:g} rad/s")
+    print(f"{'method':>28} {'time [s]':>9} {'per point [ms]':>15} {'converged':>10} {'ratio':>7}")
+    for name, fr in results.items():
+        print(f"{name:>28} {best[name]:9.3f} {1e3 * best[name] / len(SOLID_OMEGAS):15.1f} "
+              f"{int(fr.converged.sum()):>10d} {best[name] / base:7.2f}")
+    line = (f"solid blade FMU sweep: {best[fmu_name] / base:.2f}x the library's sweep per point; largest difference "
+            f"FMU vs library: first harmonic {_rel(a.response, b.response):.1e}, its amplitude "
+            f"{_rel(np.abs(a.response), np.abs(b.response)):.1e}")
+    if blade_run._REDUCED:  # the FMU ran the installed library: its reduction is the library's to sweep
+        c = sweep(next(iter(blade_run._REDUCED.values())), SOLID_OMEGAS)
+        line += (f"; vs the library on the FMU's reduced model {_rel(a.response, c.response):.1e} and "
+                 f"{_rel(np.abs(a.response), np.abs(c.response)):.1e}")
+    print(line + ", relative")
+
+
+def _rel(a, b) -> float:
+    return float(np.max(np.abs(a - b) / np.abs(b)))
 
 
 def _stepped_runs(runs: dict, baseline: str, repeat: int, title: str):

@@ -177,13 +177,14 @@ SOLID = "ti64_solid_blade"
 SOLID_OMEGAS = np.array([1894.0, 1916.0, 1938.0])
 #: FMU against the library's sweep of the same definition: the two reduce the blade separately, and
 #: two Craig-Bampton reductions of one definition differ by ARPACK's start vector (the modes to
-#: ~3e-12, and a torsion mode's sign where its two largest entries tie): two library sweeps of the
+#: ~3e-12) and the signs of modes 2 and 3 (their two largest entries tie to 6e-14 and 4e-12, and the
+#: sign rule is "largest entry positive"): two library sweeps of the
 #: definition differ by 1.6e-9 to 3.2e-9 (measured), their stuck orbit is 9.6e-10 from the exact
-#: linear response of the same reduced model
-SOLID_DEFINITION_TOL = 2e-8
+#: linear response of the same reduced model; the FMU against the definition: 2.8e-9 to 9.3e-9
+SOLID_DEFINITION_TOL = 5e-8
 #: FMU against the library's sweep of the very same reduced assembly (the FMU running the installed
-#: library, whose reductions it shares): measured up to 2.2e-11 (first harmonics) and 6e-11
-#: (amplitudes) over 6 points from 1850 to 1960 rad/s in two runs
+#: library, whose reductions it shares): measured up to 4.8e-11 (first harmonics) and 6e-11
+#: (amplitudes) over 6 points from 1850 to 1960 rad/s in three runs
 SOLID_SAME_MODEL_TOL = 2e-10
 
 
@@ -244,6 +245,7 @@ def test_solid_blade_fmu_sweep_equals_the_library_sweep(solid_fmu):
         assert np.max(diss) <= SOLID_SAME_MODEL_TOL
 
 
+@pytest.mark.slow
 def test_solid_blade_run_outputs_are_the_flank_nodes_aggregates():
     """BladeRun on the solid blade (what its FMU steps): at the static state the flank outputs are the
     patch's static flank totals; on the partial-slip orbit at 1916 rad/s the exact slip fraction of
