@@ -173,8 +173,9 @@ def test_blade_fmu_rejects_bad_parameters_with_a_message(fmus, name, value, text
 # slave and script as BladeDovetail.fmu, carrying the solid definition (build_fmus(blades=...)),
 # built here only (the default build, and so the README's build-fmus, is unchanged).
 SOLID = "ti64_solid_blade"
-#: stuck (1894 rad/s) and partial slip (1916, 1938 rad/s) near the first flapwise resonance, 50 N
-SOLID_OMEGAS = np.array([1894.0, 1916.0, 1938.0])
+#: stuck (1894 rad/s) and partial slip (1916 rad/s) near the first flapwise resonance, 50 N (two
+#: points: each sweep's point is a few seconds of shooting on 18 sliders)
+SOLID_OMEGAS = np.array([1894.0, 1916.0])
 #: FMU against the library's sweep of the same definition: the two reduce the blade separately, and
 #: two Craig-Bampton reductions of one definition differ by ARPACK's start vector (the modes to
 #: ~3e-12) and the signs of modes 2 and 3 (their two largest entries tie to 6e-14 and 4e-12, and the
@@ -234,7 +235,7 @@ def test_solid_blade_fmu_sweep_equals_the_library_sweep(solid_fmu):
     assert a.converged.all() and b.converged.all(), (a.messages, b.messages)
     # 1894 rad/s sticks: its dissipation is rounding (~1e-13 J, or 0), the flag may say either
     slip = b.dissipated_per_cycle > 1e-6
-    assert list(slip) == [False, True, True] and not a.stuck[1:].any()
+    assert list(slip) == [False, True] and not a.stuck[1]
     assert np.max(np.abs(a.response - b.response) / np.abs(b.response)) <= SOLID_DEFINITION_TOL
     diss = np.abs(a.dissipated_per_cycle - b.dissipated_per_cycle)[slip] / b.dissipated_per_cycle[slip]
     assert np.max(diss) <= SOLID_DEFINITION_TOL
