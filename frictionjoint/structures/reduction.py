@@ -29,7 +29,9 @@ without ever making an ``n x n`` dense matrix:
   separated eigenvalues ``1/omega^2`` of that operator, so that ARPACK converges in few
   iterations. ``K_ii`` is positive definite (boundary clamped), so the zero shift is never an
   eigenvalue. The Ritz vectors are made exactly mass-orthonormal by a Rayleigh-Ritz step in their
-  own span, and each is signed so that its largest entry is positive;
+  own span, and each is signed so that its first entry of largest magnitude is positive (ties
+  within 1e-6 of it counted as largest; ARPACK starts from a fixed vector): a model reduced twice
+  gives the same basis;
 * the residual vectors of the loaded DOFs by the same factor;
 * ``T`` dense and thin (``n x n_reduced``: 220 MB for 50,925 DOFs and 546 reduced DOFs), the
   projections ``T^T A T`` made a block of columns at a time.
@@ -214,12 +216,14 @@ def _sparse_basis(structure, b, i, n_modes, loaded):
     if n_modes:
         op = spla.LinearOperator((n_i, n_i), matvec=lu.solve, dtype=float)
         ncv = min(n_i, max(2 * n_modes + 1, 20))
-        lam, phi = spla.eigsh(kii, k=n_modes, M=mii, sigma=0.0, which="LM", OPinv=op, tol=0.0, ncv=ncv) \
+        # a fixed start vector (ARPACK's default is random: two reductions of one model differed
+        # by ~3e-12), pseudo-random so that no mode of a symmetric structure is orthogonal to it
+        v0 = np.random.default_rng(0).standard_normal(n_i)
+        lam, phi = spla.eigsh(kii, k=n_modes, M=mii, sigma=0.0, which="LM", OPinv=op, tol=0.0, ncv=ncv, v0=v0) \
             if n_modes < n_i else scipy.linalg.eigh(kii.toarray(), mii.toarray())
-        # Rayleigh-Ritz in the span: exactly mass-orthonormal, ascending; largest entry positive
+        # Rayleigh-Ritz in the span: exactly mass-orthonormal, ascending; signed (_signed)
         lam, w = scipy.linalg.eigh(_sym(phi.T @ (kii @ phi)), _sym(phi.T @ (mii @ phi)))
-        phi = phi @ w
-        phi *= np.sign(phi[np.argmax(np.abs(phi), axis=0), np.arange(n_modes)])
+        phi = _signed(phi @ w)
         if lam[0] <= 0:
             raise ParameterError(f"the structure with its boundary clamped is not stable (omega^2 = {lam[0]:.3g})")
     else:
@@ -236,6 +240,21 @@ def _sparse_basis(structure, b, i, n_modes, loaded):
 
 def _sym(a: np.ndarray) -> np.ndarray:
     return 0.5 * (a + a.T)
+
+
+#: entries within this fraction of a mode's largest magnitude count as its largest (_signed)
+SIGN_TIE = 1e-6
+
+
+def _signed(phi: np.ndarray) -> np.ndarray:
+    """Each mode (column) signed so that its first entry of largest magnitude is positive, entries
+    within :data:`SIGN_TIE` of the largest counting as largest: where two entries are equal but
+    for rounding (a structure with a symmetry), rounding does not choose the sign (it flipped a
+    mode between two reductions of one model)."""
+    mag = np.abs(phi)
+    first = np.argmax(mag >= (1.0 - SIGN_TIE) * mag.max(axis=0, initial=0.0), axis=0)
+    sign = np.sign(phi[first, np.arange(phi.shape[1])])
+    return phi * np.where(sign == 0, 1.0, sign)
 
 
 def _factor(kii):
@@ -295,7 +314,7 @@ def _interior_modes(k, m, b, i, n_modes):
         raise ParameterError(f"the structure with its boundary DOFs clamped is singular: {exc}") from None
     if lam.size and lam[0] <= 0:
         raise ParameterError(f"the structure with its boundary clamped is not stable (omega^2 = {lam[0]:.3g})")
-    return psi, phi
+    return psi, _signed(phi)
 
 
 def _with_residual_vectors(structure, i, loaded, phi):
