@@ -3,23 +3,31 @@ part 5): the library's tools on it and their accuracy.
 
 References and what is checked (numbers printed, run with ``-s``):
 
-- harmonic balance (``H = 15``) against the exact time-domain steady state of the same reduced
-  model (``periodic_response``, the event-driven march), first harmonic at the tip: a stuck orbit
-  agrees to the solvers' tolerances (every slider sticks over the whole period: the orbit is the
-  linear response of the stuck limit, which both methods solve exactly whatever ``H``); partial
-  slip, frozen normal loads, 1900 rad/s (nodes 2-5 of each flank slip): the issue's 1e-3. At the
-  partial-slip peak (1930 rad/s) ``H = 15`` is 1.2e-2 off: the harmonics 15-17 of 1930 rad/s
-  (29-33 krad/s) excite the reduced model's sixth mode (28.0 krad/s slipping, 32.6 krad/s stuck),
-  which the flank nodes' stick-slip switching drives, and near the peak the first harmonic
-  amplifies any error in the joint forces; ``H = 31`` meets 1e-3 there (slow test);
+- harmonic balance against the exact time-domain steady state of the same reduced model
+  (``periodic_response``, the event-driven march), first harmonic at the tip. A stuck orbit
+  agrees to the solvers' tolerances, 3e-9 (every slider sticks over the whole period: the orbit
+  is the stuck limit's linear response, which both methods solve exactly whatever ``H``; what is
+  left is Newton's 1e-10 on the balance and the shooting's 1e-12). ``H = 15`` meets the issue's
+  1e-3 at the onset of partial slip only: 1.8e-4 at 1900 rad/s (frozen normal loads, part of
+  each flank slips); at the partial-slip peak (1930 rad/s) it is 1.2e-2 off and ``H = 31``
+  2.0e-4: the harmonics 15-17 of 1930 rad/s (29-33 krad/s) meet the reduced model's sixth mode
+  (28.0 krad/s slipping, 32.6 krad/s stuck), which the flank nodes' stick-slip switching drives,
+  and near the peak the first harmonic magnifies any error in the joint forces. With normal loads
+  varying (150 N, 1900 rad/s: every node slips, two lift off) ``H = 15`` is 1.6e-3 off, ``H =
+  31`` 9.2e-5. The model's sweep by harmonic balance (``check=True``) prints each branch point's
+  truncation error;
 - the reduced model's linear tip receptance in the root's two limits against the unreduced
   SolidBlade's (benchmarks/solid_blade_accuracy.py: 4941 DOFs, the root face's ``u2`` clamped,
-  the patch springs node by node, sparse LU per frequency), the cut-off ``omega_n / 3`` with
+  the patch springs node by node, one sparse LU per frequency), the cut-off ``omega_n / 3`` with
   ``omega_n`` the highest kept fixed-interface mode and the error relative to the largest
-  receptance below it (as benchmarks/reduction.py; pointwise ratios are large at antiresonances
-  and at lightly damped resonances: error = the mode's frequency error over its damping ratio);
-- the command line's sweep, ``fj.sweep`` (time and harmonic balance, checked) and a study file
-  on the model give the same numbers.
+  receptance below it, as benchmarks/reduction.py (pointwise ratios are large at antiresonances
+  and at lightly damped resonances: there the error is the mode's frequency error over its
+  damping ratio). 20 modes meet 1e-3 in both limits, 5 (the definition's) and 10 do not;
+- the command line's sweep, ``fj.sweep`` and a study file on the model give the same numbers.
+
+Costs (this file's default tests about 25 s on a quiet machine; 2-7 min on this shared one at
+load 8-11; the slow ones 3-5 min more): the assembly 0.5-3 s, an exact steady state 2-40 s, a
+balance at H = 15 0.1-2 s, one frequency of the unreduced model 0.9-1.5 s.
 """
 import math
 import subprocess
@@ -80,13 +88,19 @@ def test_stuck_orbit_balance_is_the_exact_orbit(assembly):
     x_linear = complex(stuck.harmonic_response([w], assembly._force)[0] @ row)
     print(f"stuck {w:g} rad/s: |X| = {abs(x_exact):.6e} m; balance - exact {_relative(x_hb, x_exact):.1e}, "
           f"exact - stuck limit {_relative(x_exact, x_linear):.1e}")
-    assert exact.converged and exact.stuck and hb.converged and hb.stuck
+    # the balance is stuck; the exact orbit is one of the family of stuck orbits onto which the run-up's
+    # slip shook down, sliders at their limits, and rounding decides whether one still touches it (seen:
+    # stuck, and 'slipping' with 2.4e-13 J dissipated per cycle): its first harmonic is the same
+    print(f"  exact orbit: stuck {exact.stuck}, dissipated {exact.dissipated_per_cycle:.1e} J per cycle")
+    assert exact.converged and hb.converged and hb.stuck
     assert _relative(x_hb, x_exact) <= STUCK and _relative(x_exact, x_linear) <= STUCK
 
 
 def test_partial_slip_balance_against_the_exact_orbit(assembly):
-    """1900 rad/s, 50 N, frozen normal loads: nodes 2-5 of each flank (0-based 1-4, the low-pressure
-    part of the chord) slip over part of the cycle, the others stick; H = 15 is within 1e-3."""
+    """1900 rad/s, 50 N, frozen normal loads: some nodes of each flank slip over part of the cycle, the
+    others stick; H = 15 is within 1e-3. Which nodes have slip events varies from run to run (seen:
+    0-based 2-5 and 12-15; 1-7 and 12-16): the orbit is one of a family whose sliders sit at their
+    limits, and rounding decides which touch them; the first harmonic is the same to 1e-9."""
     w = 1900.0
     exact = assembly.steady_state(w)
     hb = harmonic_balance(assembly.system(w), n_harmonics=15)
@@ -100,22 +114,22 @@ def test_partial_slip_balance_against_the_exact_orbit(assembly):
     assert err <= HBM
 
 
-@pytest.mark.slow  # about 15-20 s (40-70 s on a loaded machine): the exact orbit and two balances
+@pytest.mark.slow  # about 15-30 s: the balances at H = 15 and 31, the exact orbit from the latter
 def test_balance_at_the_partial_slip_peak_needs_more_harmonics(assembly):
     """1930 rad/s, the partial-slip peak (50 N, frozen normal loads): H = 15 is 1.2e-2 off the exact
     first harmonic, H = 31 within 1e-3 (module docstring: the harmonics 15-17 meet the reduced
-    model's sixth mode, and at the peak the first harmonic magnifies the joint forces' error)."""
+    model's sixth mode, and at the peak the first harmonic magnifies the joint forces' error). The
+    exact orbit is started from the H = 31 balance (from rest: the same orbit to 1.6e-10, measured,
+    but a longer march)."""
     w = 1930.0
-    exact = assembly.steady_state(w)
-    x_exact = assembly.first_harmonic(exact, assembly.tip)
     row = assembly._row(assembly.tip)
-    err = {}
-    for h in (15, 31):
-        hb = harmonic_balance(assembly.system(w), n_harmonics=h)
-        assert hb.converged and not hb.stuck
-        err[h] = _relative(complex(hb.harmonics[1] @ row), x_exact)
+    hb31 = harmonic_balance(assembly.system(w), n_harmonics=31, check=True)
+    exact = hb31.exact
+    x_exact = assembly.first_harmonic(exact, assembly.tip)
+    hb15 = harmonic_balance(assembly.system(w), n_harmonics=15)
+    err = {h: _relative(complex(hb.harmonics[1] @ row), x_exact) for h, hb in ((15, hb15), (31, hb31))}
     print(f"partial-slip peak {w:g} rad/s: |X| = {abs(x_exact):.6e} m; error H = 15 {err[15]:.2e}, H = 31 {err[31]:.2e}")
-    assert exact.converged and not exact.stuck
+    assert exact.converged and not exact.stuck and hb15.converged and hb31.converged
     assert err[31] <= HBM < err[15]
 
 
@@ -195,7 +209,7 @@ def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
 
 
 # ------------------------------------------------------------ the library's tools on the model
-@pytest.mark.slow  # about 30-60 s: a CLI sweep in a subprocess, the same sweep in Python and as a study
+@pytest.mark.slow  # about 30-60 s (8 min on a loaded machine): a CLI sweep in a subprocess, the same sweep in Python and as a study
 def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     """``frictionjoint sweep ti64_solid_blade``'s CSV equals ``fj.sweep``'s, and a study file on the
     model (one point, the definition's friction coefficient, peak not refined) has the sweep's peak."""
@@ -203,16 +217,20 @@ def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     from frictionjoint.results import OutputSweep
     from frictionjoint.results import StudyTable
 
-    omega = "1880:1920:3"
+    omega = "1880:1920:2"
     table = tmp_path / "sweep.csv"
     proc = subprocess.run([sys.executable, "-m", "frictionjoint", "sweep", MODEL, "--omega", omega, "--csv", str(table),
                            "--no-progress"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
-    assert "3 of 3 points converged" in proc.stdout
+    assert "2 of 2 points converged" in proc.stdout
     cli = OutputSweep.from_csv(table)
     lib = fj.sweep(MODEL, omega)
     print(proc.stdout)
-    assert np.array_equal(cli.omega, lib.omega) and np.array_equal(cli.stuck, lib.stuck)
+    print(f"command line - fj.sweep: {np.abs(cli.response - lib.response) / np.abs(lib.response)}; stuck "
+          f"{cli.stuck} and {lib.stuck}")
+    # not the stuck flags: at 1880 rad/s the run-up's slip shakes down onto the family of stuck orbits
+    # with sliders at their limits, and rounding decides whether a slider still touches it (seen both)
+    assert np.array_equal(cli.omega, lib.omega) and not cli.stuck[1:].any() and not lib.stuck[1:].any()
     assert np.max(np.abs(cli.response - lib.response) / np.abs(lib.response)) <= SAME_SWEEP
     study = tmp_path / "study.toml"
     study.write_text(f'model = "{MODEL}"\ntable = "study.csv"\n[vary.friction_coefficient]\nvalues = [0.3]\n'
@@ -223,3 +241,26 @@ def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     print(f"study: peak {row['peak_amplitude'][0]:.6e} m at {row['peak_omega'][0]:g} rad/s; sweep {a_peak:.6e} m "
           f"at {w_peak:g} rad/s")
     assert row["peak_amplitude"][0] == pytest.approx(a_peak, rel=SAME_SWEEP) and row["peak_omega"][0] == w_peak
+
+
+@pytest.mark.slow  # about 20-60 s: five balances on the branch, each checked by its exact orbit
+def test_harmonic_balance_sweep_checked_by_exact_orbits():
+    """``fj.sweep(MODEL, ..., method="hbm", n_harmonics=15, check=True)``
+    (``BladeAssembly.frequency_response``) from the stuck root to the start of partial slip: every
+    branch point checked against its exact orbit; the stuck ones agree to the solvers' tolerances
+    (measured 1.3e-9 to 1.5e-9) and equal the stuck limit. The truncation error (every DOF's first
+    harmonic, relative to the largest) grows fast once the nodes slip: 6.9e-5 at 1900.3 rad/s,
+    1.0e-3 at 1901.3 (the branch's points depend on its steps), and over the partial-slip
+    resonance (measured, not run here: 1902-1941 rad/s, 25 branch points, 9 min on a loaded
+    machine) 1.4e-3 to 1.5e-2, largest where the amplitude climbs steeply towards the peak
+    (1906-1913 rad/s); one exact orbit there (1902.0 rad/s) was not found. H = 15 meets 1e-3 at the
+    onset of slip only: at the peak H = 31 does
+    (test_balance_at_the_partial_slip_peak_needs_more_harmonics)."""
+    fr = fj.sweep(MODEL, "1880:1901:4", method="hbm", n_harmonics=15, check=True)
+    print("omega [rad/s], |X| [m], stuck, truncation error:")
+    for row in zip(fr.omega, fr.amplitude, fr.stuck, fr.truncation_error):
+        print("  {:9.3f} {:.6e} {!s:5} {:.2e}".format(*row))
+    assert fr.converged.all() and fr.stuck.any() and not fr.stuck.all()
+    assert np.all(np.isfinite(fr.truncation_error)) and np.all(fr.truncation_error[fr.stuck] <= STUCK)
+    s = fr.stuck
+    assert np.max(np.abs(fr.response[s] - fr.limits["stuck"][s]) / np.abs(fr.limits["stuck"][s])) <= STUCK
