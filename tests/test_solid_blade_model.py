@@ -128,7 +128,8 @@ def test_balance_at_the_partial_slip_peak_needs_more_harmonics(assembly):
     x_exact = assembly.first_harmonic(exact, assembly.tip)
     hb15 = harmonic_balance(assembly.system(w), n_harmonics=15)
     err = {h: _relative(complex(hb.harmonics[1] @ row), x_exact) for h, hb in ((15, hb15), (31, hb31))}
-    print(f"partial-slip peak {w:g} rad/s: |X| = {abs(x_exact):.6e} m; error H = 15 {err[15]:.2e}, H = 31 {err[31]:.2e}")
+    print(f"partial-slip peak {w:g} rad/s: |X| = {abs(x_exact):.6e} m; error H = 15 {err[15]:.2e}, "
+          f"H = 31 {err[31]:.2e}")
     assert exact.converged and not exact.stuck and hb15.converged and hb31.converged
     assert err[31] <= HBM < err[15]
 
@@ -203,13 +204,14 @@ def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
             below = omegas <= cuts[n]
             err = np.abs(reduced_receptance(a, limit, omegas[below]) - full[below])
             errors[limit, n] = err.max() / np.abs(full[below]).max()
+            pointwise = err / np.abs(full[below])
             print(f"{limit:8s} {n:2d} modes, cut-off {cuts[n]:7.0f} rad/s: error / peak {errors[limit, n]:.1e} "
-                  f"(pointwise {np.max(err / np.abs(full[below])):.1e}, at {omegas[below][np.argmax(err / np.abs(full[below]))]:.0f} rad/s)")
+                  f"(pointwise {pointwise.max():.1e}, at {omegas[below][np.argmax(pointwise)]:.0f} rad/s)")
     assert errors["stuck", 20] <= REDUCED and errors["slipping", 20] <= REDUCED
 
 
 # ------------------------------------------------------------ the library's tools on the model
-@pytest.mark.slow  # about 30-60 s (8 min on a loaded machine): a CLI sweep in a subprocess, the same sweep in Python and as a study
+@pytest.mark.slow  # about 30-60 s (2-8 min on a loaded machine): a CLI sweep, the same in Python and as a study
 def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     """``frictionjoint sweep ti64_solid_blade``'s CSV equals ``fj.sweep``'s, and a study file on the
     model (one point, the definition's friction coefficient, peak not refined) has the sweep's peak."""
