@@ -25,9 +25,9 @@ References and what is checked (numbers printed, run with ``-s``):
   damping ratio). 20 modes meet 1e-3 in both limits, 5 (the definition's) and 10 do not;
 - the command line's sweep, ``fj.sweep`` and a study file on the model give the same numbers.
 
-Costs (this file's default tests about 25 s on a quiet machine; 2-7 min on this shared one at
-load 8-11; the slow ones 3-5 min more): the assembly 0.5-3 s, an exact steady state 2-40 s, a
-balance at H = 15 0.1-2 s, one frequency of the unreduced model 0.9-1.5 s.
+Costs (measured on this shared 2-core machine): the default tests 8 s at load 3 (1 min at load
+8-11), the whole file 2 min at load 3 (22 min at load 8-11); the assembly 0.5-3 s, an exact
+steady state 2-40 s, a balance at H = 15 0.1-2 s, one frequency of the unreduced model 0.25-1.5 s.
 """
 import math
 import subprocess
@@ -114,7 +114,7 @@ def test_partial_slip_balance_against_the_exact_orbit(assembly):
     assert err <= HBM
 
 
-@pytest.mark.slow  # about 15-30 s: the balances at H = 15 and 31, the exact orbit from the latter
+# about 3-6 s: the balances at H = 15 and 31, the exact orbit from the latter
 def test_balance_at_the_partial_slip_peak_needs_more_harmonics(assembly):
     """1930 rad/s, the partial-slip peak (50 N, frozen normal loads): H = 15 is 1.2e-2 off the exact
     first harmonic, H = 31 within 1e-3 (module docstring: the harmonics 15-17 meet the reduced
@@ -134,7 +134,7 @@ def test_balance_at_the_partial_slip_peak_needs_more_harmonics(assembly):
     assert err[31] <= HBM < err[15]
 
 
-@pytest.mark.slow  # about 30 s (80 s on a loaded machine): the balance at H = 31 and its exact orbit
+@pytest.mark.slow  # about 16 s (80 s on a loaded machine): the balance at H = 31 and its exact orbit
 def test_balance_with_varying_normal_loads_and_lift_off(assembly):
     """Normal loads varying with the motion (each node's slip limit mu N_i(t), lift-off): at 50 N the
     root stays stuck near 1900 rad/s; at 150 N and 1900 rad/s every node slips over part of the
@@ -180,7 +180,7 @@ def test_reduction_is_exact_off_resonance(assembly, unreduced):
     assert all(e.max() <= REDUCED for e in errors.values())
 
 
-@pytest.mark.slow  # about 1-2 min: 2 x 22 sparse LUs of the unreduced model, three reductions
+@pytest.mark.slow  # about 15-60 s: 2 x 22 sparse LUs of the unreduced model, three reductions
 def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
     """Tip receptance below the cut-off ``omega_n / 3``, at the unreduced model's resonances there
     (where the error, the mode's frequency error over its damping ratio, is largest) and 12
@@ -211,7 +211,7 @@ def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
 
 
 # ------------------------------------------------------------ the library's tools on the model
-@pytest.mark.slow  # about 30-60 s (2-8 min on a loaded machine): a CLI sweep, the same in Python and as a study
+@pytest.mark.slow  # about 1 min (2-8 min on a loaded machine): a CLI sweep, the same in Python and as a study
 def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     """``frictionjoint sweep ti64_solid_blade``'s CSV equals ``fj.sweep``'s, and a study file on the
     model (one point, the definition's friction coefficient, peak not refined) has the sweep's peak."""
@@ -245,7 +245,7 @@ def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     assert row["peak_amplitude"][0] == pytest.approx(a_peak, rel=SAME_SWEEP) and row["peak_omega"][0] == w_peak
 
 
-@pytest.mark.slow  # about 20-60 s: five balances on the branch, each checked by its exact orbit
+@pytest.mark.slow  # about 2 s (3.5 min at load 8-11): five balances on the branch, each checked by its exact orbit
 def test_harmonic_balance_sweep_checked_by_exact_orbits():
     """``fj.sweep(MODEL, ..., method="hbm", n_harmonics=15, check=True)``
     (``BladeAssembly.frequency_response``) from the stuck root to the start of partial slip: every
