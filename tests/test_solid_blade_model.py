@@ -25,7 +25,7 @@ References and what is checked (numbers printed, run with ``-s``):
   damping ratio). 20 modes meet 1e-3 in both limits, 5 (the definition's) and 10 do not;
 - the command line's sweep, ``fj.sweep`` and a study file on the model give the same numbers.
 
-Costs (measured on this shared 2-core machine): the default tests 8 s at load 3 (1 min at load
+Costs (measured on this shared 2-core machine): the default tests 10 s at load 3 (1-2 min at load
 8-11), the whole file 2 min at load 3 (22 min at load 8-11); the assembly 0.5-3 s, an exact
 steady state 2-40 s, a balance at H = 15 0.1-2 s, one frequency of the unreduced model 0.25-1.5 s.
 """
