@@ -10,7 +10,7 @@ Subcommands::
     frictionjoint campbell MODEL --speed START:STOP:N [--engine-orders 1,2,3] [--modes N]
                            [--amplitude A] [--harmonics H] [--plot PNG] [--csv FILE]
     frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
-                             [--fmi-version {2,3}] [--no-early-return]
+                             [--blade MODEL ...] [--fmi-version {2,3}] [--no-early-return]
     frictionjoint host-env
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
@@ -430,6 +430,10 @@ def _add_tools(sub) -> None:
                     help="also build one FMU of a whole friction system from each system definition (.toml "
                          "or .json, see frictionjoint.system_file; e.g. models/two_dof_chain_system.toml), "
                          "named after its 'name'; with --system and no --only, only these FMUs are built")
+    bf.add_argument("--blade", nargs="+", default=[], metavar="MODEL",
+                    help="also build a blade FMU (BladeDovetail's slave) from each blade model definition (a "
+                         "name in models/ or a .toml file; beam or solid, e.g. ti64_solid_blade), named after "
+                         "its 'name'; with --blade and no --only, only these FMUs are built")
     bf.add_argument("--fmi-version", type=int, choices=(2, 3), default=2,
                     help="3: FMI 3.0 co-simulation FMUs of " + ", ".join(FMUS3) + " (and of each --system) as "
                          "<name>Fmi3.fmu (pythonfmu3), returning early at each stick/slip event where the host "
@@ -588,10 +592,11 @@ def _build_fmus(args, parser) -> int:
         if unknown:
             parser.error(f"--only: unknown FMU(s) {unknown} for --fmi-version {args.fmi_version}; choose from "
                          f"{sorted(table)}")
-    if args.fmi_version == 3 and args.structure:
-        parser.error("--structure builds FMI 2.0 FMUs only (--fmi-version 2)")
+    if args.fmi_version == 3 and (args.structure or args.blade):
+        parser.error("--structure and --blade build FMI 2.0 FMUs only (--fmi-version 2)")
     for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system,
-                           fmi_version=args.fmi_version, early_return=not args.no_early_return):
+                           fmi_version=args.fmi_version, early_return=not args.no_early_return,
+                           blades=args.blade):
         print(f"built and validated {path}")
     return 0
 

@@ -351,6 +351,19 @@ def test_build_fmus_structure(tmp_path, capsys):
     assert "none.toml' not found" in capsys.readouterr().err
 
 
+def test_build_fmus_blade(tmp_path, capsys):
+    """--blade builds a blade FMU per definition (here the solid blade on contact patches), named
+    after its name; an unknown model and FMI 3 are refused with the option named."""
+    assert main(["build-fmus", "--out", str(tmp_path), "--blade", "ti64_solid_blade"]) == 0
+    assert capsys.readouterr().out.strip() == f"built and validated {tmp_path / 'Ti64SolidBlade.fmu'}"
+    for argv, words in ((["--blade", "no_such_blade"], "no_such_blade"),
+                        (["--blade", "ti64_solid_blade", "--fmi-version", "3"], "--blade")):
+        with pytest.raises(SystemExit) as exc:
+            main(["build-fmus", "--out", str(tmp_path)] + argv)
+        assert exc.value.code == 2
+        assert words in capsys.readouterr().err
+
+
 @pytest.mark.slow  # about 4 s: a subprocess sweeping the blade on its root
 def test_sweep_blade_model_with_its_linear_limits(tmp_path):
     """``sweep ti64_compressor_blade``: the tip's first harmonic with the root's linear limits; far
