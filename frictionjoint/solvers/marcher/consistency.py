@@ -223,6 +223,7 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
         kw[q] = jst_k[q] * w[jst_idx[q]]
     if has_jst:
         f_const += matvec(jst_dt, kw)
+    sf = np.zeros(0)
     kx0 = matvec(k_c, x)
     if has_jst:
         rhs = f_ext - matvec(k_sys, x)
@@ -263,7 +264,24 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
             g[q] += cc[q] * co + cs[q] * si
             dg[q] += om * (cs[q] * co - cc[q] * si)
             ddg[q] -= om * om * (cc[q] * co + cs[q] * si)
-    tol = _zero_bands(ax_abs, row_fs, row_kind, x, f_const, kx0, fscale_fixed, mass_scale, rate, v_scale)
+    # the velocity rows' load scale: with stuck Jenkins springs the spring-form terms of the load
+    # (f_ext, friction, K x, the springs' forces k (d.x - w)), not the force rows' rounding scale
+    # (k (d.x) and k w, ~ kt |x|), which over the stiff rate made a velocity band of 6e-7 m/s at
+    # kt = 1e10 (sliders kept slipping while moving backwards); elsewhere the force scale (-1)
+    lscale = -1.0
+    if has_jst:
+        lscale = fscale_fixed
+        for k in range(n):
+            lscale = max(lscale, abs(f_ext[k]))
+        if has_slip:
+            for k in range(n):
+                lscale = max(lscale, abs(f_slip[k]))
+        kb = matvec(k_sys, x)
+        for k in range(n):
+            lscale = max(lscale, abs(kb[k]))
+        for q in range(nj):
+            lscale = max(lscale, abs(sf[q]))
+    tol = _zero_bands(ax_abs, row_fs, row_kind, x, f_const, kx0, fscale_fixed, mass_scale, rate, v_scale, lscale)
     j, atzero = _most_violated(g, dg, ddg, tol, rate, row_kind, row_slider, forced, event_row, zero_rows)
     gj = g[j] if j >= 0 else 0.0
     tolj = tol[j] if j >= 0 else 0.0
@@ -273,7 +291,7 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
 
 
 @_jit(inline=True)
-def _zero_bands(ax_abs, row_fs, row_kind, x, f_const, kx0, fscale_fixed, mass_scale, rate, v_scale):
+def _zero_bands(ax_abs, row_fs, row_kind, x, f_const, kx0, fscale_fixed, mass_scale, rate, v_scale, lscale):
     """The rows' zero bands (``Marcher._tolerances``): velocity rows ``1e-11`` of the velocity scale
     (at least the load scale's ``fscale / (mass_scale rate)``), force rows ``1e-12`` of the larger
     of their slip force and the load scale (the fixed one, ``|f_const|``, ``|K_c x|`` and ``|ax|
@@ -287,7 +305,7 @@ def _zero_bands(ax_abs, row_fs, row_kind, x, f_const, kx0, fscale_fixed, mass_sc
         ab = matvec(ax_abs, np.abs(x))
         for q in range(nr):
             fscale = max(fscale, abs(ab[q]))
-    v_floor = fscale / (mass_scale * rate)
+    v_floor = (fscale if lscale < 0 else lscale) / (mass_scale * rate)
     tv = 1e-11 * max(v_scale, v_floor)
     tol = np.empty(nr)
     for q in range(nr):

@@ -457,8 +457,16 @@ class Marcher:
                 fscale = max(fscale, _absmax(pat.ax_abs @ np.abs(itv.x0)))
             rate = max(self.system.omega, itv.config.max_rate, 1e-300)
             force_tol = [None if isv else 1e-12 * max(fs, fscale) for isv, fs in zip(pat.row_v_list, pat.row_fs)]
-            # velocity scale: what has been seen, or what the loads can produce in 1/rate
-            parts = itv._tol_parts = (fscale / (self._mass_scale * rate), force_tol)
+            # velocity scale: what has been seen, or what the loads can produce in 1/rate (with
+            # stuck Jenkins springs the load's spring-form terms, consistency.check)
+            lscale = fscale
+            if pat.has_jst:
+                x0 = itv.x0
+                lscale = max(self._fscale_fixed, _absmax(itv.f_ext), _absmax(pat.cfg.base_stiffness @ x0),
+                             _absmax(pat.jst_k * (pat.jst_dt.T @ x0 - itv.w[pat.jst])))
+                if pat.f_slip is not None:
+                    lscale = max(lscale, _absmax(pat.f_slip))
+            parts = itv._tol_parts = (lscale / (self._mass_scale * rate), force_tol)
         v_floor, force_tol = parts
         tv = 1e-11 * max(v_scale, v_floor)
         tol = [tv if ft is None else ft for ft in force_tol]
