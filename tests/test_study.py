@@ -327,8 +327,9 @@ def test_mode_damping_column_equals_the_nonlinear_mode_run_directly(tmp_path):
                     'omega = "1990:2060:4"\nrefine_peak = false\n[quantities]\n'
                     'mode_damping = {amplitude = 3e-6, n_harmonics = 3, dof = "w0"}\n')
     assert load_study(path).mode_damping == declared and load_study(path).fingerprint() == st.fingerprint()
-    # the declaration travels with each task (execution.tasks passes it once it knows the key)
-    rows = [evaluate_point({**t, "mode_damping": st.mode_damping}) for t in tasks(st)]
+    # the declaration travels with each task (execution.tasks: run_study and the CLI use them)
+    assert all(t["mode_damping"] == declared for t in tasks(st))
+    rows = [evaluate_point(t) for t in tasks(st)]
     for row, p in zip(rows, st.points()):
         assert row["status"] == "ok", row["error"]
         nm = fj.nonlinear_mode(blade_assembly(BLADE, p).system(1990.0), mode=0, amplitudes=mode_amplitudes(3e-6),
