@@ -7,7 +7,7 @@ slot's flanks (30 degrees), 9 nodes each: every node a Jenkins slider along the 
 with its share of the flank's tangential stiffness and a normal spring, its static normal and
 friction load from the spun-up contact solution of the blade under its centrifugal body forces
 (19.4 kN). The blade is reduced by Craig-Bampton (sparse) to the 36 flank DOFs, 5 modes and the
-excitation's residual vector: 42 DOFs. 50 N acts flapwise at the tip's leading edge.
+excitation's residual vector: 42 DOFs. 50 N acts flapwise at the centre of the tip face.
 
 The script
 
@@ -176,7 +176,7 @@ def draw_response(path, omegas, tip, regimes, fine, limits, var_omegas, var_tip,
     ax.set_ylim(0.0, 1e3 * 2.0 * np.nanmax(np.abs(tip)))
     ax.set_xlabel("omega [rad/s]")
     ax.set_ylabel("tip first harmonic, flapwise [mm]")
-    ax.set_title(f"{name}: 50 N at the tip's leading edge, root on 2 x 9 contact nodes", fontsize="medium")
+    ax.set_title(f"{name}: 50 N at the tip's centre, root on 2 x 9 contact nodes", fontsize="medium")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize="small", loc="upper left")
     fig.savefig(path, dpi=110)

@@ -129,7 +129,7 @@ def test_bad_definitions_are_refused(tmp_path):
     cases = [(base.replace('kind = "solid"', 'kind = "shell"'), "kind must be one of"),
              (base.replace('kind = "solid"', 'kind = "solid"\nbending = "flapwise"'), "SolidBlade's arguments"),
              (base.replace("[root]", "[root]\nflank_half_width = 0.005"), "flank_half_width"),
-             (base.replace('tip_point = "leading_edge"', 'tip_point = "middle"'), "tip_point must be one of"),
+             (base.replace('tip_point = "centre"', 'tip_point = "middle"'), "tip_point must be one of"),
              (base.replace("speed = 1000.0", "speed = 0.0"), "rotor_speed must be > 0")]
     for i, (text, words) in enumerate(cases):
         path = tmp_path / f"bad{i}.toml"
@@ -155,3 +155,15 @@ def test_a_spinning_blades_exported_matrices_reduce_on_the_flanks():
     assert r.indefinite_stiffness and not FEModel(fe.mass, fe.stiffness, dofs=fe.dofs).indefinite_stiffness
     with pytest.raises(ParameterError, match="indefinite_stiffness"):
         FEModel(fe.mass, fe.stiffness, dofs=fe.dofs, indefinite_stiffness=2.5)
+
+
+@pytest.mark.parametrize("point, y_ref", [("centre", 0.0), ("leading_edge", 0.015), ("trailing_edge", -0.015)])
+def test_the_excitation_point_on_the_twisted_tip(point, y_ref):
+    """tip_point names a node of the tip face's middle line through the thickness, found on the
+    untwisted reference grid: on a blade twisted 0.35 rad it is at (L, y cos t, y sin t) (the twist
+    turns the tip face; its coordinates are rounded products of the same cosines: 1e-12)."""
+    b = _blade(0.35)
+    _, _, tip = solid_blade_on_patches(b, ROOT, n_modes=2, tip_point=point)
+    node = int(tip[1:tip.index("_")]) - 1
+    expected = [0.15, y_ref * math.cos(0.35), y_ref * math.sin(0.35)]
+    assert tip.endswith("_u3") and np.allclose(b.nodes[node], expected, rtol=0, atol=1e-12)

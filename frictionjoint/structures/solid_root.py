@@ -204,9 +204,9 @@ def solid_blade_on_patches(blade, root: dict, n_modes: int, tip_point: str = "ce
     nodes = [[(dof_name(i + 1, 3), dof_name(i + 1, 1)) for i in edge] for edge in (right, left)]
     held = [dof_name(i + 1, 2) for i in blade._sets["root"]]
     tip = blade._sets["tip"]
-    p = blade.nodes[tip]
-    mid = tip[np.abs(p[:, 2] - np.median(p[:, 2])) <= 1e-9 * blade.thickness]
-    y = blade.nodes[mid, 1]
+    grid = blade._reference_grid(blade.nodes[tip].T)  # before taper and twist: the tip face's own (y, z)
+    mid = tip[grid[2] == 0]  # its middle line through the thickness
+    y = grid[1][grid[2] == 0]
     k = {"centre": np.argmin(np.abs(y)), "leading_edge": np.argmax(y), "trailing_edge": np.argmin(y)}[tip_point]
     tip_dof = dof_name(int(mid[k]) + 1, 3)
     boundary = [d for node in nodes[0] + nodes[1] for d in node] + held
