@@ -461,7 +461,7 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     if check is not False:
         _check(free, eq, out, check, tol, max_iter)
     if exact is not False:
-        _exact(system, eq, out, exact)
+        _exact(system, free, eq, out, exact)
     return out
 
 
@@ -475,12 +475,13 @@ def _picked(out: NonlinearMode, which) -> list:
     return [k for k in picked if out.converged[k]]
 
 
-def _exact(system: FrictionSystem, eq: _Equations, out: NonlinearMode, which) -> None:
-    """The EPMC orbit solved exactly in time at each picked point (``exact``)."""
+def _exact(system: FrictionSystem, free: FrictionSystem, eq: _Equations, out: NonlinearMode, which) -> None:
+    """The EPMC orbit solved exactly in time at each picked point (``exact``); ``free`` is
+    :func:`free_system` of ``system``."""
     from ..marcher import mode_orbits
 
     picked = _picked(out, which)
-    orbits = mode_orbits(free_system(system), eq.dof, orbit_starts(system, out, picked),
+    orbits = mode_orbits(free, eq.dof, orbit_starts(system, out, picked),
                          n_harmonics=out.n_harmonics)
     out.exact_frequency = np.full(out.amplitude.size, np.nan)
     out.exact_damping_ratio = np.full(out.amplitude.size, np.nan)
@@ -554,9 +555,7 @@ def _check(free, eq, out: NonlinearMode, check, tol, max_iter) -> None:
     out.frequency_error = np.full(out.amplitude.size, np.nan)
     out.energy_error = np.full(out.amplitude.size, np.nan)
     checks = []
-    for k in picked:
-        if not out.converged[k]:
-            continue
+    for k in picked:  # converged points only (_picked)
         dc = free_decay(free, eq, out, k, tol, max_iter)
         checks.append(dc)
         out.frequency_error[k] = dc.frequency_error
