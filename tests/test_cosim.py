@@ -183,3 +183,38 @@ def test_a_system_keeps_its_fmus_between_runs_and_frees_them(chain_fmus):
         np.testing.assert_array_equal(fresh.simulate(PERIODS * T, T / 20, ["chain.x_x2"])["chain.x_x2"],
                                       first["chain.x_x2"])
     assert not fresh._pool
+
+
+def test_a_run_that_cannot_fit_is_refused_before_anything_is_loaded(chain_fmus, monkeypatch):
+    """Issue 39: ``stop_time=1e9`` allocated a 28.5 GiB grid and died with a raw MemoryError,
+    ``step=1e-300`` with numpy's "Maximum allowed dimension exceeded". Both are refused, naming the
+    parameter, with the estimate, before any FMU is loaded (the system's pool stays empty)."""
+    from frictionjoint.fmi import cosim
+
+    s = system(chain_fmus, "semi-implicit")
+    # a machine with 16 GiB free: 1e9 s at T/20 is 3.8e9 steps, 3 columns of float64 = 85 GiB
+    monkeypatch.setattr(cosim, "available_memory", lambda: 16 * 2 ** 30)
+    with pytest.raises(ParameterError, match=r"stop_time = 1000000000.0 s .* 3.82e\+09 communication steps.*85.4 GiB.*16 GiB"):
+        s.simulate(1e9, T / 20, ["chain.x_x1", "chain.x_x2"])
+    for stop, h in ((1.0, 1e-300), (1e300, 1.0), (1e9, 1e-9), (1.0, 5e-324)):  # t0 + h == t0, or stop + h == stop
+        with pytest.raises(ParameterError, match="step must be above the rounding of the times"):
+            s.simulate(stop, h, ["chain.x_x1"])
+    assert not s._pool
+
+
+def test_a_long_run_shows_its_progress_on_stderr(chain_fmus, monkeypatch, capsys):
+    """Issue 39: 10**6 steps ran for minutes with no progress bar and no estimate. By default the bar
+    (tqdm, with the time left) appears once the run has lasted PROGRESS_DELAY seconds: here 0 s."""
+    from frictionjoint.fmi import cosim
+
+    s = system(chain_fmus, "semi-implicit")
+    s.simulate(T, T / 20, ["chain.x_x1"])
+    assert "co-simulation" not in capsys.readouterr().err  # a short run: no bar
+    monkeypatch.setattr(cosim, "PROGRESS_DELAY", 0.0)
+    s.simulate(T, T / 20, ["chain.x_x1"])
+    assert "co-simulation" in capsys.readouterr().err
+    s.simulate(T, T / 20, ["chain.x_x1"], progress=False)
+    assert "co-simulation" not in capsys.readouterr().err
+    with pytest.raises(ParameterError, match="progress must be True, False or None"):
+        s.simulate(T, T / 20, ["chain.x_x1"], progress="yes")
+    s.close()

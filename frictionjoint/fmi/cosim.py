@@ -40,6 +40,8 @@ the README's chain is exact from T/20 on and loses 2 of its 31 events at T/10.
 from __future__ import annotations
 
 import math
+import os
+import sys
 import threading
 import weakref
 from dataclasses import dataclass, field
@@ -54,7 +56,7 @@ from ..threads import owns_blas_threads
 from .ports import split_port
 from .ssp import write_ssp
 
-__all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS"]
+__all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS", "available_memory"]
 
 #: outputs of a component that take part in event location (positive while the status at the step's
 #: start holds, negative once it has changed), each with the outputs of its rate of change and of its
@@ -62,6 +64,10 @@ __all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS"]
 EVENT_INDICATORS = {"slip_margin": ("slip_margin_rate", None), "slip_velocity": (None, "slip_distance")}
 #: the most events located in one communication step
 MAX_EVENTS_PER_STEP = 100
+#: seconds a run (:meth:`FMUSystem.simulate`) goes before its progress bar appears when
+#: ``progress`` is left at None (a run of the README's chain takes 0.05-0.3 s: no bar; 10**6
+#: steps take minutes: a bar with its estimate of the time left)
+PROGRESS_DELAY = 2.0
 
 
 def joint_connections(structure: str, joint: str, dof: str, coupling: str = "semi-implicit",
@@ -226,7 +232,7 @@ class FMUSystem:
 
     @owns_blas_threads
     def simulate(self, stop_time: float, step: float, outputs: Sequence[str], start_time: float = 0.0,
-                 transfer: str = "sequential", progress: bool = False,
+                 transfer: str = "sequential", progress: bool | None = None,
                  locate_events: bool | None = None) -> CoSimulationResult:
         """Run the system with this module's fixed-step master (see the module docstring).
 
@@ -236,7 +242,11 @@ class FMUSystem:
             End time [s]; the last communication point is the last ``t0 + n h <= stop_time``
             (within rounding).
         step : float
-            Communication step ``h`` [s], > 0.
+            Communication step ``h`` [s], > 0 and above the rounding of the times (``t0 + h`` must
+            differ from ``t0``, and ``stop_time`` from ``stop_time + h``). The recorded grid,
+            ``(n + 1) * (len(outputs) + 1)`` floats for ``n`` steps, must fit in the memory
+            available (:func:`available_memory`): a run that cannot is refused before any FMU is
+            loaded, with the estimate.
         outputs : sequence of str
             ``"component.variable"`` names to record at every communication point.
         start_time : float
@@ -246,8 +256,9 @@ class FMUSystem:
             ``"jacobi"``: all sources are read, then all targets set, as Ecos does (a joint's force
             then lags its displacement by one step; the semi-implicit coupling stays exact while
             the joint sticks).
-        progress : bool
-            Show a progress bar.
+        progress : bool, optional
+            Show a progress bar (tqdm, on stderr, with the estimated time left). None (default):
+            shown once the run has lasted :data:`PROGRESS_DELAY` seconds.
         locate_events : bool, optional
             Cut each communication step at the events of the components that report event
             indicators (see the module docstring). Default: where every component can get and set
@@ -272,12 +283,14 @@ class FMUSystem:
             raise ParameterError(f"component {comp!r} is an FMI {version} FMU: this master runs FMI 2.0 "
                                  "co-simulation FMUs (an FMI 3 FMU runs in an FMI 3 host, e.g. fmpy's "
                                  "simulate_fmu; to_ssp writes it for an SSP host)")
+        if progress is not None and not isinstance(progress, (bool, np.bool_)):
+            raise ParameterError(f"progress must be True, False or None, got {progress!r}")
         h = check_positive("step", step)
         t0 = check_real("start_time", start_time)
-        n_steps = _step_count(t0, check_real("stop_time", stop_time), h)
         outputs = list(outputs)
         for name in outputs:
             self.variable(name)
+        n_steps = _step_count(t0, check_real("stop_time", stop_time), h, len(outputs))
         indicators = self._event_indicators(locate_events)
         insts, pooled = self._instances()
         locator, done = None, False
@@ -305,11 +318,11 @@ class FMUSystem:
         move, read = self._transfer(insts, transfer), self._read(insts, outputs)
         move()
         record[0] = read()
-        steps = range(1, n_steps + 1)
-        if progress:
-            from tqdm import tqdm
+        from tqdm import tqdm
 
-            steps = tqdm(steps, desc="co-simulation", unit="step")
+        steps = tqdm(range(1, n_steps + 1), desc="co-simulation", unit="step", file=sys.stderr,
+                     disable=progress is False, delay=PROGRESS_DELAY if progress is None else 0.0,
+                     leave=False)
         for n in steps:
             if locator is None:
                 for inst in insts.values():
@@ -722,8 +735,34 @@ def _illinois(phi, lo, hi, f_lo=None, f_hi=None, predict=None):
     return hi
 
 
-def _step_count(t0: float, stop: float, h: float) -> int:
-    n = int(np.floor((stop - t0) / h * (1 + 1e-12) + 1e-9))
-    if n < 1:
+def available_memory() -> int:
+    """Memory [bytes] this process may still take: the physical memory not in use where
+    ``os.sysconf`` reports it (Linux), else the physical memory; 2**62 where neither is known."""
+    for pages in ("SC_AVPHYS_PAGES", "SC_PHYS_PAGES"):
+        try:
+            return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf(pages))
+        except (AttributeError, ValueError, OSError):  # no sysconf (Windows), or no such name
+            continue
+    return 2 ** 62
+
+
+def _step_count(t0: float, stop: float, h: float, n_outputs: int = 0, bytes_per_value: float = 8.0) -> int:
+    """The number of communication steps ``n`` from ``t0`` to ``stop`` (the last ``t0 + n h <=
+    stop`` within rounding), refused before anything is allocated when the points are not distinct
+    in floating point or the recorded grid, ``(n + 1) (n_outputs + 1)`` values of
+    ``bytes_per_value`` bytes each, does not fit in the available memory."""
+    rounding = 4 * np.finfo(float).eps * max(abs(t0), abs(stop))
+    if h <= rounding:
+        raise ParameterError(f"step must be above the rounding of the times ({rounding:.3g} s at start_time = "
+                             f"{t0!r} s, stop_time = {stop!r} s), got {h!r}: the communication points would not "
+                             "be distinct")
+    span = (stop - t0) / h  # finite: h > eps |t|
+    if span * (1 + 1e-12) + 1e-9 < 1:
         raise ParameterError(f"stop_time must be at least one step ({h!r} s) after start_time, got {stop!r}")
-    return n
+    grid = (span + 2) * (n_outputs + 1) * bytes_per_value  # the times and the outputs
+    free = available_memory()
+    if grid > free:
+        raise ParameterError(f"stop_time = {stop!r} s with step = {h!r} s is {span:.3g} communication steps, whose "
+                             f"recorded times and {n_outputs} output(s) take {grid / 2 ** 30:.3g} GiB, beyond the "
+                             f"{free / 2 ** 30:.3g} GiB of memory available: take a longer step or a shorter run")
+    return int(np.floor(span * (1 + 1e-12) + 1e-9))

@@ -245,9 +245,15 @@ def run_ecos(system_or_ssp, stop_time: float, step: float, outputs: Sequence[str
     """
     import tempfile
 
+    from .cosim import _step_count
+
     h = check_positive("step", step)
     t0 = check_real("start_time", start_time)
-    n = int(round((check_real("stop_time", stop_time) - t0) / h))
+    stop = check_real("stop_time", stop_time)
+    # refused before Ecos starts where the points are not distinct or the rows cannot fit: each
+    # value passes as a Python float in a list, JSON text and a float64, ~100 bytes in all
+    _step_count(t0, stop, h, len(outputs), bytes_per_value=100.0)
+    n = int(round((stop - t0) / h))
     if n < 1:
         raise ParameterError(f"stop_time must be at least one step ({h!r} s) after start_time, got {stop_time!r}")
     with tempfile.TemporaryDirectory(prefix="frictionjoint_ecos_") as tmpd:
