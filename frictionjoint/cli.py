@@ -442,16 +442,23 @@ def _add_tools(sub) -> None:
                     help="--fmi-version 3: pythonfmu3's stock binaries (Linux and Windows x86_64), no early return "
                          "or event mode declared")
 
-    _command(
+    he = _command(
         sub, "host-env", _host_env, csv=None, out=None,
-        help="print the environment a non-Python FMU host needs (eval \"$(frictionjoint host-env)\")",
-        description="Print shell exports for a host that is not Python (Ecos, a C/C++ master) to run "
-                    "these FMUs with this Python: LD_PRELOAD of this interpreter's libpython (the FMUs' "
-                    "binary leaves the Python symbols to the process), PYTHONPATH to this "
-                    "environment's site-packages (numpy, scipy), LD_LIBRARY_PATH with the tbb wheel's "
-                    "folder (Ecos needs its libtbb.so.12), and ECOS, the path of an executable ecos, "
-                    "checked to start. Where Ecos cannot run it prints nothing, says why on stderr and "
-                    "exits with status 1, so that eval applies all or nothing.")
+        help="run a non-Python FMU host (Ecos, a C/C++ master) with the environment it needs: "
+             "frictionjoint host-env ecos simulate ...",
+        description="Run COMMAND with the environment a host that is not Python (Ecos, a C/C++ master) needs "
+                    "to run these FMUs with this Python, in that command's process only: LD_PRELOAD of this "
+                    "interpreter's libpython (the FMUs' binary leaves the Python symbols to the process), "
+                    "PYTHONPATH to this environment's site-packages (numpy, scipy), LD_LIBRARY_PATH with the "
+                    "tbb wheel's folder (Ecos needs its libtbb.so.12), and ECOS, the path of an executable "
+                    "ecos, checked to start; a COMMAND named 'ecos' is that executable. The exit status is "
+                    "COMMAND's. Without COMMAND, prints the shell exports instead, for a subshell: "
+                    "( eval \"$(frictionjoint host-env)\"; \"$ECOS\" ... ) -- evaluated in a login shell "
+                    "they would preload libpython into every later command. Where Ecos cannot run it runs "
+                    "and prints nothing, says why on stderr and exits with status 1.")
+    he.add_argument("run", nargs=argparse.REMAINDER, metavar="COMMAND ...",
+                    help="the command and its arguments ('ecos' for the ecospy wheel's executable; put '--' "
+                         "before a command that starts with '-')")
 
     be = _command(
         sub, "bench", _bench, csv=None,
@@ -602,9 +609,12 @@ def _build_fmus(args, parser) -> int:
 
 
 def _host_env(args, parser) -> int:
-    """Everything is computed, and ecos started once, before anything is printed: where Ecos
-    cannot run, stdout stays empty (``eval`` applies nothing) and stderr says why (status 1)."""
+    """Everything is computed, and ecos started once, before anything runs or is printed: where
+    Ecos cannot run, nothing runs, stdout stays empty (``eval`` applies nothing) and stderr says why
+    (status 1). With a command, the environment is that command's alone (its process and its
+    children), never the caller's shell's."""
     import shlex
+    import subprocess
 
     from .errors import FMUError
     from .fmi.ecos import ecos_environment
@@ -613,8 +623,18 @@ def _host_env(args, parser) -> int:
         env = ecos_environment()
     except FMUError as exc:
         parser.exit(1, f"{PROG} host-env: {exc}\n")
-    print("\n".join(f"export {name}={shlex.quote(value)}" for name, value in env.items()))
-    return 0
+    command = list(args.run)
+    if command[:1] == ["--"]:
+        command = command[1:]
+    if not command:
+        print("\n".join(f"export {name}={shlex.quote(value)}" for name, value in env.items()))
+        return 0
+    if command[0] == "ecos":
+        command[0] = env["ECOS"]
+    try:
+        return subprocess.call(command, env=dict(os.environ, **env))
+    except OSError as exc:
+        parser.exit(127, f"{PROG} host-env: cannot run {command[0]!r}: {exc}\n")
 
 
 def _benchmark_harness():

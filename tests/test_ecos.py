@@ -63,13 +63,34 @@ def test_ecospy_loads_in_a_fresh_process_with_the_tbb_wheel():
 
 @pytest.mark.slow  # a fresh Python importing the package: about 2 s
 def test_host_env_runs_the_ecos_executable_from_a_new_shell():
-    """``eval "$(frictionjoint host-env)"`` in a shell with none of its variables, then ``$ECOS``
-    starts (without LD_LIBRARY_PATH to the tbb wheel it stops at the loader where the system has
-    no libtbb12: status 127)."""
-    script = f'set -e; eval "$({sys.executable} -m frictionjoint host-env)"; "$ECOS" --version'
+    """``( eval "$(frictionjoint host-env)"; "$ECOS" ... )`` in a shell with none of its variables
+    (the printed form, in a subshell): ``$ECOS`` starts (without LD_LIBRARY_PATH to the tbb wheel it
+    stops at the loader where the system has no libtbb12: status 127)."""
+    script = f'set -e; (eval "$({sys.executable} -m frictionjoint host-env)"; "$ECOS" --version)'
     p = subprocess.run(["bash", "-c", script], capture_output=True, text=True, env=bare_environment(), timeout=120)
     assert p.returncode == 0, p.stderr
     assert p.stdout.strip().startswith("v0.")
+
+
+@pytest.mark.slow  # a fresh Python importing the package: about 2 s
+def test_host_env_runs_a_command_with_the_environment_and_leaves_the_shell_alone():
+    """Issue 39: ``eval "$(frictionjoint host-env)"`` left LD_PRELOAD=libpython in the user's shell
+    for every later command. ``frictionjoint host-env ecos ...`` runs the wheel's ecos with the
+    environment in its own process: the shell that ran it has no LD_PRELOAD afterwards, the
+    command's status is passed on, and a command that does not exist is status 127 with the
+    reason."""
+    from frictionjoint.fmi.ecos import host_environment
+
+    fj = f"{sys.executable} -m frictionjoint host-env"
+    script = (f'set -e; {fj} ecos --version; echo "after: [${{LD_PRELOAD:-}}]"; '
+              f'{fj} -- sh -c \'echo "inside: [$LD_PRELOAD]"; exit 3\' || echo "status $?"; '
+              f'{fj} no-such-command-here || echo "status $?"')
+    p = subprocess.run(["bash", "-c", script], capture_output=True, text=True, env=bare_environment(), timeout=120)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.strip().splitlines()
+    assert lines[0].startswith("v0.")
+    assert lines[1:] == ["after: []", f"inside: [{host_environment()['LD_PRELOAD']}]", "status 3", "status 127"]
+    assert "cannot run 'no-such-command-here'" in p.stderr
 
 
 @pytest.mark.slow  # a fresh Python importing the package: about 2 s
