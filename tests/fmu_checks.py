@@ -232,5 +232,24 @@ def blade_steps(path, step, n_steps, vary=0):
     return {"rows": rows, "messages": messages}
 
 
+def fmpy_simulate(path, name, value):
+    """fmpy's ``simulate_fmu`` (FMI 2 co-simulation, one second at 0.1 s) with one parameter set and
+    debug logging on: whether it raised, the rows it returned and the FMU's log messages."""
+    from fmpy import simulate_fmu
+
+    messages = []
+
+    def log(component, instance, status, category, message):
+        messages.append(message.decode(errors="replace") if message else "")
+
+    try:
+        rows = len(simulate_fmu(str(path), stop_time=1.0, output_interval=0.1, start_values={name: json.loads(value)},
+                                debug_logging=True, logger=log))
+        raised = None
+    except Exception as exc:  # fmpy's FMICallException
+        rows, raised = 0, str(exc)
+    return {"raised": raised, "rows": rows, "messages": messages}
+
+
 if __name__ == "__main__":
     print(json.dumps(globals()[sys.argv[1]](*sys.argv[2:])), flush=True)
