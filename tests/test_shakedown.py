@@ -88,7 +88,10 @@ def test_below_melan_limit_shakes_down(seed):
         w0 = random_admissible_slip(system, load, rng)
         res = shakedown_check(system, load, w0, melan=False)
         assert res.success and res.shakedown
-        assert res.last_cycle.dissipation <= 1e-12 * scale
+        # shakedown_check's own stopping rule (rtol = 1e-12 of this energy scale, which it computes
+        # by cho_solve and this test by solve: the same to rounding), not a measured bound -- a
+        # cycle stops anywhere below it (seen 2.9e-12 of 3.3e-12); 1.001e-12 takes the rounding
+        assert res.last_cycle.dissipation <= 1.001e-12 * scale
         d = w0 - melan.residual_slip
         assert res.dissipation.sum() <= (d @ k @ d) / (2.0 * melan.margin) * (1 + EXACT)
         finite += res.last_cycle.dissipation <= 1e-15 * scale  # slip stopped at once (rounding)
