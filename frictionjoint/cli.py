@@ -207,21 +207,31 @@ def _study(args, parser) -> int:
     failed (the last line says how many) or a worker died, 2 for a bad definition or table."""
     from .errors import WorkerError
     from .study import load_study, run_study
-    from .study.execution import TableConflict
+    from .study.execution import SchedulerError, TableConflict, connect
 
     if args.workers is not None and args.scheduler is not None:
         parser.error("--workers is for the local pool; a Dask cluster has its own workers")
-    study = load_study(args.file)
+    study = load_study(args.file)  # the whole definition checked, before anything runs or is written
     table = args.table if args.table is not None else study.table
     _check_writable(parser, "--table", table)
-    where = (f"the Dask cluster at {args.scheduler}" if args.scheduler else
-             "this process" if args.workers == 1 else f"{args.workers or os.cpu_count()} local processes")
+    client = None
+    if args.scheduler is not None:  # reached, and answering as a Dask scheduler, before the table is touched
+        try:
+            client = connect(args.scheduler)
+        except SchedulerError as exc:
+            parser.error(f"--scheduler: {exc.reason}")
+        n = len(client.nthreads())
+        where = f"the Dask cluster at {args.scheduler} ({n} worker{'s' * (n != 1)} now" + \
+            ("; the points wait for workers to join)" if n == 0 else ")")
+    else:
+        where = "this process" if args.workers == 1 else f"{args.workers or os.cpu_count()} local processes"
     print(f"study {args.file}: {study.n_points} points of {study.model} ({', '.join(study.varied)}), "
           f"{study.omega.size} frequencies {study.omega.min():g}-{study.omega.max():g} rad/s ({study.method}), "
-          f"at most {study.time_limit:g} s per point, on {where}; table {table}", flush=True)
+          f"at most {study.time_limit:g} s per point, on {where}; table {os.path.abspath(table)}", flush=True)
+    computed = []
     try:
-        out = run_study(study, table, workers=args.workers, scheduler=args.scheduler, progress=not args.no_progress,
-                        restart=args.restart)
+        out = run_study(study, table, workers=args.workers, scheduler=client, progress=not args.no_progress,
+                        restart=args.restart, on_row=computed.append)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted; the finished points are in {table} (run again to resume)", file=sys.stderr)
         return 130
@@ -230,6 +240,11 @@ def _study(args, parser) -> int:
     except (WorkerError, OSError) as exc:
         print(f"{PROG}: {exc}", file=sys.stderr)
         return 1
+    finally:
+        if client is not None:
+            client.close()
+    if not computed:
+        print(f"nothing computed: the {len(out)} points were already in {table} (--restart computes them again)")
     print(out.message)
     q = out.percentiles()
     if out.random:

@@ -213,10 +213,12 @@ def test_journal_cut_short_resumes_to_the_full_table(tmp_path):
 
 
 @pytest.mark.slow
-def test_cli_study_and_plots(tmp_path):
+def test_cli_study_and_plots(tmp_path, monkeypatch):
     """frictionjoint study FILE: the table, the summary and the plot; a Monte Carlo table's plot
     (scatter and histogram with percentiles) and a two-parameter contour."""
     from frictionjoint.cli import main
+
+    monkeypatch.chdir(tmp_path)  # the table curve.csv is written in the working directory
 
     f = tmp_path / "curve.toml"
     f.write_text('model = "ti64_compressor_blade"\ntable = "curve.csv"\n[vary.centrifugal_force]\nvalues = [109.0, 259.0]\n'
@@ -269,7 +271,7 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
                  '[sweep]\nomega = "1990:2060:6"\nrefine_peak = false\n')
     table = tmp_path / "s.csv"
     cmd = [sys.executable, "-m", "frictionjoint", "study", str(f), "--workers", "2", "--no-progress"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and (not table.exists() or table.read_text().count("\n") < 3):
         time.sleep(0.1)  # header lines, then the first row
@@ -279,7 +281,7 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
     assert "run again to resume" in err
     done = StudyTable.read(table)
     assert 1 <= len(done) < 8 and np.all(done.ok)
-    again = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=dict(os.environ))
+    again = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=dict(os.environ), cwd=tmp_path)
     assert again.returncode == 0, again.stderr
     final = StudyTable.read(table)
     assert len(final) == 8 and list(final["point"]) == list(range(8)) and np.all(final.ok)

@@ -20,7 +20,7 @@ import pytest
 import frictionjoint as fj
 from frictionjoint.cli import main
 from frictionjoint.errors import ParameterError
-from frictionjoint.results.study import format_row, header_line
+from frictionjoint.results.study import StudyTable, format_row, header_line
 from frictionjoint.structures import BladeAssembly
 from frictionjoint.study import Study, Values, load_study, run_study
 from frictionjoint.study.execution import TableConflict, tasks
@@ -115,9 +115,10 @@ BAD = [
 
 
 @pytest.mark.parametrize("label, text, names", BAD, ids=[b[0] for b in BAD])
-def test_bad_definition_is_refused_when_loaded(tmp_path, label, text, names):
+def test_bad_definition_is_refused_when_loaded(tmp_path, monkeypatch, label, text, names):
     """Each is a ParameterError of load_study naming the key (and the allowed names); the command
     exits with status 2 before any point runs (no table written)."""
+    monkeypatch.chdir(tmp_path)  # where the table would go
     f = tmp_path / "s.toml"
     f.write_text(text if text.startswith("model") else f'model = "{BLADE}"\n' + text)
     with pytest.raises(ParameterError) as info:
@@ -178,10 +179,11 @@ def test_journal_of_finished_rows_is_read_not_discarded(tmp_path, how):
     assert path.read_text() == _journal(st)  # rewritten whole, as the runner writes it
 
 
-def test_journal_rows_that_are_not_the_studys_are_refused(tmp_path, capsys):
+def test_journal_rows_that_are_not_the_studys_are_refused(tmp_path, monkeypatch, capsys):
     """A row whose parameters differ from its point's, and a line that is not a row, are refused
     with the reason (never taken, never dropped); another study's table names restart=True in
     Python and --restart on the command line."""
+    monkeypatch.chdir(tmp_path)  # the command's table t.csv is the one written here
     st = Study(model=BLADE, omega="1990:2060:3", vary=TWO, refine_peak=False)
     path = tmp_path / "t.csv"
     path.write_text(_journal(st, changed={1: {"centrifugal_force": 999.0}}))
@@ -226,7 +228,8 @@ def test_bad_table_is_one_line(tmp_path, kind, capsys):
 
 
 @pytest.mark.slow
-def test_failed_point_gives_exit_status_1_and_a_last_line(tmp_path, capsys):
+def test_failed_point_gives_exit_status_1_and_a_last_line(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)  # the table s.csv goes here
     f = _toml(tmp_path, '[vary.centrifugal_force]\nvalues = [259.0, -5.0]\n[sweep]\nomega = "1990:2060:3"\n'
                         "refine_peak = false\n")
     assert main(["study", str(f), "--workers", "1", "--no-progress"]) == 1
@@ -349,7 +352,7 @@ def test_workers_and_resource_tracker_end_when_the_runner_is_killed(tmp_path, si
     f = _toml(tmp_path, '[vary.centrifugal_force]\nstart = 100.0\nstop = 1000.0\nnum = 8\n'
                         '[sweep]\nomega = "1990:2060:6"\n')
     proc = subprocess.Popen([sys.executable, "-m", "frictionjoint", "study", str(f), "--workers", "2", "--no-progress"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path)
     family = set()
     try:
         deadline = time.monotonic() + 120
@@ -368,3 +371,224 @@ def test_workers_and_resource_tracker_end_when_the_runner_is_killed(tmp_path, si
         for p in family | {proc.pid}:
             if _alive(p):
                 os.kill(p, signal.SIGKILL)
+
+
+# -- preconditions before anything finished is touched (issue 39, section 5) -------------------
+
+#: a scheduler address where nothing listens (port 1: refused at once on this host)
+NOWHERE = "tcp://127.0.0.1:1"
+#: the connect timeout the tests give the runner [s] (execution.CONNECT_TIMEOUT, 10 s by default):
+#: short, so that a service that never answers is refused quickly
+SHORT = 0.5
+#: the most a refused scheduler may take [s]: the timeout, Dask's import (~1.3 s measured) and its
+#: retries' back-off, with 10x margin for a loaded 2-core machine
+BOUNDED = 10 * (SHORT + 1.5)
+
+
+def _finished(tmp_path, name: str = "t") -> tuple[Path, Path, str]:
+    """A study file (two points) and its finished table (rows as the runner writes them)."""
+    f = _toml(tmp_path, f'table = "{name}.csv"\n[vary.centrifugal_force]\nvalues = [109.0, 259.0]\n'
+                        '[sweep]\nomega = "1990:2060:3"\nrefine_peak = false\n', name=f"{name}.toml")
+    text = _journal(load_study(f))
+    table = tmp_path / f"{name}.csv"
+    table.write_text(text)
+    return f, table, text
+
+
+@pytest.mark.parametrize("restart", [True, False], ids=["--restart", "finished"])
+def test_unreachable_scheduler_is_refused_before_the_table_is_touched(tmp_path, monkeypatch, capsys, restart):
+    """`study FILE --scheduler ADDR [--restart]` with no scheduler at ADDR: one error line naming
+    --scheduler (status 2), and the finished rows are still there, byte for byte (before: --restart
+    deleted them before the scheduler was contacted; on a finished table the command reported
+    success 'on the Dask cluster at ...' without contacting it). The same from Python."""
+    from frictionjoint.study import execution
+
+    monkeypatch.setattr(execution, "CONNECT_TIMEOUT", SHORT)
+    monkeypatch.chdir(tmp_path)
+    f, table, text = _finished(tmp_path)
+    capsys.readouterr()
+    start = time.monotonic()
+    with pytest.raises(SystemExit) as code:
+        main(["study", str(f), "--scheduler", NOWHERE, "--no-progress"] + ["--restart"] * restart)
+    err = capsys.readouterr().err
+    assert time.monotonic() - start <= BOUNDED
+    assert code.value.code == 2 and err.strip().splitlines()[-1].startswith("frictionjoint study: error: --scheduler: ")
+    assert "Traceback" not in err and NOWHERE in err, err
+    assert table.read_text() == text
+    with pytest.raises(ParameterError, match="scheduler"):
+        run_study(load_study(f), table, scheduler=NOWHERE, restart=restart, on_row=_never)
+    assert table.read_text() == text
+
+
+def test_finished_table_says_nothing_was_computed(tmp_path, monkeypatch, capsys):
+    """A study run again on its finished table computes nothing and says so (not that it ran)."""
+    monkeypatch.chdir(tmp_path)
+    f, table, text = _finished(tmp_path)
+    capsys.readouterr()
+    assert main(["study", str(f), "--workers", "1", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "nothing computed: the 2 points were already in" in out, out
+    assert table.read_text() == text
+
+
+def test_live_scheduler_is_named_with_its_workers_and_a_finished_table_computes_nothing(tmp_path, monkeypatch, capsys):
+    """On a live Dask scheduler (an in-process LocalCluster, one worker thread): the command names
+    it with its workers, computes the points there; run again it says that nothing was computed;
+    with --restart it computes them again (the same rows, bit for bit)."""
+    distributed = pytest.importorskip("distributed")
+    monkeypatch.chdir(tmp_path)
+    # 2000 and 19400 N: the root sticks, the cheapest sweeps (0.05 s a point)
+    f = _toml(tmp_path, '[vary.centrifugal_force]\nvalues = [2000.0, 19400.0]\n[sweep]\nomega = "1990:2060:2"\n'
+                        "refine_peak = false\n")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cl:
+        address = cl.scheduler_address
+        runs = []
+        for extra in ([], [], ["--restart"]):
+            capsys.readouterr()
+            assert main(["study", str(f), "--scheduler", address, "--no-progress", *extra]) == 0
+            runs.append(capsys.readouterr().out)
+            if not extra:
+                first = (tmp_path / "s.csv").read_bytes() if len(runs) == 1 else first
+    assert f"on the Dask cluster at {address} (1 worker now)" in runs[0], runs[0]
+    assert "nothing computed" not in runs[0] and "nothing computed" not in runs[2]
+    assert "nothing computed: the 2 points were already in" in runs[1], runs[1]
+    assert (tmp_path / "s.csv").read_bytes() == first
+    assert list(StudyTable.read(tmp_path / "s.csv")["status"]) == ["ok", "ok"]
+
+
+class _NotDask:
+    """A TCP service on 127.0.0.1 that is not a Dask scheduler: it answers ``garbage`` (an HTTP
+    reply, whose first bytes Dask reads as a frame length of exabytes), nothing (``silent``) or
+    closes the connection (``close``)."""
+
+    def __init__(self, how: str):
+        import socket
+        import threading
+
+        self.how, self.sock = how, socket.create_server(("127.0.0.1", 0))
+        self.address = f"tcp://127.0.0.1:{self.sock.getsockname()[1]}"
+        self.open = []
+        threading.Thread(target=self._serve, daemon=True).start()
+
+    def _serve(self):
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return
+            if self.how == "close":
+                conn.close()
+                continue
+            self.open.append(conn)
+            if self.how == "garbage":
+                try:
+                    conn.sendall(b"HTTP/1.0 200 OK\r\nContent-Type: text/plain\r\n\r\nhello\r\n" * 50)
+                except OSError:
+                    pass
+
+    def close(self):
+        for c in self.open:
+            c.close()
+        self.sock.close()
+
+
+@pytest.mark.parametrize("how", ["garbage", "silent", "close"])
+def test_scheduler_that_is_not_dask_is_one_line_in_bounded_time(tmp_path, monkeypatch, capsys, how):
+    """--scheduler at a TCP service that is not a Dask scheduler: one error line naming
+    --scheduler, status 2, within the connect timeout (before: garbage gave a MemoryError traceback
+    of a 3 EiB frame, silence hung forever)."""
+    from frictionjoint.study import execution
+
+    monkeypatch.setattr(execution, "CONNECT_TIMEOUT", SHORT)
+    f, table, text = _finished(tmp_path)
+    service = _NotDask(how)
+    try:
+        capsys.readouterr()
+        start = time.monotonic()
+        with pytest.raises(SystemExit) as code:
+            main(["study", str(f), "--scheduler", service.address, "--restart", "--no-progress"])
+        elapsed = time.monotonic() - start
+        err = capsys.readouterr().err
+    finally:
+        service.close()
+    assert code.value.code == 2 and "Traceback" not in err, err
+    assert err.strip().splitlines()[-1].startswith(f"frictionjoint study: error: --scheduler: "), err
+    assert service.address in err and elapsed <= BOUNDED, (elapsed, err)
+    assert table.read_text() == text
+
+
+# -- the nonlinear mode's declaration checked at load, its failure a partial row -----------------
+
+@pytest.mark.parametrize("entry, match", [
+    ("{amplitude = 1e-5, mode = 99}", r"quantities.mode_damping.mode must be < 9 \(the blade's 9 DOFs"),
+    ("{amplitude = 1e-5, mode = 9}", r"quantities.mode_damping.mode must be < 9"),
+    ("{amplitude = 1e-5, dof = 'nope'}", r"quantities.mode_damping.dof: 'nope' is not a DOF of the blade.*'w0'"),
+])
+def test_mode_damping_is_checked_against_the_blade_when_loaded(tmp_path, entry, match):
+    """[quantities] mode_damping's mode must be one of the blade's (9 DOFs, hence 9 stuck modes,
+    0 to 8) and its dof one of the blade's DOFs: refused when the file is loaded, before any point
+    runs (before: every point ran its sweep and then failed)."""
+    f = _toml(tmp_path, '[vary.centrifugal_force]\nvalues = [259.0]\n[sweep]\nomega = "1990:2060:3"\n'
+                        f"[quantities]\nmode_damping = {entry}\n")
+    with pytest.raises(ParameterError, match=match) as exc:
+        load_study(f)
+    assert str(f) in str(exc.value)
+    assert BladeAssembly.from_model(fj.structures.load_blade_model(BLADE)).structure.n_dof == 9
+    ok = _toml(tmp_path, '[vary.centrifugal_force]\nvalues = [259.0]\n[sweep]\nomega = "1990:2060:3"\n'
+                         "[quantities]\nmode_damping = {amplitude = 1e-5, mode = 8, dof = 'w0'}\n", name="ok.toml")
+    assert load_study(ok).mode_damping.mode == 8
+
+
+def test_mode_that_fails_at_a_point_keeps_the_sweeps_columns(monkeypatch):
+    """A nonlinear mode that raises at a point (here made to) leaves the row 'partial' with the
+    sweep's own columns, equal to the row without the declaration, the mode's columns empty and
+    the mode's error (docs/studies.md; before: a 'failed' row without the sweep's columns)."""
+    from frictionjoint.study import point
+
+    def broken(*args, **kwargs):
+        raise ParameterError("nonlinear_mode: the stuck linear mode 0 has a node at dof 1")
+
+    # 2000 N: the root sticks, the cheapest sweep (0.06 s; 1.8 s at 259 N where it slips)
+    kw = dict(model=BLADE, omega="1990:2060:2", vary={"centrifugal_force": Values((2000.0,))}, refine_peak=False)
+    plain = point.evaluate_point(tasks(Study(**kw))[0])
+    monkeypatch.setattr(point, "mode_quantities", broken)
+    row = point.evaluate_point(tasks(Study(**kw, mode_damping={"amplitude": 1e-5}))[0])
+    assert plain["status"] == "ok" and row["status"] == "partial", row
+    assert "mode_damping" in row["error"] and "has a node at dof 1" in row["error"], row["error"]
+    for q in QUANTITIES:
+        if q in ("mode_frequency", "mode_damping_ratio"):
+            assert math.isnan(row[q])
+        else:
+            assert row[q] == plain[q] or (math.isnan(row[q]) and math.isnan(plain[q])), q
+
+
+# -- where the table goes, and the file's errors ----------------------------------------------
+
+def test_table_is_written_in_the_working_directory(tmp_path, monkeypatch):
+    """A study's table (its file's 'table', or the file's name with .csv) is relative to the
+    working directory, not to the study file: running an example does not write into the source
+    tree. The model's path stays relative to the file."""
+    src, work = tmp_path / "src", tmp_path / "work"
+    src.mkdir()
+    work.mkdir()
+    monkeypatch.chdir(work)
+    named = _toml(src, 'table = "curve.csv"\n[vary.centrifugal_force]\nvalues = [259.0]\n[sweep]\nomega = "1990:2060:3"\n')
+    assert Path(load_study(named).table).resolve() == work / "curve.csv"
+    plain = _toml(src, '[vary.centrifugal_force]\nvalues = [259.0]\n[sweep]\nomega = "1990:2060:3"\n', name="p.toml")
+    assert Path(load_study(plain).table).resolve() == work / "p.csv"
+    for example in Path(__file__).parents[1].joinpath("examples", "studies").glob("*.toml"):
+        assert Path(load_study(example).table).resolve().parent == work, example
+
+
+def test_toml_syntax_error_names_the_study_file(tmp_path, capsys):
+    """A TOML syntax error is a ParameterError naming the study file and the line (one line on the
+    command line)."""
+    f = tmp_path / "broken.toml"
+    f.write_text(f'model = "{BLADE}"\n[sweep\nomega = "1990:2060:3"\n')
+    with pytest.raises(ParameterError, match=r"broken.toml: not valid TOML: .*line 2"):
+        load_study(f)
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as code:
+        main(["study", str(f)])
+    err = capsys.readouterr().err
+    assert code.value.code == 2 and "broken.toml" in err.strip().splitlines()[-1] and "Traceback" not in err

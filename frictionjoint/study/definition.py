@@ -6,7 +6,7 @@ seeded generator), so a point's inputs are the same bits on any worker and in an
 TOML form::
 
     model = "ti64_compressor_blade"      # a models/ definition, a .toml path or a blade .fmu
-    table = "damper_curve.csv"           # optional; .csv or .parquet, relative to this file
+    table = "damper_curve.csv"           # optional; .csv or .parquet, in the working directory
 
     [fixed]                              # parameters of every point
     tip_force_amplitude = 1.0
@@ -42,6 +42,11 @@ TOML form::
 
 The points are the Cartesian product of the grids and lists, times the ``n`` random samples
 (drawn once, the same for every grid point).
+
+A relative ``model`` path is taken from the study file's folder (an input beside it); the table
+is an output, written where the study runs: a relative ``table`` (default the file's name with
+``.csv``) is taken from the working directory, never from the file's folder (running an example
+does not write into the source tree).
 
 The frequencies follow the one convention of :mod:`frictionjoint.frequencies` (``"START:STOP:N"``
 or the frequencies themselves; ``[1950.0, 2100.0, 40]`` could mean either and is refused). A
@@ -376,7 +381,8 @@ class Study:
         bounded search; harmonic balance: the balance's amplitude), and take the dissipation and
         slip state there.
     table : str or os.PathLike, optional
-        Where :func:`~frictionjoint.study.run_study` writes the table by default.
+        Where :func:`~frictionjoint.study.run_study` writes the table by default (a relative
+        path from the working directory it runs in).
     time_limit : float
         A point's time limit [s], > 0 (default :data:`DEFAULT_TIME_LIMIT`): a point not finished by
         then is a failed row saying so (:mod:`frictionjoint.study.execution`). Not part of the
@@ -466,6 +472,10 @@ class Study:
             else:
                 for v in spec.values(name):
                     _check_value(f"vary.{name}", kinds[name], float(v))
+        if self.mode_damping is not None:  # the mode and DOF against the blade's (built once, cached)
+            from .point import check_mode_declaration
+
+            check_mode_declaration(self.model, self.mode_damping)
 
     @property
     def n_points(self) -> int:
@@ -576,8 +586,9 @@ def _spec(name: str, entry) -> Grid | Values | Random:
 
 
 def load_study(path: str | os.PathLike) -> Study:
-    """Read a study definition (TOML, module docstring); relative ``model`` and ``table`` paths are
-    taken from the file's folder.
+    """Read a study definition (TOML, module docstring); a relative ``model`` path is taken from
+    the file's folder, a relative ``table`` from the working directory (default: the file's name
+    with ``.csv`` there).
 
     Parameters
     ----------
@@ -635,7 +646,7 @@ def load_study(path: str | os.PathLike) -> Study:
     if unknown:
         raise ParameterError(f"{path}: unknown keys in [quantities]: {sorted(unknown)} (mode_damping)")
     table = data.get("table")
-    table = (path.parent / table) if table is not None else path.with_suffix(".csv")
+    table = Path(table) if table is not None else Path(path.with_suffix(".csv").name)  # an output: here, not there
     try:
         return Study(model=model, omega=sweep["omega"], vary=vary, fixed=dict(data.get("fixed", {})),
                      n_samples=samples.get("n", 1), seed=samples.get("seed", 0),

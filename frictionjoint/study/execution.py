@@ -22,6 +22,7 @@ or on a running ``dask.distributed`` cluster; rows stream into the table as poin
 """
 from __future__ import annotations
 
+import asyncio
 import collections
 import ctypes
 import multiprocessing
@@ -29,6 +30,7 @@ import multiprocessing.connection
 import os
 import signal
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -40,7 +42,12 @@ from .definition import Random, Study
 from .point import TIME_LIMIT_ERROR, evaluate_point, time_limit_row
 from .quantities import QUANTITIES
 
-__all__ = ["run_study", "evaluate_point", "tasks", "TableConflict"]
+__all__ = ["run_study", "evaluate_point", "tasks", "TableConflict", "SchedulerError", "connect", "CONNECT_TIMEOUT"]
+
+#: Seconds a Dask scheduler has to answer as one (its handshake and its list of workers) before
+#: :func:`connect` refuses its address: nothing listening, a host that does not answer, or a
+#: service that is not a Dask scheduler.
+CONNECT_TIMEOUT = 10.0
 
 
 class TableConflict(ParameterError):
@@ -55,6 +62,88 @@ class TableConflict(ParameterError):
         """The message with the way to overwrite the table of the caller's interface (``restart``:
         ``'restart=True'`` in Python, ``'--restart'`` on the command line)."""
         return f"{self.reason}: choose another table, or {restart} to overwrite it"
+
+
+class SchedulerError(ParameterError):
+    """No Dask scheduler answers at the study's ``scheduler`` address (why in :attr:`reason`)."""
+
+    def __init__(self, reason: str):
+        self.reason = reason
+        super().__init__(f"scheduler: {reason}")
+
+
+async def _handshake(address: str, timeout: float) -> None:
+    """Reach the Dask scheduler at ``address`` and hear it answer as one, within ``timeout`` [s]
+    (Dask's own connect bounds the TCP connection, not the handshake: a service that accepts and
+    never answers would hold it forever)."""
+    from distributed import Client
+
+    client = Client(address, asynchronous=True, timeout=timeout, set_as_default=False)
+    try:
+        await asyncio.wait_for(client, timeout)
+        await asyncio.wait_for(client.scheduler.identity(), timeout)
+    finally:
+        try:
+            await asyncio.wait_for(client.close(), timeout)
+        except Exception:  # noqa: BLE001 - closing a client that never connected: nothing to keep
+            pass
+
+
+def connect(scheduler: str, timeout: float | None = None):
+    """A ``distributed.Client`` of the Dask scheduler at ``scheduler``, once it has answered as one.
+
+    Parameters
+    ----------
+    scheduler : str
+        The scheduler's address, ``tcp://host:port``.
+    timeout : float, optional
+        Seconds it has to answer (default :data:`CONNECT_TIMEOUT`).
+
+    Returns
+    -------
+    distributed.Client
+
+    Raises
+    ------
+    SchedulerError
+        Nothing answers at the address within ``timeout``, or what answers is not a Dask scheduler
+        (the reason, in one line); the handshake runs in a thread of its own, so that this returns
+        within about three times ``timeout`` whatever answers.
+    ParameterError
+        ``scheduler`` is not an address, or Dask's distributed is not installed.
+    """
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover - distributed is in the 'cluster' and 'test' extras
+        raise ParameterError("scheduler: Dask's distributed is not installed (pip install 'frictionjoint[cluster]')") from None
+    if not isinstance(scheduler, str):
+        raise ParameterError(f"scheduler must be an address (tcp://host:port) or a distributed.Client, got {scheduler!r}")
+    limit = CONNECT_TIMEOUT if timeout is None else float(timeout)
+    outcome: list = []
+
+    def probe():
+        try:
+            asyncio.run(_handshake(scheduler, limit))
+            outcome.append(None)
+        except BaseException as exc:  # noqa: BLE001 - any failure to talk to it: the address is refused
+            outcome.append(exc)
+    thread = threading.Thread(target=probe, name="dask-handshake", daemon=True)
+    thread.start()
+    thread.join(3 * limit + 5.0)  # connect, identity and close, each bounded by the limit
+    why = None
+    if not outcome or isinstance(outcome[0], (asyncio.TimeoutError, TimeoutError)):
+        why = f"no answer within {limit:g} s"
+    elif outcome[0] is not None:
+        exc = outcome[0]
+        text = " ".join(str(exc).split())
+        why = f"{type(exc).__name__}: {text[:200]}" if text else type(exc).__name__
+    if why is None:
+        try:
+            return Client(scheduler, timeout=limit, set_as_default=False)  # it answered: this connects at once
+        except Exception as exc:  # noqa: BLE001 - gone since: refused as above
+            why = f"{type(exc).__name__}: {exc}"
+    raise SchedulerError(f"no Dask scheduler at {scheduler!r} ({why}); start one with 'dask scheduler', or check "
+                         "the address")
 
 
 def tasks(study: Study) -> list[dict]:
@@ -72,16 +161,10 @@ def _journal_path(table: Path) -> Path:
     return table if table.suffix == ".csv" else table.with_name(table.name + ".journal.csv")
 
 
-def _done_rows(table: Path, journal: Path, fingerprint: str, columns: tuple, all_tasks: list[dict],
-               restart: bool) -> list[dict]:
+def _done_rows(table: Path, journal: Path, fingerprint: str, columns: tuple, all_tasks: list[dict]) -> list[dict]:
     """The rows already computed for this study (from its journal, or a finished Parquet table):
     whole rows, one per point, each with its point's parameters; not those that reached their time
-    limit (computed again)."""
-    if restart:
-        for p in (journal, table):
-            if p.exists():
-                p.unlink()
-        return []
+    limit (computed again). Reads only: nothing is changed."""
     if journal.exists():
         fp, _, found, rows = read_csv_rows(journal, columns)
         source = journal
@@ -152,7 +235,8 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     progress : bool
         Show a progress bar (points done, time left).
     restart : bool
-        Discard the rows already in ``table`` (default: resume, computing only the missing points).
+        Compute every point again, replacing the rows already in ``table`` (default: resume,
+        computing only the missing points).
     on_row : callable, optional
         Called with each new row after it is written (in this process).
 
@@ -167,17 +251,23 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
     TableConflict
         ``table`` holds another study's rows, other columns, or a row whose parameters are not its
         point's (``restart=True`` overwrites it).
+    SchedulerError
+        No Dask scheduler answers at ``scheduler`` within :data:`CONNECT_TIMEOUT` (:func:`connect`).
     ParameterError
-        A bad argument, a directory as ``table``, or a table with a line that is not a row.
+        A bad argument, a directory as ``table`` or a folder that cannot be written, or a table
+        with a line that is not a row. Every refusal comes before the table is changed: the rows
+        already in it, even with ``restart``, are replaced only once the points can run.
     WorkerError
         A pool or Dask worker died (the finished rows are kept: run again to resume).
     """
+    # every precondition before anything finished is touched: the arguments, the table's folder
+    # writable, the table read (another study's is refused), the scheduler answering as one
     table = _checked_arguments(study, table, workers, scheduler)
     all_tasks = tasks(study)
     fingerprint = study.fingerprint()
     columns = ("point", *study.varied, *QUANTITIES, *STATUS_COLUMNS)
     journal = _journal_path(table)
-    done = _done_rows(table, journal, fingerprint, columns, all_tasks, restart)
+    done = [] if restart else _done_rows(table, journal, fingerprint, columns, all_tasks)
     done_ids = {r["point"] for r in done}
     todo = [t for t in all_tasks if t["point"] not in done_ids]
     random = tuple(n for n, spec in study.vary.items() if isinstance(spec, Random))
@@ -190,14 +280,22 @@ def run_study(study: Study, table: str | os.PathLike | None = None, *, workers: 
                 journal.unlink()
         return out
 
-    if not todo:
-        return finish(done)
-    # the journal anew with the rows kept: no line cut short, no half header, no duplicate
-    _write_journal(journal, fingerprint, random, columns, done)
-    rows = list(done)
-    _run_points(todo, journal, columns, rows, (len(done_ids), len(all_tasks)), progress, on_row,
-                scheduler, workers, study.time_limit)
-    return finish(rows)
+    client = connect(scheduler) if isinstance(scheduler, str) else scheduler
+    try:
+        if not todo:
+            return finish(done)
+        # the journal anew with the rows kept: no line cut short, no half header, no duplicate (on a
+        # restart it replaces the old one here, atomically, once every precondition holds)
+        _write_journal(journal, fingerprint, random, columns, done)
+        if restart and journal != table and table.exists():
+            table.unlink()  # the old Parquet table: its journal is the new one
+        rows = list(done)
+        _run_points(todo, journal, columns, rows, (len(done_ids), len(all_tasks)), progress, on_row,
+                    client, workers, study.time_limit)
+        return finish(rows)
+    finally:
+        if client is not scheduler:  # our own client, not the caller's
+            client.close()
 
 
 def _checked_arguments(study, table, workers, scheduler) -> Path:
@@ -212,18 +310,29 @@ def _checked_arguments(study, table, workers, scheduler) -> Path:
     for p in (table, _journal_path(table)):
         if p.is_dir():
             raise ParameterError(f"table {str(p)!r} is a directory: give a file name ending in .csv or .parquet")
-    if not table.absolute().parent.is_dir():
+    folder = table.absolute().parent
+    if not folder.is_dir():
         raise ParameterError(f"table: the folder of {str(table)!r} does not exist")
+    try:  # writable (a read-only mount, permissions): tried, not guessed from the mode bits
+        tempfile.TemporaryFile(dir=folder).close()
+    except OSError as exc:
+        raise ParameterError(f"table: cannot write in the folder of {str(table)!r} ({exc.strerror or exc})") from None
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
     if workers is not None and scheduler is not None:
         raise ParameterError("workers is for the local pool; a Dask cluster has its own workers (scheduler)")
+    if scheduler is not None and not isinstance(scheduler, str):
+        from distributed import Client
+
+        if not isinstance(scheduler, Client):
+            raise ParameterError(f"scheduler must be an address (tcp://host:port) or a distributed.Client, got "
+                                 f"{scheduler!r}")
     return table
 
 
 def _run_points(todo, journal: Path, columns, rows: list, done_of_total: tuple, progress: bool, on_row,
-                scheduler, workers, time_limit) -> None:
-    """Evaluate the points ``todo`` (on a Dask cluster, in this process or on the local pool),
+                client, workers, time_limit) -> None:
+    """Evaluate the points ``todo`` (on the Dask cluster of ``client``, in this process or on the local pool),
     appending each row to ``journal`` as one flushed line (a consistent journal) and to ``rows``,
     with the progress bar and ``on_row``."""
     from tqdm import tqdm
@@ -242,8 +351,8 @@ def _run_points(todo, journal: Path, columns, rows: list, done_of_total: tuple, 
             if on_row is not None:
                 on_row(row)
 
-        if scheduler is not None:
-            _run_dask(todo, scheduler, record)
+        if client is not None:
+            _run_dask(todo, client, record)
         elif workers == 1:
             for t in todo:
                 record(evaluate_point(t))
@@ -400,25 +509,13 @@ def _run_pool(todo: list[dict], workers: int, record, limit: float) -> None:
             w.conn.close()
 
 
-def _run_dask(todo: list[dict], scheduler, record) -> None:
-    """The points on a Dask cluster (a scheduler's address or a client)."""
-    try:
-        from distributed import Client, as_completed as dask_completed
-    except ImportError:  # pragma: no cover - distributed is in the 'cluster' and 'test' extras
-        raise ParameterError("scheduler: Dask's distributed is not installed (pip install 'frictionjoint[cluster]')") from None
-    own = not isinstance(scheduler, Client)
-    if own:
-        if not isinstance(scheduler, str):
-            raise ParameterError(f"scheduler must be an address (tcp://host:port) or a distributed.Client, got {scheduler!r}")
-        try:
-            client = Client(scheduler, timeout="10s")
-        except (OSError, ValueError, TypeError) as exc:
-            raise ParameterError(f"scheduler: no Dask scheduler at {scheduler!r} ({exc})") from None
-    else:
-        client = scheduler
+def _run_dask(todo: list[dict], client, record) -> None:
+    """The points on a Dask cluster (a connected ``distributed.Client``: :func:`connect`)."""
+    from distributed import as_completed as dask_completed
+
     futures = client.map(evaluate_point, todo, pure=False)
     try:
-        for fut in dask_completed(futures):
+        for fut in dask_completed(futures, loop=client.loop):  # this client's, not the default one
             try:
                 row = fut.result()
             except Exception as exc:  # noqa: BLE001 - evaluate_point returns its errors: this is the worker's death
@@ -428,6 +525,3 @@ def _run_dask(todo: list[dict], scheduler, record) -> None:
     except BaseException:
         client.cancel(futures)
         raise
-    finally:
-        if own:
-            client.close()

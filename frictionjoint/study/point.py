@@ -31,7 +31,7 @@ from .quantities import QUANTITIES, mode_amplitudes, quantities
 if TYPE_CHECKING:  # pragma: no cover
     from ..system import FrictionSystem
 
-__all__ = ["evaluate_point", "mode_quantities", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
+__all__ = ["evaluate_point", "mode_quantities", "check_mode_declaration", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
 #: relative tolerance of a refined peak's frequency
 PEAK_XTOL = 1e-7
@@ -209,6 +209,35 @@ def mode_quantities(system: FrictionSystem, mode: int, amplitude: float, n_harmo
     return values, ("" if nm.converged[-1] else f"the nonlinear mode did not converge at {amplitude:g} m ({nm.message})")
 
 
+def check_mode_declaration(model, declared) -> None:
+    """Refuse, before any point runs, a nonlinear mode the blade of ``model`` cannot have: ``mode``
+    beyond its stuck modes (one per DOF of its reduced structure, from 0), or a ``dof`` not its.
+    The root's parameters a study varies change the joint, not the structure: what holds for the
+    model holds at every point.
+
+    Parameters
+    ----------
+    model : str, os.PathLike or BladeAssembly
+        The study's model (a blade definition or assembly; nothing is checked for another).
+    declared : ModeDamping
+
+    Raises
+    ------
+    ParameterError
+        Naming ``quantities.mode_damping.mode`` (with the number of modes) or ``.dof`` (with the
+        blade's DOFs).
+    """
+    asm = _base_model(model)
+    if asm is None:
+        return
+    s, where = asm.structure, "quantities.mode_damping"
+    if declared.mode >= s.n_dof:
+        raise ParameterError(f"{where}.mode must be < {s.n_dof} (the blade's {s.n_dof} DOFs: its stuck modes are 0 "
+                             f"to {s.n_dof - 1}), got {declared.mode}")
+    if declared.dof is not None and declared.dof not in s.dof_names:
+        raise ParameterError(f"{where}.dof: {declared.dof!r} is not a DOF of the blade; its DOFs are {list(s.dof_names)}")
+
+
 def _mode_row(asm, omega: float, declared) -> tuple[dict, str]:
     """The nonlinear mode's quantities of a point's blade (:func:`mode_quantities`) for the
     declaration ``declared`` (a :class:`~.definition.ModeDamping` or its keys), at its DOF or the
@@ -272,8 +301,11 @@ def evaluate_point(task: dict) -> dict:
             if task.get("mode_damping") is not None:
                 if base is None:
                     raise ParameterError("quantities.mode_damping: the nonlinear mode needs the blade itself, not an FMU")
-                values, mode_error = _mode_row(asm, float(ws[0]), task["mode_damping"])
-                row.update(values)
+                try:  # a mode that fails leaves the sweep's columns: the row is partial, not failed
+                    values, mode_error = _mode_row(asm, float(ws[0]), task["mode_damping"])
+                    row.update(values)
+                except Exception as exc:  # noqa: BLE001 - the mode's error is the row's, the sweep's columns stay
+                    mode_error = f"quantities.mode_damping: {type(exc).__name__}: {exc}"
         n_ok, n_all = row["converged_points"], row["points"]
         # 'partial': frequencies without a periodic orbit, the peak may lie among them
         errors = [f"{n_all - n_ok} of {n_all} frequencies without a periodic orbit"] if n_ok < n_all else []
