@@ -237,7 +237,7 @@ def test_command_line_python_and_study_give_the_same_sweep(tmp_path):
     study = tmp_path / "study.toml"
     study.write_text(f'model = "{MODEL}"\ntable = "study.csv"\n[vary.friction_coefficient]\nvalues = [0.3]\n'
                      f'[sweep]\nomega = "{omega}"\nrefine_peak = false\n')
-    assert main(["study", str(study), "--workers", "1", "--no-progress"]) == 0
+    assert main(["study", str(study), "--workers", "1", "--no-progress", "--table", str(tmp_path / "study.csv")]) == 0
     row = StudyTable.read(tmp_path / "study.csv")
     w_peak, a_peak = lib.peak()
     print(f"study: peak {row['peak_amplitude'][0]:.6e} m at {row['peak_omega'][0]:g} rad/s; sweep {a_peak:.6e} m "
