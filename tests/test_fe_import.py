@@ -120,9 +120,11 @@ BAD = {
     "indefinite_mass": (dict(mass="bad_indefinite_M.mtx", stiffness="lattice_K.mtx", dofs=DOFS),
                         ["bad_indefinite_M.mtx: mass is not positive definite", "pivot"]),
     "sizes_differ": (dict(mass="lattice_M.mtx", stiffness="bad_size_K.mtx", dofs=DOFS),
-                     ["bad_size_K.mtx: stiffness is 45 x 45, the mass 48 x 48: sizes differ"]),
+                     ["bad_size_K.mtx: the header declares a 45 x 45 matrix, the DOF table (",
+                      "lattice.dofs.csv) has 48 rows"]),
     "short_dof_table": (dict(mass="lattice_M.mtx", stiffness="lattice_K.mtx", dofs=DATA / "bad_short.dofs.csv"),
-                        ["bad_short.dofs.csv: dofs: the DOF table has 47 rows, the matrices 48"]),
+                        ["lattice_M.mtx: the header declares a 48 x 48 matrix, the DOF table (",
+                         "bad_short.dofs.csv) has 47 rows"]),
     "unknown_node_in_set": (dict(mass="lattice_M.mtx", stiffness="lattice_K.mtx", dofs=DOFS,
                                  node_sets=DATA / "bad.sets.csv"),
                             ["bad.sets.csv: node_sets: set 'flank' names node 99999, which is not in the DOF table"]),
@@ -206,7 +208,7 @@ def test_abaqus_both_triangles_and_dof_limits(tmp_path, reference):
     m, k, dofs, _ = reference[False]
     full = tmp_path / "m.mtx"
     coo = sp.coo_matrix(m)
-    full.write_text("** whole matrix\n" + "".join(f"{dofs[r, 0]},{dofs[r, 1]},{dofs[c, 0]},{dofs[c, 1]},{v!r}\n"
+    full.write_text("** whole matrix\n" + "".join(f"{dofs[r, 0]},{dofs[r, 1]},{dofs[c, 0]},{dofs[c, 1]},{float(v)!r}\n"
                                                   for r, c, v in zip(coo.row, coo.col, coo.data)))
     model = read_fe_model(full, DATA / "lattice_STIF2.mtx", format="abaqus_matrix_input")
     assert (model.mass != m).nnz == 0
@@ -244,7 +246,7 @@ def test_sidecar_files_are_checked(tmp_path):
     with pytest.raises(ParameterError, match=r"direction 7 of node 1 \(row 2\) is not in 1..6"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path), files={"dofs": path})
     path.write_text("node,direction\n1,1\n-2,1\n")
-    with pytest.raises(ParameterError, match=r"node id -2 \(row 2\) is not a positive integer"):
+    with pytest.raises(ParameterError, match=r"node id -2 \(row 2\) is not in 1..2147483647"):
         FEModel(np.eye(2), np.eye(2), None, read_dof_table(path))
     path.write_text("node,direction\n1,1\n1,1\n")
     with pytest.raises(ParameterError, match=r"\(node 1, direction 1\) appears more than once"):
@@ -328,3 +330,168 @@ def test_system_definition_with_an_inline_fe_structure():
     s = read_fe_model(DATA / "lattice_M.mtx", DATA / "lattice_K.mtx", dofs=DOFS).to_structure()
     np.testing.assert_array_equal(d.structure.stiffness, s.stiffness)
     assert d.structure.dof_names == s.dof_names
+
+
+# Files that end early (issue 39 §2): each format's files cut at lines and inside lines, read
+# with the other matrix whole. (keyword arguments, the file to cut)
+WHOLE_AND_CUT = {
+    "matrix_market": (dict(mass="lattice_M.mtx", dofs=DOFS), "stiffness", "lattice_K.mtx"),
+    "harwell_boeing": (dict(mass="lattice_M.rsa", dofs=DOFS), "stiffness", "lattice_K.rua"),
+    "dmig_small_field": (dict(), "both", "lattice_small.pch"),
+    "dmig_large_field": (dict(), "both", "lattice_large.pch"),
+    "dmig_free_field": (dict(), "both", "lattice_free.bdf"),
+    "abaqus_stiffness": (dict(mass="lattice_MASS2.mtx"), "stiffness", "lattice_STIF2.mtx"),
+    "abaqus_mass": (dict(stiffness="lattice_STIF2.mtx"), "mass", "lattice_MASS2.mtx"),
+    "op4": (dict(dofs=DOFS), "op4", "lattice.op4"),
+}
+
+
+def _read_cut(case, path):
+    kwargs, role, _ = WHOLE_AND_CUT[case]
+    kwargs = _in_data(kwargs)
+    if role == "both":
+        return read_fe_model((path, "MAAX"), (path, "KAAX"))
+    if role == "op4":
+        return read_fe_model((path, "MAA"), (path, "KAA"), **kwargs)
+    return read_fe_model(**{**kwargs, role: path})
+
+
+@pytest.mark.parametrize("case", list(WHOLE_AND_CUT))
+def test_a_file_cut_short_is_refused(case, tmp_path):
+    """Cut after 12 line ends and at 12 places inside lines spread over the file (the last just
+    before its final newline), every cut file is refused by name. Before issue 39 a DMIG or Abaqus
+    file cut between columns read with the entries it had (the DMIG file cut before its last KAAX
+    column gave a first frequency 0), and a cut inside a number read the number's first digits."""
+    if case == "op4":
+        pytest.importorskip("pyyeti.nastran.op4")
+    name = WHOLE_AND_CUT[case][2]
+    data = (DATA / name).read_bytes()
+    ends = [k + 1 for k in range(len(data)) if data[k:k + 1] == b"\n"]
+    cuts = ends[:-1][::max(1, len(ends) // 12)][1:] + [int(f * len(data)) for f in np.linspace(0.05, 0.95, 11)]
+    cuts.append(len(data) - 1)
+    path = tmp_path / name
+    for cut in cuts:
+        path.write_bytes(data[:cut])
+        with pytest.raises(ParameterError) as info:
+            _read_cut(case, path)
+        message = str(info.value)
+        assert "\n" not in message and str(path) in message, (cut, message)
+    path.write_bytes(data)
+    _read_cut(case, path)  # the whole file reads
+
+
+def test_dmig_cut_before_its_last_column_names_the_missing_diagonal(tmp_path):
+    """The issue's file: lattice_small.pch cut before the last DMIG KAAX column (n131_u3)."""
+    lines = (DATA / "lattice_small.pch").read_text().splitlines(keepends=True)
+    last = max(k for k, line in enumerate(lines) if line.startswith("DMIG") and "KAAX" in line)
+    path = _dmig(tmp_path, "".join(lines[:last]))
+    with pytest.raises(ParameterError, match=r"m.pch: stiffness has no diagonal entry at n131_u3 \(1 of the 48 "
+                                             r"DOFs the files name have none\): the file seems cut short"):
+        read_fe_model((path, "MAAX"), (path, "KAAX"))
+
+
+def test_a_dof_without_stiffness_written_as_zero_reads(tmp_path):
+    """An explicit 0.0 diagonal is a DOF without stiffness (a mass that only the joints hold)."""
+    path = _dmig(tmp_path, HEADER6 + _small("DMIG", "M", "1", "1", "", "1", "1", "1.") + _small("+", "1", "2", "0.")
+                 + _small("DMIG", "M", "1", "2", "", "1", "2", "2.") + _small("DMIG", "K", "0", "6", "2", "2")
+                 + _small("DMIG", "K", "1", "1", "", "1", "1", "5.") + _small("DMIG", "K", "1", "2", "", "1", "2", "0."))
+    model = read_fe_model((path, "M"), (path, "K"))
+    np.testing.assert_array_equal(model.stiffness.toarray(), [[5.0, 0.0], [0.0, 0.0]])
+
+
+SIX_DOFS = "node,direction\n1,1\n1,2\n1,3\n2,1\n2,2\n2,3\n"
+# (a Matrix Market header and its one entry, words of the refusal): the sizes of issue 39 §3
+HUGE_HEADERS = {
+    "1e8 rows": ("coordinate real general\n100000000 100000000 1\n1 1 1.0\n",
+                 "declares a 100000000 x 100000000 matrix, the DOF table ("),
+    "3e9 rows": ("coordinate real general\n3000000000 3000000000 1\n1 1 1.0\n",
+                 "declares a 3000000000 x 3000000000 matrix"),
+    "dense 1e5 x 1e5": ("array real general\n100000 100000\n1.0\n", "declares a 100000 x 100000 matrix"),
+    "1e8 entries": ("coordinate real general\n6 6 100000000\n1 1 1.0\n",
+                    "declares 100000000 entries, more than a file of 68 bytes holds"),
+    "a short dense file": ("array real symmetric\n6 6\n1.0\n", "declares 21 values, the file has 1: it ends early"),
+}
+
+
+@pytest.mark.parametrize("case", list(HUGE_HEADERS))
+def test_declared_sizes_are_refused_before_anything_is_allocated(case, tmp_path):
+    """Before issue 39 the 1e8-row header allocated 0.9 GB before the DOF table's 6 rows refused
+    it, and 3e9 rows or a dense 1e5 x 1e5 header failed with a MemoryError (or the process was
+    killed). Python-side allocations during the refusal stay below 20 MB (tracemalloc sees numpy's
+    and scipy's arrays; the file's text is 100 bytes)."""
+    import tracemalloc
+
+    text, words = HUGE_HEADERS[case]
+    path = tmp_path / "k.mtx"
+    path.write_text("%%MatrixMarket matrix " + text)
+    (tmp_path / "d.csv").write_text(SIX_DOFS)
+    tracemalloc.start()
+    try:
+        with pytest.raises(ParameterError) as info:
+            read_fe_model(path, path, dofs=tmp_path / "d.csv")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(str(path)) and words in message, message
+    assert peak < 20e6, peak
+
+
+def test_harwell_boeing_header_is_checked_against_the_dof_table_and_the_file(tmp_path):
+    lines = (DATA / "lattice_K.rua").read_text().splitlines(keepends=True)
+    (tmp_path / "d.csv").write_text(SIX_DOFS)
+    with pytest.raises(ParameterError, match=r"k.rua: the header declares a 48 x 48 matrix, the DOF table \(.*d.csv\) "
+                                             r"has 6 rows"):
+        read_fe_model(_dmig(tmp_path, "".join(lines), "k.rua"), DATA / "lattice_K.rua", dofs=tmp_path / "d.csv")
+    with pytest.raises(ParameterError, match=r"k.rua: the header declares 173 lines of data, the file has 100: "
+                                             r"it ends early"):
+        read_fe_model(DATA / "lattice_M.rsa", _dmig(tmp_path, "".join(lines[:104]), "k.rua"), dofs=DOFS)
+
+
+def test_files_that_are_no_text_empty_or_out_of_range_give_one_line(tmp_path):
+    """Issue 39 §4: random bytes as a DMIG file (was a UnicodeDecodeError), an empty .mtx (was 'the
+    matrices' files must have one format'), a node id of 1e20 in a DOF table, a DMIG file and an
+    Abaqus file (was an OverflowError, or a wrapped id)."""
+    rng = np.random.default_rng(39)
+    garbage = _dmig(tmp_path, "", "g.pch")
+    garbage.write_bytes(rng.integers(0, 256, 4000, dtype=np.uint8).tobytes())
+    (tmp_path / "empty.mtx").write_text("")
+    (tmp_path / "big.dofs.csv").write_text("node,direction\n100000000000000000000,1\n")
+    (tmp_path / "d.csv").write_text("node,direction\n1,1\n")
+    big_dmig = _dmig(tmp_path, "DMIG,M,0,6,2,2\nDMIG,M,100000000000000000000,1,,100000000000000000000,1,1.\n",
+                     "big.bdf")
+    (tmp_path / "big_abaqus.mtx").write_text("100000000000000000000,1,100000000000000000000,1,1.0\n")
+    (tmp_path / "comments.pch").write_text("$ nothing but a comment\n")
+    cases = {  # (read_fe_model arguments, the file named, words)
+        "random bytes": ((garbage, garbage), {}, garbage, "not a nastran_dmig file: byte 0x"),
+        "empty": ((tmp_path / "empty.mtx", DATA / "lattice_K.mtx"), dict(dofs=DOFS), tmp_path / "empty.mtx",
+                  "is empty"),
+        "node id in a DOF table": ((DATA / "lattice_M.mtx", DATA / "lattice_K.mtx"),
+                                   dict(dofs=tmp_path / "big.dofs.csv"), tmp_path / "big.dofs.csv",
+                                   "data row 1 (100000000000000000000, 1): node ids are 1..2147483647"),
+        "node id in a DMIG file": (((big_dmig, "M"), (big_dmig, "M")), {}, big_dmig,
+                                   "point id 100000000000000000000 is larger than 2147483647"),
+        "node id in an Abaqus file": ((tmp_path / "big_abaqus.mtx",) * 2, {}, tmp_path / "big_abaqus.mtx",
+                                      "data line 1 has a node id outside 1..2147483647"),
+        "no DMIG entries": ((tmp_path / "comments.pch",) * 2, {}, tmp_path / "comments.pch", "no DMIG entries"),
+    }
+    for case, (args, kwargs, named, words) in cases.items():
+        with pytest.raises(ParameterError) as info:
+            read_fe_model(*args, **kwargs)
+        message = str(info.value)
+        assert "\n" not in message and str(named) in message and words in message, (case, message)
+    with pytest.raises(ParameterError, match=r"node id 100000000000000000000 \(row 1\) is not in 1..2147483647"):
+        FEModel(np.eye(1), np.eye(1), None, [[10**20, 1]])
+
+
+def test_a_symmetric_dense_matrix_market_file_that_ends_early_is_refused(tmp_path):
+    """scipy 1.17 reads a symmetric "array" file with values missing as zeros: the values are
+    counted here (6 of a 3 x 3 symmetric matrix's lower triangle; 5 given)."""
+    (tmp_path / "d.csv").write_text("node,direction\n1,1\n1,2\n1,3\n")
+    path = tmp_path / "m.mtx"
+    path.write_text("%%MatrixMarket matrix array real symmetric\n%\n3 3\n2.0\n0.5\n0.0\n2.0\n0.5\n")
+    with pytest.raises(ParameterError, match="m.mtx: the header declares 6 values, the file has 5: it ends early"):
+        read_fe_model(path, path, dofs=tmp_path / "d.csv")
+    path.write_text(path.read_text() + "2.0\n")
+    model = read_fe_model(path, path, dofs=tmp_path / "d.csv")
+    np.testing.assert_array_equal(model.mass.toarray(), [[2.0, 0.5, 0.0], [0.5, 2.0, 0.5], [0.0, 0.5, 2.0]])

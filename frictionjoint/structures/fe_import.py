@@ -64,6 +64,18 @@ Checks, each a one-line :class:`~frictionjoint.errors.ParameterError` that names
   pattern (and shift-invert needs the factorisation anyway). No sparse Cholesky is in scipy.
 * stiffness: every diagonal entry >= 0 (its definiteness is checked where the dense
   :class:`~frictionjoint.LinearStructure` is made, :meth:`FEModel.to_structure`).
+* files that end early (cut short by a full disk or an interrupted copy) are refused, each by
+  what its format declares: a Matrix Market file's entry count (``scipy.io.mmread`` counts the
+  entries it reads against its header), a Harwell-Boeing file's line counts (``TOTCRD``, checked
+  here), an OP4 file's matrix sizes (pyyeti). DMIG and Abaqus files declare no size (a DMIG
+  header gives ``NCOL`` for rectangular matrices only): their DOF table is the union of the DOFs
+  they name, and every one of those DOFs must have a diagonal entry in the mass and in the
+  stiffness, which a file cut before its last columns (or rows) lacks; a DOF without stiffness is
+  written as an explicit ``0.0``. A text file must end with a newline: a file cut inside its last
+  line would otherwise read a shortened number (``0.5`` as ``0.``).
+* sizes before anything is allocated: a Matrix Market or Harwell-Boeing header's size against the
+  DOF table, and its declared entries against what the file's bytes can hold; node ids in
+  1..2**31 - 1; an empty or non-text file (random bytes) is refused by name.
 """
 from __future__ import annotations
 
@@ -95,6 +107,8 @@ _OWN_DOFS = ("nastran_dmig", "abaqus_matrix_input")  # formats whose files carry
 SYMMETRY_TOLERANCE = 1e-8
 #: smallest pivot of the scaled mass's L D L^T taken as positive (module docstring)
 PIVOT_TOLERANCE = 1e-13
+#: largest node id read (a signed 32-bit integer, as Abaqus and NASTRAN number their nodes)
+MAX_NODE_ID = 2**31 - 1
 _ROLES = ("mass", "stiffness", "damping")
 
 
@@ -295,22 +309,23 @@ def _dof_table(label: str, dofs, n: int) -> np.ndarray:
     if dofs is None:
         raise ParameterError(f"{label}: the DOF table is required (node id, direction per matrix row)")
     try:
-        table = np.asarray(dofs)
+        table = np.asarray(dofs, dtype=float)
         ok = table.ndim == 2 and table.shape[1] == 2 and np.all(table == np.round(table))
-        table = table.astype(np.int64)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok:
         raise ParameterError(f"{label}: the DOF table must be (n_dof, 2) integers (node id, direction)")
     if table.shape[0] != n:
         raise ParameterError(f"{label}: the DOF table has {table.shape[0]} rows, the matrices {n}")
-    bad = np.flatnonzero(table[:, 0] < 1)
+    bad = np.flatnonzero(~((table[:, 0] >= 1) & (table[:, 0] <= MAX_NODE_ID)))
     if bad.size:
-        raise ParameterError(f"{label}: node id {table[bad[0], 0]} (row {bad[0] + 1}) is not a positive integer")
+        raise ParameterError(f"{label}: node id {table[bad[0], 0]:.0f} (row {bad[0] + 1}) is not in "
+                             f"1..{MAX_NODE_ID}")
     bad = np.flatnonzero((table[:, 1] < 1) | (table[:, 1] > 6))
     if bad.size:
-        raise ParameterError(f"{label}: direction {table[bad[0], 1]} of node {table[bad[0], 0]} (row {bad[0] + 1}) "
-                             f"is not in 1..6")
+        raise ParameterError(f"{label}: direction {table[bad[0], 1]:.0f} of node {table[bad[0], 0]:.0f} "
+                             f"(row {bad[0] + 1}) is not in 1..6")
+    table = table.astype(np.int64)
     keys = table[:, 0] * 8 + table[:, 1]
     uniq, counts = np.unique(keys, return_counts=True)
     if np.any(counts > 1):
@@ -426,15 +441,17 @@ def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, dampi
         if dofs is not None:
             raise ParameterError(f"{files['mass']}: a {fmt} file carries its own DOF table; give no dofs")
         matrices, table = _read_keyed(fmt, specs)
-    else:
-        matrices = {role: _read_plain(fmt, path, name) for role, (path, name) in specs.items()}
+    else:  # the DOF table first: the matrices' declared sizes are checked against it before they are read
+        if dofs is None:
+            raise ParameterError(f"{files['mass']}: a {fmt} file has no DOF table: give dofs (a node,direction CSV)")
         if isinstance(dofs, (str, Path)):
             files["dofs"] = str(dofs)
             table = read_dof_table(dofs)
         else:
             table = dofs
-        if table is None:
-            raise ParameterError(f"{files['mass']}: a {fmt} file has no DOF table: give dofs (a node,direction CSV)")
+        n_dof = (len(table), f"the DOF table ({files['dofs']})" if "dofs" in files else "dofs") \
+            if np.ndim(table) == 2 else None
+        matrices = {role: _read_plain(fmt, path, name, n_dof) for role, (path, name) in specs.items()}
     if isinstance(node_sets, (str, Path)):
         files["node_sets"] = str(node_sets)
         node_sets = read_node_sets(node_sets)
@@ -453,6 +470,8 @@ def _spec(role: str, value) -> tuple[Path, str | None]:
         raise ParameterError(f"{role} must be a path or (path, matrix name), got {value!r}")
     if not path.is_file():
         raise ParameterError(f"{role} file {str(path)!r} not found")
+    if path.stat().st_size == 0:
+        raise ParameterError(f"{role} file {str(path)!r} is empty")
     return path, name
 
 
@@ -486,9 +505,14 @@ def read_dof_table(path: str | Path) -> np.ndarray:
     """
     rows = _csv_rows(path, ("node", "direction"))
     try:
-        return np.array([[int(a), int(b)] for a, b in rows], dtype=np.int64).reshape(-1, 2)
+        table = [[int(a), int(b)] for a, b in rows]
     except ValueError as exc:
         raise ParameterError(f"{path}: the DOF table must hold integers ({exc})") from None
+    bad = next((k for k, row in enumerate(table) if max(map(abs, row)) > MAX_NODE_ID), None)
+    if bad is not None:  # beyond int64 too; the rest is checked where the table is used (FEModel)
+        raise ParameterError(f"{path}: data row {bad + 1} ({table[bad][0]}, {table[bad][1]}): node ids are "
+                             f"1..{MAX_NODE_ID}, directions 1..6")
+    return np.array(table, dtype=np.int64).reshape(-1, 2)
 
 
 def read_node_sets(path: str | Path) -> dict:
@@ -516,7 +540,7 @@ def _csv_rows(path, header: tuple) -> list:
     path = Path(path)
     if not path.is_file():
         raise ParameterError(f"file {str(path)!r} not found")
-    lines = [ln.split("#", 1)[0].strip() for ln in path.read_text().splitlines()]
+    lines = [ln.split("#", 1)[0].strip() for ln in _text(path, "CSV").splitlines()]
     rows = [[f.strip() for f in r] for r in csv.reader(ln for ln in lines if ln)]
     if not rows or tuple(f.lower() for f in rows[0]) != header:
         raise ParameterError(f"{path}: the first line must be the header {','.join(header)}")
@@ -526,32 +550,115 @@ def _csv_rows(path, header: tuple) -> list:
     return rows[1:]
 
 
-def _read_plain(fmt: str, path: Path, name: str | None):
-    """One matrix of a format without a DOF table, sparse."""
+def _read_plain(fmt: str, path: Path, name: str | None, n_dof: tuple | None):
+    """One matrix of a format without a DOF table, sparse; its declared size is checked against the
+    DOF table's rows (``n_dof``: their number and the table's name) and the file before anything is
+    allocated."""
     try:
         if fmt == "matrix_market":
             import scipy.io
 
-            field = scipy.io.mminfo(path)[4]
+            _check_last_line(path)
+            rows, cols, entries, layout, field, symmetry = scipy.io.mminfo(path)
             if field not in ("real", "integer", "double"):
                 raise ParameterError(f"{path}: a Matrix Market file of {field} entries; a mass, stiffness or "
                                      f"damping matrix is real")
+            _check_declared_size(path, rows, cols, n_dof)
+            if layout == "array":  # every value written (one triangle if symmetric), one a line
+                stored = rows * (rows + 1) // 2 if symmetry == "symmetric" else rows * cols
+                if symmetry == "skew-symmetric":
+                    stored = rows * (rows - 1) // 2
+                _check_declared_entries(path, stored, 2, "values")  # '1' and a newline
+                _check_array_values(path, stored)
+            else:
+                _check_declared_entries(path, entries, 6, "entries")  # 'i j v' and a newline
             return sp.csr_array(scipy.io.mmread(path))
         if fmt == "harwell_boeing":
-            return _read_harwell_boeing(path)
-        return _read_op4(path, name)
+            return _read_harwell_boeing(path, n_dof)
+        return _read_op4(path, name, n_dof)
     except ParameterError:
         raise
     except (ValueError, TypeError, OSError, IndexError, EOFError) as exc:
         raise ParameterError(f"{path}: not a readable {fmt} file ({' '.join(str(exc).split())})") from None
 
 
-def _read_harwell_boeing(path: Path) -> sp.csr_array:
+def _check_declared_size(path: Path, rows: int, cols: int, n_dof: tuple | None) -> None:
+    """A matrix header's size against the DOF table (``n_dof``: its rows and its name), before the
+    matrix is read."""
+    if rows != cols:
+        raise ParameterError(f"{path}: the header declares a {rows} x {cols} matrix; a mass, stiffness or damping "
+                             f"matrix is square")
+    if n_dof is not None and rows != n_dof[0]:
+        raise ParameterError(f"{path}: the header declares a {rows} x {cols} matrix, {n_dof[1]} has {n_dof[0]} "
+                             f"rows")
+
+
+def _check_declared_entries(path: Path, declared: int, least_bytes: int, what: str) -> None:
+    """A header's entry count against what the file's bytes can hold, before the entries are allocated."""
+    size = path.stat().st_size
+    if declared > size // least_bytes:
+        raise ParameterError(f"{path}: the header declares {declared} {what}, more than a file of {size} bytes "
+                             f"holds (at least {least_bytes} bytes each): the file ends early or the header is wrong")
+
+
+def _check_array_values(path: Path, stored: int) -> None:
+    """A Matrix Market array file's values counted (one a line after the size line): scipy 1.17's
+    reader (fast_matrix_market) fills a symmetric array file that ends early with zeros."""
+    found, header = 0, True
+    with open(path, "rb") as fh:
+        for line in fh:
+            if header:
+                header = line.startswith(b"%") or not line.strip()
+                continue  # the size line ends the header
+            found += bool(line.strip())
+    if found != stored:
+        raise ParameterError(f"{path}: the header declares {stored} values, the file has {found}"
+                             + (": it ends early" if found < stored else ""))
+
+
+def _check_last_line(path: Path) -> None:
+    """A text file cut inside its last line would read a shortened number: it must end with a newline."""
+    size = path.stat().st_size
+    if size == 0:
+        return
+    with open(path, "rb") as fh:
+        fh.seek(size - 1)
+        if fh.read(1) not in (b"\n", b"\r"):
+            raise ParameterError(f"{path}: the file ends inside a line (no newline after its last line): it seems "
+                                 f"cut short; if its last line is whole, end it with a newline")
+
+
+def _text(path: Path, fmt: str) -> str:
+    """The text of a text-format file, refused by name if it is not text or ends inside a line."""
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ParameterError(f"{path}: not a {fmt} file: byte {data[exc.start]:#04x} at offset {exc.start} is not "
+                             f"text") from None
+    _check_last_line(path)
+    return text
+
+
+def _read_harwell_boeing(path: Path, n_dof: tuple | None) -> sp.csr_array:
     """scipy's reader takes unsymmetric assembled files only: a symmetric one (RSA: one triangle
-    in the same layout) is read as RUA and mirrored."""
+    in the same layout) is read as RUA and mirrored. The header's size is checked against the DOF
+    table and its line count (TOTCRD) against the file first."""
     import scipy.io
 
-    lines = path.read_text().splitlines(keepends=True)
+    lines = _text(path, "harwell_boeing").splitlines(keepends=True)
+    try:
+        totcrd, rhscrd = int(lines[1][:14]), int(lines[1][56:70].strip() or 0)
+        rows, cols, nnz = int(lines[2][14:28]), int(lines[2][28:42]), int(lines[2][42:56])
+    except (IndexError, ValueError):
+        raise ParameterError(f"{path}: not a readable harwell_boeing file (its header's second and third lines "
+                             f"hold the line counts and the matrix size)") from None
+    _check_declared_size(path, rows, cols, n_dof)
+    _check_declared_entries(path, nnz, 2, "entries")  # an index and a value of one character each at least
+    data_lines = len(lines) - (5 if rhscrd > 0 else 4)
+    if data_lines < totcrd:
+        raise ParameterError(f"{path}: the header declares {totcrd} lines of data, the file has {max(data_lines, 0)}: "
+                             f"it ends early")
     kind = lines[2][:3].upper() if len(lines) > 2 else ""
     if kind in ("RSA", "ISA"):
         lines[2] = kind[0] + "UA" + lines[2][3:]
@@ -563,12 +670,18 @@ def _read_harwell_boeing(path: Path) -> sp.csr_array:
     return sp.csr_array(scipy.io.hb_read(io.StringIO("".join(lines))))
 
 
-def _read_op4(path: Path, name: str | None) -> sp.csr_array:
+def _read_op4(path: Path, name: str | None, n_dof: tuple | None) -> sp.csr_array:
     try:
         from pyyeti.nastran import op4
     except ImportError:
         raise ParameterError(f"{path}: reading OP4 files needs pyyeti (pip install pyyeti, or "
                              "frictionjoint[nastran])") from None
+    with open(path, "rb") as fh:
+        ascii_file = fh.read(1) in b" 0123456789"  # a binary file starts with a record length
+    if ascii_file:
+        _check_last_line(path)
+    names, sizes = op4.dir(str(path), verbose=False)[:2]  # the headers, without reading the matrices
+    _check_declared_size(path, *_pick(path, {k.upper(): v for k, v in zip(names, sizes)}, name), n_dof)
     matrices = op4.read(str(path), sparse=True)
     return sp.csr_array(_pick(path, {k.upper(): v for k, v in matrices.items()}, name))
 
@@ -599,6 +712,12 @@ def _read_keyed(fmt: str, specs: dict) -> tuple[dict, np.ndarray]:
     for role, (path, e) in entries.items():
         rows, cols = np.searchsorted(keys, e.row_keys), np.searchsorted(keys, e.col_keys)
         matrices[role] = _assemble(f"{path}: {role}", rows, cols, e.values, n, e.symmetric_storage, table)
+        if role != "damping":  # the files declare no size: a missing diagonal is how a cut file shows
+            missing = np.setdiff1d(np.arange(n), rows[rows == cols])
+            if missing.size:
+                raise ParameterError(f"{path}: {role} has no diagonal entry at {dof_name(*table[missing[0]])} "
+                                     f"({missing.size} of the {n} DOFs the files name have none): the file seems "
+                                     f"cut short; a DOF without {role} is written as an explicit 0.0")
     return matrices, table
 
 
@@ -657,35 +776,34 @@ def _bulk_cards(path: Path):
     characters), large field (16, ``*`` after the name or on the continuation), free field (commas);
     continuation lines start with ``+``, ``*`` or a blank field; ``$`` starts a comment."""
     card = None
-    with open(path, encoding="utf-8", errors="strict") as fh:
-        for lineno, raw in enumerate(fh, 1):
-            line = raw.split("$", 1)[0].rstrip("\r\n").expandtabs(8)
-            if not line.strip():
-                continue
-            if "," in line:
-                parts = line.split(",")
-                head = parts[0].strip()
-                per = 4 if (head.endswith("*") or head.startswith("*")) else 8
-                fields = [p.strip() for p in parts[1:]]
-                if len(fields) > per + 1:
-                    raise ParameterError(f"{path}, line {lineno}: more than {per} data fields on a free-field line")
-                fields = (fields[:per] + [""] * per)[:per]
-            else:
-                head = line[:8].strip()
-                width, per = (16, 4) if (head.endswith("*") or head.startswith("*")) else (8, 8)
-                body = line[8:8 + width * per].ljust(width * per)
-                fields = [body[k * width:(k + 1) * width].strip() for k in range(per)]
-            if head == "" or head[0] in "+*":
-                if card is None:
-                    raise ParameterError(f"{path}, line {lineno}: a continuation line with no entry before it")
-                card[1].extend(fields)
-                continue
-            if card is not None:
-                yield card
-            name = head.rstrip("*").upper()
-            if name == "INCLUDE":
-                raise ParameterError(f"{path}, line {lineno}: INCLUDE is not followed; give the included file")
-            card = (name, fields, lineno)
+    for lineno, raw in enumerate(_text(path, "nastran_dmig").split("\n"), 1):
+        line = raw.split("$", 1)[0].rstrip("\r").expandtabs(8)
+        if not line.strip():
+            continue
+        if "," in line:
+            parts = line.split(",")
+            head = parts[0].strip()
+            per = 4 if (head.endswith("*") or head.startswith("*")) else 8
+            fields = [p.strip() for p in parts[1:]]
+            if len(fields) > per + 1:
+                raise ParameterError(f"{path}, line {lineno}: more than {per} data fields on a free-field line")
+            fields = (fields[:per] + [""] * per)[:per]
+        else:
+            head = line[:8].strip()
+            width, per = (16, 4) if (head.endswith("*") or head.startswith("*")) else (8, 8)
+            body = line[8:8 + width * per].ljust(width * per)
+            fields = [body[k * width:(k + 1) * width].strip() for k in range(per)]
+        if head == "" or head[0] in "+*":
+            if card is None:
+                raise ParameterError(f"{path}, line {lineno}: a continuation line with no entry before it")
+            card[1].extend(fields)
+            continue
+        if card is not None:
+            yield card
+        name = head.rstrip("*").upper()
+        if name == "INCLUDE":
+            raise ParameterError(f"{path}, line {lineno}: INCLUDE is not followed; give the included file")
+        card = (name, fields, lineno)
     if card is not None:
         yield card
 
@@ -723,6 +841,9 @@ def _read_dmig(path: Path) -> dict:
             rows.append(_grid_key(g, c, where))
             cols.append(col)
             vals.append(_real(a, where))
+    if not headers:
+        raise ParameterError(f"{path}: no DMIG entries (a NASTRAN bulk data or punch file with DMIG matrices "
+                             f"is read)")
     return {m: _Entries(np.array(r, dtype=np.int64), np.array(c, dtype=np.int64), np.array(v, dtype=float),
                         headers[m] == 6) for m, (r, c, v) in columns.items()}
 
@@ -731,6 +852,8 @@ def _grid_key(grid: str, component: str, where: str) -> int:
     node, direction = _integer(grid, where), _integer(component or "0", where)
     if node < 1:
         raise ParameterError(f"{where}: point id {node} is not a positive integer")
+    if node > MAX_NODE_ID:
+        raise ParameterError(f"{where}: point id {node} is larger than {MAX_NODE_ID}")
     if not 1 <= direction <= 6:
         raise ParameterError(f"{where}: component {direction} of point {node}: only grid points' components "
                              f"1..6 are read (no scalar points)")
@@ -740,24 +863,27 @@ def _grid_key(grid: str, component: str, where: str) -> int:
 def _read_abaqus(path: Path) -> _Entries:
     """Abaqus ``*MATRIX OUTPUT, FORMAT=MATRIX INPUT``: ``row node, row DOF, column node, column
     DOF, value`` per line (``**`` comments); one triangle is mirrored, both are taken as given."""
+    text = _text(path, "abaqus_matrix_input")
     try:
-        data = np.loadtxt(path, delimiter=",", comments="**", ndmin=2)
+        data = np.loadtxt(io.StringIO(text), delimiter=",", comments="**", ndmin=2)
     except ValueError as exc:
         raise ParameterError(f"{path}: not an Abaqus matrix-input file of lines 'node, dof, node, dof, value' "
                              f"({exc})") from None
+    if data.size == 0:
+        raise ParameterError(f"{path}: no data lines 'node, dof, node, dof, value'")
     if data.shape[1] != 5:
         raise ParameterError(f"{path}: lines must have 5 fields (node, dof, node, dof, value), got {data.shape[1]}")
     ids = data[:, :4]
     if np.any(ids != np.round(ids)):
         raise ParameterError(f"{path}: node and DOF fields must be integers")
-    ids = ids.astype(np.int64)
-    bad = np.flatnonzero((ids[:, [0, 2]] < 1).any(axis=1))
+    bad = np.flatnonzero(~((ids[:, [0, 2]] >= 1) & (ids[:, [0, 2]] <= MAX_NODE_ID)).all(axis=1))
     if bad.size:
-        raise ParameterError(f"{path}: data line {bad[0] + 1} has a node id that is not a positive integer")
+        raise ParameterError(f"{path}: data line {bad[0] + 1} has a node id outside 1..{MAX_NODE_ID}")
     bad = np.flatnonzero((ids[:, [1, 3]] < 1).any(axis=1) | (ids[:, [1, 3]] > 6).any(axis=1))
     if bad.size:
         raise ParameterError(f"{path}: data line {bad[0] + 1} has a DOF outside 1..6 (only displacements and "
                              f"rotations are read)")
+    ids = ids.astype(np.int64)
     rows, cols = ids[:, 0] * 8 + ids[:, 1], ids[:, 2] * 8 + ids[:, 3]
     one_triangle = not (np.any(rows > cols) and np.any(rows < cols))
     return _Entries(rows, cols, data[:, 4].copy(), one_triangle)
