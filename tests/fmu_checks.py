@@ -232,23 +232,27 @@ def blade_steps(path, step, n_steps, vary=0):
     return {"rows": rows, "messages": messages}
 
 
-def fmpy_simulate(path, name, value):
-    """fmpy's ``simulate_fmu`` (FMI 2 co-simulation, one second at 0.1 s) with one parameter set and
-    debug logging on: whether it raised, the rows it returned and the FMU's log messages."""
+def fmpy_simulate(path, cases):
+    """fmpy's ``simulate_fmu`` (FMI 2 co-simulation, one second at 0.1 s, debug logging on) once per
+    case of ``cases`` (JSON: a list of {parameter: value}): per case, whether it raised, the rows it
+    returned and the FMU's log messages."""
     from fmpy import simulate_fmu
 
-    messages = []
+    out = []
+    for values in json.loads(cases):
+        messages = []
 
-    def log(component, instance, status, category, message):
-        messages.append(message.decode(errors="replace") if message else "")
+        def log(component, instance, status, category, message):
+            messages.append(message.decode(errors="replace") if message else "")
 
-    try:
-        rows = len(simulate_fmu(str(path), stop_time=1.0, output_interval=0.1, start_values={name: json.loads(value)},
-                                debug_logging=True, logger=log))
-        raised = None
-    except Exception as exc:  # fmpy's FMICallException
-        rows, raised = 0, str(exc)
-    return {"raised": raised, "rows": rows, "messages": messages}
+        try:
+            rows = len(simulate_fmu(str(path), stop_time=1.0, output_interval=0.1, start_values=values,
+                                    debug_logging=True, logger=log))
+            raised = None
+        except Exception as exc:  # fmpy's FMICallException
+            rows, raised = 0, str(exc)
+        out.append({"raised": raised, "rows": rows, "messages": messages})
+    return out
 
 
 if __name__ == "__main__":
