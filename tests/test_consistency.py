@@ -66,9 +66,10 @@ def test_compiled_settle_matches_numpy_settle(name):
         assert np.allclose(ta, tb, rtol=1e-14, atol=0.0)
         rate = max(sysm.omega, ia.config.max_rate)
         for k, (a, b) in enumerate(zip(ia.start_values(ia.events[0]), ib.start_values(ib.events[0]))):
-            # g, g', g'' to rounding of their terms: a thousandth of the zero band (1e-12 of the
-            # terms) times rate^k (the settling judges g' against 10 band x rate)
-            assert np.max(np.abs(a - b)) <= 1e-3 * np.min(ta) * rate ** k
+            # g, g', g'' to rounding of their terms: a tenth of the zero band (1e-12 of the terms)
+            # times rate^k, harmless as the settling judges g' against 10 band x rate (measured
+            # 4.6e-4 of the band: a bound of 1e-3 was within 10x of it)
+            assert np.max(np.abs(a - b)) <= 1e-1 * np.min(ta) * rate ** k
         ya, yb = ia.y(np.array([0.0, 0.5 * tau]))[0], ib.y(np.array([0.0, 0.5 * tau]))[0]
         assert np.max(np.abs(ya - yb)) <= 1e-13 * (np.max(np.abs(ya)) + 1e-300)
         assert np.array_equal(ia.w, ib.w) and np.array_equal(ia.f_const, ib.f_const)

@@ -74,6 +74,8 @@ def test_dissipation_small_amplitude_no_cancellation(contact, u):
     """Series of the closed form: W = (9 f^2 P^2 S/(10 a)) 5u^3/162 (1 + 2u/3 + 7u^2/15 + ...)."""
     pref = 9 * contact.slip_force ** 2 * contact.compliance / (10 * contact.contact_radius)
     series = pref * 5 * u ** 3 / 162 * (1 + 2 * u / 3 + 7 * u ** 2 / 15 + 28 * u ** 3 / 81)
+    # derived: at u = 1e-3 the four-term series' own truncation is 2.68e-13 (50-digit mpmath), the
+    # rest rounding (measured 2.2e-16 at u = 1e-6, 0 at 1e-9)
     assert abs(contact.dissipation_per_cycle(u * contact.slip_force) / series - 1) <= 1e-12
 
 

@@ -333,5 +333,6 @@ def test_varying_friction_energy_closed_form_is_the_gauss_rules(elastic):
         response.modal_varying_friction = closed_form
     values = np.array(pairs)
     assert len(values) > 10
-    # measured 8e-15 of the piece's energy
-    assert np.max(np.abs(values[:, 0] - values[:, 1]) / np.abs(values[:, 1])) <= 1e-12
+    # closed form against Gauss quadrature, both exact: rounding (measured 8e-15 of the piece's
+    # energy once, 1.3e-13 on another run); 1e-10 is over 100x
+    assert np.max(np.abs(values[:, 0] - values[:, 1]) / np.abs(values[:, 1])) <= 1e-10

@@ -34,7 +34,9 @@ def test_stuck_springs_are_exact_whatever_the_step_and_the_lag(lag):
         xs.append(body.x.copy())
         r = xs[-2].copy() if lag else body.x.copy()
     err = np.max(np.abs(np.array(xs).T - ref.x)) / np.max(np.abs(ref.x))
-    assert err < 1e-11  # measured 1e-11 (expm of a matrix with norm kt h ~ 1e3)
+    # rounding of 40 exact steps, each an exponential of a matrix of norm ~ sqrt(kt) h = 24, and of
+    # the reference's march: measured 1e-11 on one machine, 3.1e-13 on another; 1e-9 is 100x the worst
+    assert err < 1e-9
 
 
 def test_constant_force_closed_form():

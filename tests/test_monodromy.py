@@ -114,11 +114,13 @@ def test_stuck_only_orbit_is_the_linear_solution_without_marching():
     k = sysm.stiffness + (sysm.slider_direction.T * sysm.slider_stiffness) @ sysm.slider_direction
     w = sysm.omega
     x = np.linalg.solve(k - w * w * sysm.mass + 1j * w * sysm.damping, sysm.force_cos - 1j * sysm.force_sin)
-    assert np.max(np.abs(pr.harmonic_amplitude / np.abs(x) - 1)) <= 1e-12
-    assert np.max(np.abs(pr.amplitude / np.abs(x) - 1)) <= 1e-12  # no static offset from rest
+    # two solves, each to eps cond(K - w^2 M + i w C) = 4.9e-13 (cond 2.2e3), compared DOF by DOF:
+    # 1e-10 (measured 2.6e-13, 1.2e-13 of max |x| in x(t))
+    assert np.max(np.abs(pr.harmonic_amplitude / np.abs(x) - 1)) <= 1e-10
+    assert np.max(np.abs(pr.amplitude / np.abs(x) - 1)) <= 1e-10  # no static offset from rest
     t = pr.t
     ref = (x[:, None] * np.exp(1j * w * t)[None, :]).real
-    assert np.max(np.abs(pr.x - ref)) <= 1e-12 * np.max(np.abs(x))
+    assert np.max(np.abs(pr.x - ref)) <= 1e-10 * np.max(np.abs(x))
     # a joint that would slip somewhere in the period is not taken for stuck
     assert periodic_response(chain(20, 3, slip=0.0004)).periods > 0
 

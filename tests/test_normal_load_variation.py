@@ -106,13 +106,16 @@ def test_compiled_and_numpy_marches_agree():
     b, kb, sb = _march_samples(sysm, 4 * period, jit=False)
     assert ka == kb
     scale = float(np.max(np.abs([s[1] for s in a])))
-    assert np.max(np.abs(sa.x - sb.x)) <= 1e-11 * scale
+    # compiled and NumPy kernels: rounding, carried through 4 periods of events (measured 3.6e-12
+    # of the scale); 1e-9 is over 100x that
+    assert np.max(np.abs(sa.x - sb.x)) <= 1e-9 * scale
 
     def ends(samples):  # piece ends, pieces shorter than 1e-12 of the period merged (the two paths'
         t = np.array([s[0] for s in samples][3::4])  # event times differ by rounding, which may
         return t[np.concatenate([np.diff(t) > 1e-12 * period, [True]])]  # leave a 1e-15 s piece in one
     ta, tb = ends(a), ends(b)
-    assert ta.size == tb.size and np.max(np.abs(ta - tb)) <= 1e-11 * period
+    # rounding of the event times (measured 5.4e-12 of the period); 1e-9 is over 100x that
+    assert ta.size == tb.size and np.max(np.abs(ta - tb)) <= 1e-9 * period
 
 
 def test_normals_blind_to_the_motion_give_the_frozen_model():

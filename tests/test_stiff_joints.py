@@ -125,8 +125,10 @@ def test_decimal_reference_is_the_ode():
 
     sol = scipy_integrate.solve_ivp(rhs, (0.0, T_END), [*X0, 0.0, 0.0], method="DOP853", rtol=1e-13, atol=1e-16)
     x, v = _reference(kt, fs, T_END)
-    assert np.max(np.abs(sol.y[:2, -1] - x)) <= 1e-11
-    assert np.max(np.abs(sol.y[2:, -1] - v)) <= 1e-11
+    # DOP853's global error is not bounded by its rtol and varies with its steps (measured 2.3e-12);
+    # 1e-9 is over 100x that, and far above the 50-digit reference's own error
+    assert np.max(np.abs(sol.y[:2, -1] - x)) <= 1e-9
+    assert np.max(np.abs(sol.y[2:, -1] - v)) <= 1e-9
 
 
 # the NumPy event search resolves each period of the stuck mode (1.7e5 rad/s at kt = 1e10) while the
