@@ -184,17 +184,11 @@ def load_structure_definition(path) -> StructureDefinition:
     path = Path(path)
     if not path.is_file():
         raise ParameterError(f"structure definition file {str(path)!r} not found")
-    suffix = path.suffix.lower()
-    if suffix == ".toml":
-        try:
-            import tomllib
-        except ImportError:  # Python 3.10
-            import tomli as tomllib
-        data = tomllib.loads(path.read_text())
-    elif suffix == ".json":
-        data = json.loads(path.read_text())
-    else:
+    if path.suffix.lower() not in (".toml", ".json"):
         raise ParameterError(f"structure definition file must end in .toml or .json, got {str(path)!r}")
+    from .structures.models import read_definition_file
+
+    data = read_definition_file(path, "structure definition")
     return StructureDefinition.from_dict(data, folder=path.parent)
 
 

@@ -390,17 +390,12 @@ def load_system_definition(path) -> SystemDefinition:
     SystemDefinition
         Named after the file's stem unless it gives a ``name``.
     """
-    from .structures.models import _tomllib
+    from .structures.models import read_definition_file
 
     path = Path(path)
     if not path.is_file():
         raise ParameterError(f"system definition file {str(path)!r} not found")
-    suffix = path.suffix.lower()
-    if suffix not in (".toml", ".json"):
+    if path.suffix.lower() not in (".toml", ".json"):
         raise ParameterError(f"system definition file must end in .toml or .json, got {str(path)!r}")
-    tomllib = _tomllib()
-    try:
-        data = tomllib.loads(path.read_text()) if suffix == ".toml" else json.loads(path.read_text())
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
-        raise ParameterError(f"system definition file {str(path)!r} is not valid {suffix[1:].upper()}: {exc}") from None
+    data = read_definition_file(path, "system definition")
     return SystemDefinition.from_dict(data, folder=path.parent, default_name=path.stem)

@@ -93,6 +93,46 @@ def _tomllib():
     return tomllib
 
 
+def read_definition_file(path: str | os.PathLike, what: str) -> dict:
+    """The top-level table of a definition file: JSON if its suffix is ``.json``, else TOML.
+
+    Every way the file can fail to be one (not UTF-8 text, e.g. binary garbage; a syntax error;
+    a top level that is not a table) is a one-line :class:`~frictionjoint.errors.ParameterError`
+    that names the file and the reason.
+
+    Parameters
+    ----------
+    path : path
+        The file (it exists).
+    what : str
+        What the file is, for the messages (``"system definition"``).
+
+    Returns
+    -------
+    dict
+    """
+    import json
+
+    path = Path(path)
+    kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
+    try:
+        data = path.read_bytes()
+        text = data.decode("utf-8-sig")  # a byte-order mark (a Windows editor's) is not the text
+    except UnicodeDecodeError as exc:
+        raise ParameterError(f"{path}: not a {what} file: byte {data[exc.start]:#04x} at offset {exc.start} is not "
+                             f"UTF-8 text") from None
+    except OSError as exc:
+        raise ParameterError(f"{path}: cannot read the {what} file ({exc.strerror})") from None
+    tomllib = _tomllib()
+    try:
+        table = json.loads(text) if kind == "JSON" else tomllib.loads(text)
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ParameterError(f"{path}: the {what} file is not valid {kind}: {' '.join(str(exc).split())}") from None
+    if not isinstance(table, dict):
+        raise ParameterError(f"{path}: a {what} file holds a table, got {type(table).__name__}")
+    return table
+
+
 def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     """Read a blade model definition: a ``.toml`` path, or the name of a file in
     :data:`MODELS_DIR` (with or without ``.toml``).
@@ -106,7 +146,6 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     -------
     BladeModel
     """
-    tomllib = _tomllib()
     path = Path(name_or_path)
     if not path.is_file():
         stem = path.name if path.suffix == ".toml" else f"{path.name}.toml"
@@ -114,10 +153,7 @@ def load_blade_model(name_or_path: str | os.PathLike) -> BladeModel:
     if not path.is_file():
         raise ParameterError(f"name_or_path: blade model {str(name_or_path)!r} not found; give a .toml file or one "
                              f"of the blade models of {MODELS_DIR}: {blade_model_names()}")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
+    data = read_definition_file(path, "blade model")
     unknown = set(data) - set(_SECTIONS)
     if unknown:
         raise ParameterError(f"{path.name}: unknown keys {sorted(unknown)} (allowed: {list(_SECTIONS)})")
