@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_positive, check_real
 from .oscillator import CoulombOscillator
-from .solvers.sdof.kernel import SdofCoulomb
+from .solvers.sdof.kernel import EventBudgetError, SdofCoulomb
 from .solvers.sdof.steady import exp_integral, sdof_orbit, sdof_piece_fourier
 
 __all__ = ["OscillatorRun", "OSCILLATOR_PARAMETERS", "OSCILLATOR_OUTPUTS", "run_parameters"]
@@ -138,7 +138,10 @@ class OscillatorRun:
         kernel's exact period map from ``(x0, v0)`` as the guess at ``t = 0``, nothing evaluated on
         the orbit but its state (the library's ``steady_state`` where the kernel cannot answer)."""
         shift = self._shift  # the orbit of the kernel coordinates x~ = x - F_h / k
-        orbit = sdof_orbit(self._kernel, self.x - shift, self.v, tol=1e-12, max_newton=25, max_periods=2000)
+        try:
+            orbit = sdof_orbit(self._kernel, self.x - shift, self.v, tol=1e-12, max_newton=25, max_periods=2000)
+        except EventBudgetError:
+            return  # the march is refused for its event count: so would steady_state's be, from the same start
         if orbit is not None:
             pmap, outcome, jac, _ = orbit
             t_s, (x, v) = pmap.t_s, (float(a) for a in outcome.z)

@@ -230,3 +230,56 @@ def test_heavy_damping_is_the_massless_limit(c):
     t0 = math.acos(f)
     assert res.converged and res.stops_per_cycle == 2
     assert res.amplitude == pytest.approx((math.sin(t0) - f * t0) / (c * w), rel=REL)
+
+
+# ------------------------------------------------- between the decades (issue 39, section 3)
+#: seconds an oscillator sweep point may take here: the exact march of the affordable regime takes
+#: up to ~25 s at load 7 on 2 cores (k = 2e9, omega = 1.5: 3e4 events a period, shot over periods);
+#: a refusal takes 0.2 s. A hang ran for minutes (k = 3e11: past 6 min)
+SWEEP_BOUND = 50.0
+
+
+def _check_sweep_point(k, w, converged, amplitude, message):
+    """A point of ``sweep("CoulombOscillator", ...)`` (m = 1, P0 = 1, F = 0.5, undamped) at stiffness
+    ``k``: converged within the quasi-static bound [X, X + 2 r P0/k] (module docstring; r = w/wn,
+    Den Hartog's stop-free motion does not apply at these r), or refused for its event count."""
+    r, x_amp = w / math.sqrt(k), 0.5 / k
+    if converged:
+        assert x_amp * (1 - 1e-12) <= amplitude <= x_amp + 2 * r / k, (k, w, amplitude)
+    else:
+        assert math.isnan(amplitude) and "too many" in message and "omega/omega_n" in message, message
+
+
+def test_sweep_between_the_tested_decades_is_refused_at_once():
+    """k = 3e11 (r = 1.5e-6 and 2.7e-6): the sweep ran past 6 minutes. A slip piece of thousands of
+    natural periods exhausted the kernel's safe steps, which was not a refusal for cost, so the
+    general marcher took over (2e5 pieces a period allowed); and the kernel's refusals themselves
+    marched 36000 events (~13 s at load 7) twice a point. The undamped oscillator breaks away every
+    period and then sticks and slips once per natural period (omega_n/omega events a period): that
+    is foreseen now, and refused before marching."""
+    import time
+    start = time.monotonic()
+    res = fj.sweep("CoulombOscillator", [0.8, 1.5], {"stiffness": 3e11})
+    assert time.monotonic() - start < 10.0  # 0.2 s measured; the march it replaces took minutes
+    for w, conv, amp, msg in zip((0.8, 1.5), res.converged, res.amplitude, res.messages):
+        assert not conv
+        _check_sweep_point(3e11, w, conv, amp, msg)
+
+
+from hypothesis import given, settings, strategies as hst  # noqa: E402
+
+
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(log_k=hst.floats(min_value=9.0, max_value=16.0))
+def test_stiffness_sweep_over_decades_is_bounded(log_k):
+    """``sweep("CoulombOscillator", [0.8, 1.5], {"stiffness": k})`` over log-uniform k in 1e9..1e16
+    (r from 2.5e-5 to 1.5e-8): each point converges within the quasi-static bound or is refused with
+    the reason, in bounded time."""
+    import time
+    faulthandler.dump_traceback_later(TIMEOUT, exit=True)  # the watchdog per example, not per test
+    k = 10.0 ** log_k
+    start = time.monotonic()
+    res = fj.sweep("CoulombOscillator", [0.8, 1.5], {"stiffness": k})
+    assert time.monotonic() - start < SWEEP_BOUND
+    for w, conv, amp, msg in zip((0.8, 1.5), res.converged, res.amplitude, res.messages):
+        _check_sweep_point(k, w, bool(conv), float(amp), msg)

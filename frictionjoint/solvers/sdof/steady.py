@@ -168,11 +168,9 @@ def sdof_orbit(kernel: SdofCoulomb, x0: float, v0: float, *, tol: float, max_new
     """The periodic orbit on the kernel, nothing evaluated on it: ``(pmap, outcome, jac, periods)``
     (``pmap.t_s`` the section time, ``outcome.z`` the state there, ``jac`` the exact monodromy,
     ``periods`` marched), or None where the general path must answer (see
-    :func:`sdof_periodic_response`)."""
-    try:
-        return _orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
-    except EventBudgetError:
-        return None
+    :func:`sdof_periodic_response`). A march refused for its event count raises
+    :class:`EventBudgetError`: the general path would meet the same events, slower."""
+    return _orbit(kernel, x0, v0, tol=tol, max_newton=max_newton, max_periods=max_periods)
 
 
 def _orbit(kernel, x0, v0, *, tol, max_newton, max_periods):
