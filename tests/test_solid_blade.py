@@ -273,7 +273,9 @@ def test_taper_and_twist():
                       0.4 + np.arctan2(0.0025, 0.025), atol=1e-12)
     fp, fm, f0 = plus.natural_frequencies(4), minus.natural_frequencies(4), plain.natural_frequencies(4)
     print("twist +0.4:", fp, "-0.4:", fm, "none:", f0)
-    assert np.allclose(fp, fm, rtol=1e-8)  # mirror meshes, the same to the solvers' rounding (2.4e-9 here)
+    # mirror meshes, the same to the solvers' rounding: up to eps lambda_max / lambda_1 / 2 = 1.1e-7 in
+    # omega (lambda_max / lambda_1 = 1e9 on this mesh); measured 2.2e-9 and 2.4e-9, within 10x of 1e-8
+    assert np.allclose(fp, fm, rtol=2e-7)
     # the first mode (flapwise) barely changes with a small twist; the twist couples flap and chord
     assert abs(fp[0] / f0[0] - 1) < 2e-2
 
