@@ -289,3 +289,29 @@ def test_lumped_blade():
         cl = lumped_blade(L, ei, rho_a, n).clamped(["w0"])
         err.append(abs(np.sqrt(scipy.linalg.eigh(cl.stiffness, cl.mass, eigvals_only=True)[0]) / ref - 1))
     assert err[0] < 0.013 and 3.9 < err[0] / err[1] < 4.1 and 3.9 < err[1] / err[2] < 4.1  # O(1/n^2)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(density=1e-300), "density must be in"), (dict(density=1e300), "density must be in"),
+    (dict(youngs_modulus=1e-300), "youngs_modulus must be in"),
+    (dict(rotor_speed=1e200), "rotor_speed must be in"), (dict(rotor_speed=1e150, hub_radius=0.25), "rotor_speed must be in"),
+])
+def test_parameters_beyond_the_floating_point_range_are_refused(kwargs, word):
+    # issue 39; before: LinAlgError (density 1e-300), OverflowError (rotor_speed 1e200), and
+    # frequencies of 1e-146 rad/s returned for a density of 1e300 without a word
+    with pytest.raises(ParameterError, match=word):
+        BeamBlade(**dict(BLADE, **kwargs))
+
+
+def test_a_mesh_beyond_the_machine_is_refused_before_anything_is_allocated(monkeypatch):
+    # the machine's memory made 16 GiB (the test must not depend on the machine's): 10^6 elements
+    # are dense 3e6 x 3e6 matrices, 392 TiB; refused at once, naming n_elements and the estimate
+    import time
+
+    import frictionjoint.memory
+
+    monkeypatch.setattr(frictionjoint.memory, "available_memory", lambda: 16 * 2 ** 30)
+    start = time.perf_counter()
+    with pytest.raises(ParameterError, match=r"n_elements = 1000000 needs about .*TiB"):
+        BeamBlade(**BLADE, n_elements=10 ** 6)
+    assert time.perf_counter() - start < 1.0

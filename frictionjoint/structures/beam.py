@@ -34,7 +34,9 @@ import numpy as np
 import scipy.linalg
 
 from ..errors import ParameterError, check_count, check_nonnegative, check_positive
+from ..memory import check_fits
 from ..structure import LinearStructure
+from .scales import check_scales
 
 __all__ = ["BeamBlade", "BENDING", "euler_bernoulli_cantilever"]
 
@@ -94,7 +96,10 @@ class BeamBlade:
         ``rho`` [kg/m^3], > 0.
     n_elements : int
         Beam elements, >= 1 (30: the first three bending frequencies within 3.3e-6 of the
-        Euler-Bernoulli closed form; 20: 1.6e-5).
+        Euler-Bernoulli closed form; 20: 1.6e-5); the matrices are dense, and a number whose six
+        ``3 (n + 1)``-square matrices would not fit in the available memory is refused. ``E``,
+        ``rho`` and ``Omega`` must keep the matrices' entries and ``omega^2`` within ``[2.8e-103,
+        5.6e102]`` (:mod:`~frictionjoint.structures.scales`).
     rotor_speed : float
         ``Omega`` [rad/s], >= 0.
     hub_radius : float
@@ -129,7 +134,42 @@ class BeamBlade:
         self.area = self.width * self.thickness
         b, h = self.width, self.thickness
         self.second_moment = b * h ** 3 / 12.0 if bending == "flapwise" else h * b ** 3 / 12.0
+        check_scales(self._scales(), {"youngs_modulus": self.youngs_modulus, "density": self.density,
+                                      "rotor_speed": self.rotor_speed})
+        size = 3 * (self.n_elements + 1)  # dense: the assembly's mass, elastic and softening, the
+        check_fits(6 * 8.0 * size ** 2, f"n_elements = {self.n_elements}",  # structure's K and C, eigh's copy
+                   f"six dense {size} x {size} matrices: the assembly's three, the structure's and the eigensolver's")
         self._mass, self._elastic, self._softening = self._assemble()
+
+    def _scales(self) -> dict:
+        """The model's quantities as power laws in E, rho and Omega (log10, exponents, bounded below:
+        :func:`~frictionjoint.structures.scales.check_scales`): the element's mass entries (``rho A
+        l`` and ``rho A l^3``), its stiffness entries (``E A / l``, ``E I / l^3``, ``E I / l``), the
+        highest and lowest ``omega^2`` and the rotation's terms."""
+        lg = math.log10
+        le = self.length / self.n_elements
+        log_e, log_rho, log_a, log_i, log_l = lg(self.youngs_modulus), lg(self.density), lg(self.area), \
+            lg(self.second_moment), lg(le)
+        e, rho = {"youngs_modulus": 1}, {"density": 1}
+        w2 = {"youngs_modulus": 1, "density": -1}
+        scales = {"mass entries [kg]": (log_rho + log_a + log_l, rho, True),
+                  "slope mass entries [kg m^2]": (log_rho + log_a + 3 * log_l, rho, True),
+                  "axial stiffness entries [N/m]": (log_e + log_a - log_l, e, True),
+                  "bending stiffness entries [N/m]": (log_e + log_i - 3 * log_l, e, True),
+                  "slope stiffness entries [N m]": (log_e + log_i - log_l, e, True),
+                  # the elements' highest: 12 E / (rho l^2) axial (linear bar, consistent mass),
+                  # 1680 E I / (rho A l^4) bending (the Hermite element's highest is below it)
+                  "highest omega^2 [rad^2/s^2]": (log_e - log_rho + max(lg(12) - 2 * log_l,
+                                                                        lg(1680) + log_i - log_a - 4 * log_l), w2, True),
+                  "lowest omega^2 [rad^2/s^2]": (log_e + log_i - log_rho - log_a - 4 * lg(self.length), w2, True)}
+        if self.rotor_speed > 0:
+            log_om2 = 2 * lg(self.rotor_speed)
+            om = {"rotor_speed": 2}
+            scales["rotor_speed^2 [rad^2/s^2]"] = (log_om2, om, False)
+            scales["spin softening entries [N/m]"] = (log_om2 + log_rho + log_a + log_l, {**om, **rho}, False)
+            scales["geometric stiffness entries [N/m]"] = (
+                log_om2 + log_rho + log_a + lg((self.hub_radius + self.length) * self.length) - log_l, {**om, **rho}, False)
+        return scales
 
     # ------------------------------------------------------------------ assembly
     def axial_force(self, s) -> np.ndarray:

@@ -64,10 +64,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import ParameterError, check_count, check_nonnegative, check_poisson_ratio, check_positive, check_real
+from ..memory import check_fits
 from ..structure import LinearStructure
 from .fe_import import FEModel
+from .scales import check_scales
 
-__all__ = ["SolidBlade", "MAX_DENSE_DOF"]
+__all__ = ["SolidBlade", "MAX_DENSE_DOF", "MAX_MODULUS_RATIO", "memory_estimate"]
 
 #: largest number of DOFs :attr:`SolidBlade.structure` makes dense (LinearStructure checks its
 #: matrices with dense eigenvalues: seconds at 2,000 DOFs); larger blades are reduced first
@@ -107,9 +109,12 @@ class SolidBlade:
     youngs_modulus : float
         ``E`` [Pa], > 0.
     poisson_ratio : float
-        ``nu`` [-], in (-1, 0.5).
+        ``nu`` [-], in [-0.9997, 0.499925]: closer to 0.5 (or -1) the bulk and shear moduli differ by
+        more than :data:`MAX_MODULUS_RATIO` and the stiffness's rounding swamps the lowest modes.
     density : float
-        ``rho`` [kg/m^3], > 0.
+        ``rho`` [kg/m^3], > 0. ``E``, ``rho`` and ``Omega`` must keep the matrices' entries and
+        ``omega^2`` within ``[2.8e-103, 5.6e102]`` (:mod:`~frictionjoint.structures.scales`; the
+        refusal gives each one's range).
     twist : float
         Angle of the tip's cross-section to the root's [rad], linear over the span (positive from
         ``y`` towards ``z``), in (-pi, pi).
@@ -123,7 +128,9 @@ class SolidBlade:
         Kirchhoff plate; keep the elements' span length within a few thicknesses. Torsion wants
         elements across the chord (the shear boundary layers at its edges): a strip of b / h = 5
         has its first torsion mode 3.7, 2.3, 1.9 and 1.3 % above Saint-Venant's with 2 x 1, 4 x 1,
-        8 x 1 and 8 x 2 elements across the chord and the thickness.
+        8 x 1 and 8 x 2 elements across the chord and the thickness. A mesh whose assembly and
+        factor would not fit in the machine's available memory is refused before anything is
+        allocated (:func:`memory_estimate`).
     rotor_speed : float
         ``Omega`` [rad/s], >= 0.
     hub_radius : float
@@ -167,7 +174,45 @@ class SolidBlade:
         except (TypeError, ValueError):
             raise ParameterError(f"rayleigh must be a pair (alpha, beta) of numbers >= 0, got {rayleigh!r}") from None
         self.rayleigh = (check_nonnegative("rayleigh alpha", alpha), check_nonnegative("rayleigh beta", beta))
+        _check_poisson_conditioning(self.poisson_ratio)
+        check_scales(self._scales(), {"youngs_modulus": self.youngs_modulus, "density": self.density,
+                                      "rotor_speed": self.rotor_speed})
+        estimate, what = memory_estimate(self.n_elements)
+        given = "" if self.n_elements == n_elements else f" (a {' x '.join(map(str, self.n_elements))} mesh)"
+        check_fits(estimate, f"n_elements = {n_elements!r}{given}", what)
         self._assemble()
+
+    def _scales(self) -> dict:
+        """The model's quantities as power laws in E, rho and Omega (log10, exponents, bounded below:
+        :func:`~frictionjoint.structures.scales.check_scales`), from the smallest and largest element
+        sides (the chord at its narrowest end)."""
+        ns, nc, nt = self.n_elements
+        sides = [self.length / ns, self.width * min(1.0, self.taper) / nc, self.thickness / nt]
+        lg = math.log10
+        log_v, log_dmin, log_dmax = sum(lg(d) for d in sides), lg(min(sides)), lg(max(sides))
+        nu = self.poisson_ratio
+        log_e, log_rho = lg(self.youngs_modulus), lg(self.density)
+        # the P-wave modulus lambda + 2 mu over E; 120 sum 1/d^2: twice the 1D quadratic element's
+        # highest eigenvalue 60 / d^2 per direction (the element's highest omega^2 bound)
+        log_p = lg((1 - nu) / ((1 + nu) * (1 - 2 * nu)))
+        depth = min(self.thickness, self.width * min(1.0, self.taper))
+        scales = {
+            "mass entries [kg]": (log_rho + log_v, {"density": 1}, True),
+            "largest stiffness entries [N/m]": (log_e + log_p + log_v - 2 * log_dmin, {"youngs_modulus": 1}, True),
+            "smallest stiffness entries [N/m]": (log_e + log_v - 2 * log_dmax, {"youngs_modulus": 1}, True),
+            "highest omega^2 [rad^2/s^2]": (log_e + log_p - log_rho + lg(120) - 2 * log_dmin
+                                            + lg(sum((min(sides) / d) ** 2 for d in sides)),
+                                            {"youngs_modulus": 1, "density": -1}, True),
+            "lowest omega^2 [rad^2/s^2]": (log_e + 2 * lg(depth) - log_rho - 4 * lg(self.length),
+                                           {"youngs_modulus": 1, "density": -1}, True)}
+        if self.rotor_speed > 0:
+            log_om2 = 2 * lg(self.rotor_speed)
+            scales["rotor_speed^2 [rad^2/s^2]"] = (log_om2, {"rotor_speed": 2}, False)
+            scales["spin softening entries [N/m]"] = (log_om2 + log_rho + log_v, {"rotor_speed": 2, "density": 1}, False)
+            scales["geometric stiffness entries [N/m]"] = (
+                log_om2 + log_rho + lg((self.hub_radius + self.length) * self.length) + log_v - 2 * log_dmin,
+                {"rotor_speed": 2, "density": 1}, False)
+        return scales
 
     # ------------------------------------------------------------------ geometry and assembly
     def _mesh(self):
@@ -405,6 +450,78 @@ class SolidBlade:
         return (f"SolidBlade(length={self.length!r}, width={self.width!r}, thickness={self.thickness!r}, "
                 f"twist={self.twist!r}, taper={self.taper!r}, n_elements={self.n_elements}, "
                 f"rotor_speed={self.rotor_speed!r}, hub_radius={self.hub_radius!r})")
+
+
+#: largest ratio of the elastic moduli's extremes, max(3K / 2G, 2G / 3K) = max((1 + nu) / (1 - 2 nu),
+#: (1 - 2 nu) / (1 + nu)), that SolidBlade accepts: the stiffness's rounding errors are eps times that
+#: ratio times the mesh's own conditioning. Measured on the 10 x 2 x 1 Ti-6Al-4V blade: the first
+#: frequency's rounding noise (its scatter from one nu to the next, against the smooth trend) was
+#: 1.8e-3 at a ratio of 7.5e6 (nu = 0.4999999), 8 % at 7.5e8 and an unstable (negative) omega^2 at
+#: 7.5e9 (nu = 0.4999999999); it grows in proportion, so 1e4 keeps it near 2e-6 on that mesh, 1e-5
+#: on a mesh ten times worse conditioned. The range is nu in [-0.9997, 0.499925]
+MAX_MODULUS_RATIO = 1e4
+
+
+def _check_poisson_conditioning(nu: float) -> None:
+    """Refuse a Poisson ratio so close to 0.5 (or -1) that the stiffness is ill-conditioned
+    (:data:`MAX_MODULUS_RATIO`)."""
+    bulk_over_shear = (1 + nu) / (1 - 2 * nu)  # 3K / 2G
+    ratio = max(bulk_over_shear, 1 / bulk_over_shear)
+    if ratio > MAX_MODULUS_RATIO:
+        x = MAX_MODULUS_RATIO
+        low, high = (1 - x) / (2 + x), (x - 1) / (1 + 2 * x)
+        kind = ("nearly incompressible: its bulk modulus" if bulk_over_shear > 1 else
+                "nearly rigid in shear: its shear modulus")
+        raise ParameterError(
+            f"poisson_ratio must be in [{low:.6g}, {high:.6g}] for the stiffness to be well-conditioned, got {nu!r}: "
+            f"the solid is {kind} is {ratio:.3g} times the other (3K/2G = (1+nu)/(1-2nu)), and the "
+            f"stiffness's rounding errors, eps times that ratio times the mesh's own conditioning, swamp "
+            f"its lowest modes (allowed ratio {MAX_MODULUS_RATIO:.0e})")
+
+
+#: bytes per stored entry of the blade's stiffness while it is assembled: measured 76-96 (the
+#: larger rotating) on meshes of 40 x 2 x 1 to 160 x 8 x 1 (the peak resident memory over the
+#: stiffness's entries: the mass, elastic, geometric, softening and total matrices and the
+#: assembly's temporaries)
+ASSEMBLY_BYTES_PER_ENTRY = 100
+#: bytes per entry of the clamped stiffness's sparse LU factor (L and U, values and indices:
+#: measured about 16)
+FACTOR_BYTES_PER_ENTRY = 16
+
+
+def memory_estimate(n_elements: tuple) -> tuple[float, str]:
+    """Peak memory [bytes] to assemble a :class:`SolidBlade` of ``n_elements`` = ``(n_span, n_chord,
+    n_thickness)`` and factor its clamped stiffness (its modes, its centrifugal stress and its
+    reduction all need the factor), and how it was counted, from the mesh alone.
+
+    A structured grid of 27-node hexahedra has ``prod(2 n_i + 1)`` nodes, three DOFs each; two
+    nodes are coupled where they share an element, in each direction independently, so the
+    scalar pattern has ``prod(8 n_i + 1)`` entries (1D: 9 per element, less one per shared
+    vertex) and the stiffness 9 times that (:data:`ASSEMBLY_BYTES_PER_ENTRY` each). The factor
+    is bounded by a band ordered along the longest direction: per DOF, both triangles of a band
+    of the DOFs of two node layers across the two shorter directions, ``2 x 3 x 2 (2 a + 1) (2 b
+    + 1)`` (SuperLU's minimum-degree ordering filled 1.3 to 4.6 times less, measured on slender
+    blades, plates and blocks), :data:`FACTOR_BYTES_PER_ENTRY` each.
+
+    Parameters
+    ----------
+    n_elements : (int, int, int)
+
+    Returns
+    -------
+    bytes : float
+    what : str
+        The counts behind it, for a message.
+    """
+    counts = [int(n) for n in n_elements]
+    nodes = math.prod(2 * n + 1 for n in counts)
+    entries = 9 * math.prod(8 * n + 1 for n in counts)
+    a, b = sorted(2 * n + 1 for n in counts)[:2]
+    factor = 3 * nodes * 2 * 3 * 2 * a * b
+    estimate = float(ASSEMBLY_BYTES_PER_ENTRY * entries + FACTOR_BYTES_PER_ENTRY * factor)
+    what = (f"{nodes:.3g} nodes, {3 * nodes:.3g} DOFs, {entries:.3g} stiffness entries at "
+            f"{ASSEMBLY_BYTES_PER_ENTRY} B while assembled, a factor of at most {factor:.3g} entries")
+    return estimate, what
 
 
 def _derivative_pairs(scalar) -> dict:

@@ -1,0 +1,89 @@
+"""The machine's available memory, and a refusal of work that would not fit in it (issue 39).
+
+A model whose size is known from its parameters (a mesh's element counts, a grid's length) is
+checked here before anything is allocated: :func:`check_fits` raises a
+:class:`~frictionjoint.errors.ParameterError` naming the parameter, the estimate and what is
+available, where the allocation would otherwise take minutes of swapping or end in a raw
+``MemoryError``.
+
+Available memory: the kernel's ``MemAvailable`` (``/proc/meminfo``, Linux: free memory plus what
+the page cache can give back), or ``os.sysconf``'s available physical pages elsewhere on POSIX,
+and no more than a control group's limit less its usage (``/sys/fs/cgroup/memory.max``,
+``memory.current``: a container's limit is not what ``/proc/meminfo`` shows). Where none can be
+read (Windows), nothing is refused.
+"""
+from __future__ import annotations
+
+import os
+
+from .errors import ParameterError
+
+__all__ = ["available_memory", "check_fits", "format_bytes"]
+
+
+def _meminfo_available() -> int | None:
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _sysconf_available() -> int | None:
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def _cgroup_available() -> int | None:
+    try:
+        with open("/sys/fs/cgroup/memory.max") as f:
+            limit = f.read().strip()
+        if limit == "max":
+            return None
+        with open("/sys/fs/cgroup/memory.current") as f:
+            return max(0, int(limit) - int(f.read().strip()))
+    except (OSError, ValueError):
+        return None
+
+
+def available_memory() -> int | None:
+    """Memory [bytes] this process can allocate without swapping (module docstring), or None
+    where the platform does not say."""
+    found = [v for v in (_meminfo_available() or _sysconf_available(), _cgroup_available()) if v is not None]
+    return min(found) if found else None
+
+
+def format_bytes(n: float) -> str:
+    """``n`` bytes in binary units, three significant digits (``"5.4 GiB"``)."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if abs(n) < 1024.0 or unit == "PiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024.0
+    return f"{n:.3g} PiB"  # pragma: no cover
+
+
+def check_fits(estimate: float, parameter: str, what: str, available: int | None = None) -> None:
+    """Raise :class:`ParameterError` if ``estimate`` bytes exceed the available memory.
+
+    Parameters
+    ----------
+    estimate : float
+        The work's peak memory [bytes], estimated from its parameters.
+    parameter : str
+        The parameter that sets the size, with its value (``"n_elements = (1000000, 1, 1)"``).
+    what : str
+        What needs the memory and how it was estimated (``"the blade's sparse matrices: 2.2e9
+        stored entries"``).
+    available : int, optional
+        Bytes available (default :func:`available_memory`; None: nothing is refused).
+    """
+    if available is None:
+        available = available_memory()
+    if available is not None and estimate > available:
+        raise ParameterError(f"{parameter} needs about {format_bytes(estimate)} ({what}), more than the "
+                             f"{format_bytes(available)} this machine has available: make it smaller")
