@@ -221,3 +221,21 @@ def test_ecos_executable_logs_a_bad_parameter_and_does_not_crash(fmus, tmp_path,
         assert p.returncode == 0, log[-3000:]
     rows = (tmp_path / "system.csv").read_text().strip().splitlines()
     assert len(rows) == 12  # header, t = 0 and ten steps
+
+
+def test_ecos_runs_that_cannot_be_done_are_refused_before_ecos_starts(tmp_path, monkeypatch):
+    """Issue 39: as FMUSystem.simulate, run_ecos and ecos_cli refuse points that are not distinct
+    in floating point and (run_ecos) rows that cannot fit, naming the parameter, before Ecos starts
+    (the SSP need not even exist: nothing is read)."""
+    from frictionjoint.errors import ParameterError
+    from frictionjoint.fmi import cosim
+    from frictionjoint.fmi.ecos import ecos_cli, run_ecos
+
+    for call in (lambda: run_ecos("missing.ssp", 1e9, 1e-9, ["osc.x"]),
+                 lambda: ecos_cli("missing.ssp", 1.0, 1e-300, tmp_path / "w")):
+        with pytest.raises(ParameterError, match="step must be above the rounding of the times"):
+            call()
+    monkeypatch.setattr(cosim, "available_memory", lambda: 2 ** 30)  # 1 GiB: 1e8 rows of 2 values, ~100 B each
+    with pytest.raises(ParameterError, match=r"1e\+08 communication steps.*18.6 GiB"):
+        run_ecos("missing.ssp", 1e8, 1.0, ["osc.x"])
+    assert not (tmp_path / "w").exists()

@@ -299,7 +299,10 @@ def ecos_cli(system_or_ssp, stop_time: float, step: float, workdir, debug: bool 
     subprocess.CompletedProcess
         With ``stdout`` and ``stderr`` as text.
     """
+    from .cosim import _step_count
+
     h = check_positive("step", step)
+    _step_count(0.0, check_real("stop_time", stop_time), h, bytes_per_value=0.0)  # distinct points, >= 1 step
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     ssp = _ssp_path(system_or_ssp, workdir)
