@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import sys
 from numbers import Real
 from typing import TYPE_CHECKING
@@ -55,10 +56,17 @@ if TYPE_CHECKING:  # structures/ is imported when a diagram is computed, not wit
     from .structures.assembly import BladeAssembly
     from .structures.models import BladeModel
 
-__all__ = ["campbell", "XTOL"]
+__all__ = ["campbell", "XTOL", "MAX_SPEEDS"]
 
 #: relative tolerance of a crossing's speed (Brent's method)
 XTOL = 1e-13
+#: the most speeds of one diagram, counted before any assembly (as sweeps and studies count their
+#: points: :data:`frictionjoint.frequencies.MAX_POINTS`, :data:`frictionjoint.study.definition.MAX_POINTS`).
+#: Crossings are located by Brent's method between samples, so samples need only separate them; a
+#: speed costs an assembly and two eigenproblems (50 ms on the Ti-64 beam blade, about a second on
+#: the solid one, and a nonlinear mode per mode with ``amplitude``): 10^4 speeds are 8 minutes on the
+#: beam, 10^6 would be 14 hours
+MAX_SPEEDS = 10_000
 
 
 class _Blade:
@@ -67,6 +75,7 @@ class _Blade:
     def __init__(self, model: BladeModel, n_modes: int, reduction_modes: int, amplitude, dof, n_harmonics: int):
         self.model, self.n_modes, self.reduction_modes = model, n_modes, reduction_modes
         self.amplitude, self.dof, self.n_harmonics = amplitude, dof, n_harmonics
+        self.reduction_given = False  # reduction_modes is 2 n_modes + 2
         self._last = (None, None)
 
     def assembly(self, speed: float) -> BladeAssembly:
@@ -75,9 +84,33 @@ class _Blade:
         from .structures.assembly import BladeAssembly
 
         if self._last[0] != float(speed):
-            self._last = (float(speed), BladeAssembly.from_model(self.model, self.reduction_modes,
-                                                                 rotor_speed=float(speed)))
+            try:
+                asm = BladeAssembly.from_model(self.model, self.reduction_modes, rotor_speed=float(speed))
+            except ParameterError as exc:
+                # from_model's n_modes is our reduction_modes; keeping every interior mode leaves no room
+                # for the tip's residual vector
+                if not str(exc).startswith(("n_modes", "the residual vector")):
+                    raise
+                raise self._too_many_modes(exc) from None
+            self._last = (float(speed), asm)
         return self._last[1]
+
+    def _too_many_modes(self, exc: ParameterError) -> ParameterError:
+        """The reduction's refusal of ``reduction_modes`` (its ``n_modes``) in the caller's words:
+        the argument the caller gave and its range (from the interior DOFs the reduction names)."""
+        found = re.search(r"\[0, (\d+)\]", str(exc))
+        # the interior DOFs less the tip's residual vector
+        most = None if found is None else int(found.group(1)) - 1
+        detail = "" if found else f": {exc}"  # the reduction's words, where they give no range
+        if self.reduction_given:
+            allowed = " smaller" if most is None else f" in [0, {most}]"
+            return ParameterError(f"reduction_modes must be{allowed} for {self.model.name} (the fixed-interface "
+                                  f"modes of its blade, besides the tip's residual vector{detail}), got "
+                                  f"{self.reduction_modes}")
+        allowed = " smaller" if most is None else f" in [1, {(most - 2) // 2}]"
+        return ParameterError(f"n_modes must be{allowed} for {self.model.name} (its blade is reduced to 2 n_modes + 2 "
+                              f"fixed-interface modes besides the tip's residual vector{detail}; or give "
+                              f"reduction_modes), got {self.n_modes}")
 
     def limits(self, speed: float) -> dict[str, np.ndarray]:
         """``{'stuck': omega, 'slipping': omega}``: the lowest ``n_modes`` undamped natural
@@ -126,6 +159,9 @@ def _check_args(model, speeds, engine_orders, n_modes, amplitude, n_harmonics, r
         if "> 0" not in str(exc):
             raise
         raise ParameterError(f"{exc} (the dovetail root carries no load at rest)") from None
+    if speeds.size > MAX_SPEEDS:
+        raise ParameterError(f"speeds must hold at most {MAX_SPEEDS} rotor speeds, got {speeds.size} (crossings are "
+                             "located between samples: a coarser grid finds them to the same tolerance)")
     if speeds.size > 1 and not np.all(np.diff(speeds) > 0):
         raise ParameterError(f"speeds must increase strictly [rad/s], got {speeds.tolist()!r}")
     if isinstance(engine_orders, Real):
@@ -185,6 +221,7 @@ def campbell(model: str | os.PathLike | BladeModel, speeds: str | ArrayLike, eng
     definition, speeds, eos, n_modes, reduction, hh = _check_args(model, speeds, engine_orders, n_modes, amplitude,
                                                                    n_harmonics, reduction_modes)
     blade = _Blade(definition, n_modes, reduction, amplitude, dof, hh)
+    blade.reduction_given = reduction_modes is not None
     if amplitude is not None and dof is None:  # a beam blade's DovetailRoot; else nonlinear_mode's default
         tangential = getattr(blade.assembly(speeds[0]).joints[0], "tangential_dof", None)
         blade.dof = None if tangential is None else str(tangential)

@@ -302,3 +302,39 @@ def test_example_script_draws_the_readme_diagram(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.startswith("| curve | EO | mode |") and "4 speeds in" in proc.stdout
     assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("amplitude", [1e12, 1e300])
+def test_deep_slip_nonlinear_mode_is_the_free_slip_limit(amplitude):
+    """Issue 39: at 1000 rad/s the root's slip reach is below 1e-3 m, so from 0.1 m on the nonlinear
+    mode is the free-slip limit (1707.28 rad/s) to the joint's force over the springs' (< 1e-10 from
+    1e8 m; the free-slip frequency is the same eigenproblem's, to rounding: bound 1e-9). At 1e12 m it
+    gave the stuck limit 2034.78 (the joint's loop held its spring once its reach was below the
+    rounding of the motion), at 1e300 m NaN (k u overflowed) with no message."""
+    c = campbell("ti64_compressor_blade", "1000:1000:1", engine_orders=[1], n_modes=1, amplitude=amplitude)
+    assert c.nonlinear_converged.all(), c.message
+    assert abs(c.nonlinear_frequency[0, 0] / c.slipping_frequency[0, 0] - 1) <= 1e-9
+
+
+def test_too_many_modes_quote_what_was_given():
+    """n_modes = 1000 asks the Craig-Bampton reduction for 2 n_modes + 2 = 2002 modes: the refusal
+    names n_modes, its range for this blade (90 interior DOFs, one kept for the tip's residual
+    vector: 2 n + 2 <= 89) and 1000 (it quoted 2002 under the name n_modes)."""
+    with pytest.raises(ParameterError, match=r"n_modes must be in \[1, 43\].*got 1000$"):
+        campbell("ti64_compressor_blade", "500:2000:3", n_modes=1000)
+    with pytest.raises(ParameterError, match=r"reduction_modes must be in \[0, 89\].*got 500$"):
+        campbell("ti64_compressor_blade", "500:2000:3", n_modes=2, reduction_modes=500)
+    campbell("ti64_compressor_blade", "500:2000:2", n_modes=43)  # the largest runs
+
+
+def test_speeds_are_capped_before_any_assembly():
+    """10^6 speeds (frequencies' own cap) would take about 14 hours on the beam blade: refused at
+    campbell.MAX_SPEEDS, naming speeds, before the first assembly (well within a second)."""
+    import time
+
+    from frictionjoint.campbell import MAX_SPEEDS
+
+    t0 = time.perf_counter()
+    with pytest.raises(ParameterError, match=rf"speeds must hold at most {MAX_SPEEDS} rotor speeds, got 1000000"):
+        campbell("ti64_compressor_blade", "500:2000:1000000", n_modes=1)
+    assert time.perf_counter() - t0 < 30.0  # measured 0.2 s; an assembly per speed would be hours

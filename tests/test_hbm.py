@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import frictionjoint as fj
 from frictionjoint.analytic import harmonic_balance_amplitude, jenkins_describing_function
@@ -279,3 +280,85 @@ def test_continuation_stays_on_a_steep_lightly_damped_branch():
     k_peak = int(np.argmax(sw.harmonic_amplitude[:, 0]))
     hb = fj.harmonic_balance(damper(sw.omega[k_peak]), n_harmonics=1, guess=sw.harmonics[k_peak], tol=1e-12)
     assert np.max(np.abs(hb.harmonics - sw.harmonics[k_peak])) <= 1e-8 * np.max(np.abs(hb.harmonics))
+
+
+# Issue 39: deep slip and vanishing friction. A Jenkins loop whose slip reach F/k is small against
+# the motion: the kernel finds its stuck pieces from u against u(theta_r) -+ 2 F/k, which fails once
+# F/k is below the rounding of u (it held the spring over the whole period: the stuck answer), and
+# loses eps |u| / (F/k) of F before that; the deep-slip form (Coulomb's loop and the stuck pieces'
+# excess, hysteresis._deep_slip) is exact for the dissipation of a single harmonic. Reference: b_1 =
+# -(4 F/pi) (1 - F/(k A)) for u = A cos(theta - phi) (the loop's area 4 F (A - F/k) = -pi A b_1),
+# in floating point without cancellation. Tolerance 1e-8: the worst measured over x = F/(k A) from
+# 1e-300 to 1e-2 is 1.7e-11 (the kernel near x = 1e-6), a margin of 500.
+DEEP_SLIP_TOL = 1e-8
+
+
+@settings(max_examples=25, deadline=None)
+@given(log_x=st.floats(-300.0, -2.0), phase=st.floats(0.0, 2 * math.pi), mean=st.floats(-3.0, 3.0),
+       hh=st.sampled_from([1, 3, 7]))
+def test_jenkins_loop_in_deep_slip_dissipates_exactly(log_x, phase, mean, hh):
+    a, kt = 1.7, 5.0
+    x = 10.0 ** log_x
+    fs = x * kt * a
+    c = np.zeros(2 * hh + 1)
+    c[0], c[1], c[2] = mean * a, a * math.cos(phase), a * math.sin(phase)
+    t, jac, _, slips = hysteresis.jenkins_loop(c, kt, fs)
+    b1 = -t[1] * math.sin(phase) + t[2] * math.cos(phase)  # the force's quadrature to u
+    assert slips and np.all(np.isfinite(jac))
+    assert abs(b1 / (-(4 * fs / math.pi) * (1 - x)) - 1) <= DEEP_SLIP_TOL
+
+
+def test_coulomb_loop_with_a_reversal_within_rounding_of_the_period_start():
+    """u'(0) < 0 by a third harmonic while u'(2 pi) > 0 by the rounding of sin(2 pi) A: the reversal
+    lies between the two; found on a periodic grid, the force is F sgn(u') (b_1 = -4 F/pi, its quadrature
+    to u = A cos theta; it was a constant +F: the one reversal seen made one piece of the period)."""
+    c = np.array([7.95138670e-17, 1e14, 0.0, -5.65431943e-17, 1.71710400e-32, 1.43656159e-17, -5.30516477e-03])
+    t, _ = hysteresis.coulomb_loop(c, 0.1)
+    assert abs(t[2] / (-0.4 / math.pi) - 1) <= 1e-12 and abs(t[0]) <= 1e-12 * 0.1
+
+
+@settings(max_examples=12, deadline=None)
+@given(log_fs=st.floats(-300.0, -13.0))
+def test_vanishing_friction_gives_the_free_slip_response(log_fs):
+    """Slip force Fs under a 1 N load at the stuck resonance (omega = sqrt(6) = 2.449): the answer tends
+    to the free-slip one, |P / (k - m w^2 + i c w)| = 0.2000864 (the joint's spring slips freely); the
+    friction moves it by O(Fs/P) <= 1e-13, the bound 1e-9 is Newton's tolerance 1e-10 times 10. At Fs =
+    1e-15 it gave 122.35 in '0 Newton iterations' (the loop held its spring: the stuck response)."""
+    w = 2.449
+    sysm = fj.FrictionSystem(SDOF, [fj.Jenkins(5.0, 10.0 ** log_fs, dof=0)], omega=w,
+                             excitation=[fj.HarmonicForce(0, 1.0)])
+    hb = fj.harmonic_balance(sysm, w, 7)
+    free = 1.0 / abs(1.0 - w * w + 0.02j * w)
+    assert hb.converged and not hb.stuck
+    assert abs(hb.amplitude[0] / free - 1) <= 1e-9
+
+
+@pytest.mark.parametrize("hh", [100_000, 10 ** 9])
+def test_n_harmonics_is_bounded_by_the_memory_before_any_allocation(hh):
+    """Issue 39: H = 10^5 asked for hundreds of GiB (the loops' tables alone, (H, 32 (H + 1))), 10^9
+    failed inside NumPy ("array is too big"). Refused at once (well within a second), naming
+    n_harmonics and the largest H that fits, for the balance, the branch and the nonlinear mode."""
+    import time
+
+    from frictionjoint.solvers.frequency_domain.hbm import harmonics_bytes, memory_budget
+
+    sysm = jenkins_sdof(1.2, 0.2)
+    t0 = time.perf_counter()
+    for call, name in ((lambda: fj.harmonic_balance(sysm, 1.2, hh), "harmonic_balance"),
+                       (lambda: fj.hbm_sweep(sysm, (1.0, 1.5), hh), "hbm_sweep"),
+                       (lambda: fj.nonlinear_mode(sysm, 0, [1.0], hh), "nonlinear_mode")):
+        with pytest.raises(ParameterError, match=rf"{name}: n_harmonics must be in \[1, (\d+)\]") as info:
+            call()
+        most = int(info.value.args[0].split("[1, ")[1].split("]")[0])
+        all_dofs = name == "nonlinear_mode"
+        assert harmonics_bytes(most, 1, 1, all_dofs) <= memory_budget() < harmonics_bytes(most + 1, 1, 1, all_dofs)
+    assert time.perf_counter() - t0 < 5.0  # measured 0.05 s
+
+
+def test_sweep_progress_bar_counts_the_range_and_the_points(capsys):
+    """The branch's bar went to '1000 it' whatever the points (147 on the blade): it now shows the
+    range covered in rad/s and the points found, the last count the result's."""
+    sw = fj.hbm_sweep(jenkins_sdof(1.0, 0.2), "0.5:2:20", 3, progress=True)
+    err = capsys.readouterr().err
+    assert "1000" not in err and "1.5/1.5 rad/s of the range" in err
+    assert f"{sw.omega.size} points" in err

@@ -15,9 +15,11 @@ tolerance); the orbit the same from any start to 1e-9 (measured 5e-11); the harm
 difference from it is its truncation, bounded by what was measured (the blade's: see the guide).
 """
 import math
+import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import frictionjoint as fj
 from frictionjoint.errors import ParameterError
@@ -369,3 +371,60 @@ def test_exact_option_gives_the_orbits_without_truncation():
     assert abs(one.exact_damping_ratio[2] / nm.exact_damping_ratio[2] - 1) <= EXACT_TOL
     with pytest.raises(ParameterError, match="exact"):
         nonlinear_mode(system, amplitudes=amps, exact=[-1.0])
+
+
+def sdof_mode_deep_slip(a, c, kt, fs):
+    """:func:`sdof_mode_closed_form` (m = k = 1) written for any amplitude: beta from ``sin(beta/2) =
+    sqrt(x)``, ``x = Fs/(kt a)`` (``1 - cos beta`` would cancel), the energy per cycle over ``pi a^2``
+    as ``4 Fs (1 - x) / (pi a)`` (``a^2`` overflows past 1e154)."""
+    x = fs / (kt * a)
+    beta = 2 * math.asin(math.sqrt(x))
+    w = math.sqrt(1.0 + kt / math.pi * (beta - math.sin(2 * beta) / 2))
+    return w, (c + 4 * fs * (1 - x) / (math.pi * a * w)) / (2 * w)
+
+
+@settings(max_examples=12, deadline=None)
+@given(log_a=st.floats(2.0, 300.0), c=st.sampled_from([0.0, 0.02]))
+def test_deep_slip_tends_to_the_free_slip_mode(log_a, c):
+    """Issue 39: the Jenkins SDOF (m = k = 1, kt = 5, Fs = 0.1) deep in slip, H = 1: frequency and
+    damping ratio equal the describing function's closed form to CLOSED_FORM_TOL (measured <= 5e-15;
+    without dashpots the damping ratio is friction's alone, 2 Fs (1 - x) / (pi a w^2)), with no
+    floating-point warning. From a = 1e15 it gave the stuck frequency sqrt(6) (the loop held its
+    spring once Fs/kt was below the rounding of a); at 1e300 k a overflowed."""
+    a = 10.0 ** log_a
+    system = fj.FrictionSystem(fj.LinearStructure([[1.0]], [[1.0]], [[c]]), [fj.Jenkins(5.0, 0.1, dof=0)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        nm = nonlinear_mode(system, amplitudes=[a], n_harmonics=1)
+    w, zeta = sdof_mode_deep_slip(a, c, 5.0, 0.1)
+    assert nm.success and not nm.stuck[0]
+    assert abs(nm.frequency[0] / w - 1) <= CLOSED_FORM_TOL
+    assert abs(nm.damping_ratio[0] / zeta - 1) <= CLOSED_FORM_TOL
+    # the energy balance, in metres and joules however large (equations solved in units of 2^k m)
+    assert abs(nm.friction_per_cycle[0] / (4 * 0.1 * a * (1 - 0.1 / (5.0 * a))) - 1) <= CLOSED_FORM_TOL
+
+
+def test_deep_slip_chain_is_its_free_slip_mode_at_any_amplitude():
+    """The chain (H = 7) from 1e6 to 1e300 m: the free-slip linear mode's frequency (0.618) to 1e-9
+    (the joint's force is below 1e-7 of the springs' from 1e6 m; measured 4e-16), no overflow
+    warning; at 1e300 it gave the stuck 0.995 with overflow warnings. The checks against the time
+    march need amplitudes it can represent: refused beyond 2^500 m."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        nm = nonlinear_mode(chain(), amplitudes=[1e6, 1e20, 1e150, 1e300], n_harmonics=7)
+    assert nm.success
+    np.testing.assert_allclose(nm.frequency, nm.slipping_frequency, rtol=1e-9)
+    assert abs(nm.slipping_frequency - math.sqrt((3 - math.sqrt(5)) / 2)) <= 1e-12
+    with pytest.raises(ParameterError, match="check and exact"):
+        nonlinear_mode(chain(), amplitudes=[1e300], n_harmonics=1, check=True)
+
+
+def test_printout_is_a_table_with_the_checked_points_only():
+    """The printout was the dataclass's: every array, frequency_error a wall of NaN wherever a point was
+    not checked. Now one row per amplitude, then the checked points only."""
+    nm = nonlinear_mode(chain(), amplitudes=np.geomspace(0.01, 10, 8), n_harmonics=1, check=[5.0])
+    text = repr(nm)
+    assert "nan" not in text.lower() and "array(" not in text
+    assert "checked against the exact free decay (1 points)" in text
+    assert len(text.splitlines()) == 3 + 8 + 2 + 1
+    assert f"{nm.frequency_error[np.isfinite(nm.frequency_error)][0]:.8g}" in text

@@ -10,6 +10,9 @@ import numpy as np
 
 __all__ = ["NonlinearMode", "DecayCheck", "ModeOrbit"]
 
+#: rows of a mode's points its printout shows (the first and last half of them beyond)
+MAX_ROWS = 40
+
 
 @dataclass
 class DecayCheck:
@@ -217,6 +220,33 @@ class NonlinearMode:
         if self.success:
             return "ok"
         return "partial" if np.any(self.converged) else "failed"
+
+    def __repr__(self) -> str:
+        """A table: the mode's points, then the checked ones only (their free decays' and exact
+        orbits' differences), not every field's array (a NaN wherever a point was not checked)."""
+        lines = [f"NonlinearMode(mode {self.mode} at {self.dof_name}, H = {self.n_harmonics}, {self.status}: {self.message}",
+                 f"  stuck limit {self.stuck_frequency:.6g} rad/s (zeta {self.stuck_damping_ratio:.4g}), free-slip "
+                 f"limit {self.slipping_frequency:.6g} rad/s (zeta {self.slipping_damping_ratio:.4g})",
+                 f"  {'amplitude [m]':>14} {'omega [rad/s]':>14} {'zeta':>12} {'stuck':>6} {'converged':>9}"]
+        rows = range(self.amplitude.size)
+        shown = list(rows) if len(rows) <= MAX_ROWS else list(rows[:MAX_ROWS // 2]) + [-1] + list(rows[-MAX_ROWS // 2:])
+        for k in shown:
+            if k < 0:
+                lines.append(f"  ... {self.amplitude.size - MAX_ROWS} more ...")
+                continue
+            lines.append(f"  {self.amplitude[k]:14.6g} {self.frequency[k]:14.8g} {self.damping_ratio[k]:12.6g} "
+                         f"{'yes' if self.stuck[k] else 'no':>6} {'yes' if self.converged[k] else 'no':>9}")
+        for title, names, columns in (
+                ("checked against the exact free decay", ("frequency error", "energy error"),
+                 (self.frequency_error, self.energy_error)),
+                ("the EPMC orbit solved exactly in time", ("omega [rad/s]", "zeta"),
+                 (self.exact_frequency, self.exact_damping_ratio))):
+            picked = [] if columns[0] is None else np.flatnonzero(np.isfinite(columns[0]))
+            if len(picked):
+                lines.append(f"  {title} ({len(picked)} points):")
+                lines.append(f"  {'amplitude [m]':>14}" + "".join(f" {n:>16}" for n in names))
+                lines += [f"  {self.amplitude[k]:14.6g}" + "".join(f" {c[k]:16.8g}" for c in columns) for k in picked]
+        return "\n".join(lines) + ")"
 
     def plot(self, ax=None, path=None):
         """Frequency and damping ratio against amplitude, the stuck and free-slip linear limits

@@ -20,7 +20,7 @@ from ...errors import ParameterError, check_count, check_system
 from ...frequencies import check_omegas
 from ...results.harmonic import HarmonicBalanceSweep
 from ...system import FrictionSystem
-from .hbm import Condensed, _peaks, exact_orbit, harmonic_balance, lyapunov_stable, truncation_error
+from .hbm import Condensed, _peaks, check_harmonics, exact_orbit, harmonic_balance, lyapunov_stable, truncation_error
 
 __all__ = ["hbm_sweep"]
 
@@ -58,7 +58,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     max_points : int, optional
         Points at most (default ``20 n_points``).
     progress : bool
-        Show a progress bar (fraction of the range covered).
+        Show a progress bar (the part of the range covered [rad/s], and the points found).
     check : bool or sequence of float
         Check points against the exact time-domain steady state started from them
         (:func:`~frictionjoint.solvers.frequency_domain.hbm.exact_orbit`; one shooting each, usually a few Newton
@@ -72,7 +72,7 @@ def hbm_sweep(system: FrictionSystem, omega_range: ArrayLike, n_harmonics: int =
     """
     check_system("system", system, FrictionSystem)
     w_a, w_b, n_points, targets = _check_range(omega_range, n_points, check)
-    hh = check_count("n_harmonics", n_harmonics, 1)
+    hh = check_harmonics(n_harmonics, system, "hbm_sweep")
     n_points = check_count("n_points", n_points, 2)
     max_points = 20 * n_points if max_points is None else check_count("max_points", max_points, 1)
     if not (isinstance(tol, float) and 0 < tol < 1):
@@ -109,7 +109,10 @@ def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b:
         message = (f"no balance at the start omega = {w_a:.6g} rad/s ({first.message}); start the branch "
                    f"where the response is simpler (the other end of the range, or farther from resonance)")
         max_points = 1
-    bar = tqdm(total=1000, desc="hbm", file=__import__("sys").stderr, disable=not progress, leave=False)
+    # the bar covers the range in rad/s (the number of points is the branch's own: folds add some),
+    # and counts the points found
+    bar = tqdm(total=ws, desc="hbm", file=__import__("sys").stderr, disable=not progress, leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.6g}/{total:.6g} rad/s of the range [{elapsed}{postfix}]")
     try:
         while len(rows) < max_points:
             y_pred = y + ds * t
@@ -136,8 +139,8 @@ def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b:
             ds = min(ds * 1.5, ds_max) if it <= 4 else ds
             zs = _rescale(y, y_prev, t, yk[:nz] * zs, zs)
             done = (w - w_b) * sense >= 0
-            bar.n = int(1000 * min(max((w - w_a) / (w_b - w_a), 0.0), 1.0))
-            bar.refresh()
+            bar.n = ws * min(max((w - w_a) / (w_b - w_a), 0.0), 1.0)
+            bar.set_postfix_str(f"{len(rows)} points", refresh=True)
             if done:
                 message = f"reached omega = {w:.6g} rad/s"
                 break

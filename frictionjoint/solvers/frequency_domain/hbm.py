@@ -59,6 +59,48 @@ class JointForces(NamedTuple):
     stuck: bool
 
 
+def harmonics_bytes(n_harmonics: int, n_dof: int, n_q: int, all_dofs: bool = False) -> int:
+    """Memory [bytes] a balance with ``n_harmonics`` needs at its peak, counted from its arrays:
+    the loops' bracketing tables and a peak search's samples (``(H, 32 (H + 1))`` and ``(H + 1, 64 (H +
+    1))`` with their complex temporaries, some 3,600 ``(H + 1)^2``: measured 1.2 GiB at H = 600 on a
+    single DOF, this count 1.21 GiB), the linear part per harmonic (``48 (H + 1) n (n + n_q + 1)``), the
+    condensed map, the joints' Jacobian and Newton's matrices on the ``n_q (2H + 1)`` joint unknowns
+    (6 dense copies); with ``all_dofs`` (:func:`.nonlinear_mode.nonlinear_mode`, not condensed) ten
+    dense matrices on the ``n (2H + 1)`` unknowns of every DOF besides."""
+    h1 = n_harmonics + 1
+    total = 3600 * h1 * h1 + 48 * h1 * n_dof * (n_dof + n_q + 1) + 48 * (n_q * (2 * n_harmonics + 1)) ** 2
+    if all_dofs:
+        total += 80 * (n_dof * (2 * n_harmonics + 1)) ** 2
+    return int(total)
+
+
+def check_harmonics(n_harmonics, system: FrictionSystem, caller: str, all_dofs: bool = False) -> int:
+    """``n_harmonics`` as an int >= 1 whose balance of ``system`` fits the memory one computation may
+    take (:func:`memory_budget`, from :func:`harmonics_bytes`); refused before anything is allocated,
+    with the largest that fits."""
+    hh = check_count("n_harmonics", n_harmonics, 1)
+    n_q = int(np.unique(np.vstack([system.slider_direction, system.contact_normal]), axis=0).shape[0])
+    budget = memory_budget()
+    if harmonics_bytes(hh, system.n_dof, n_q, all_dofs) <= budget:
+        return hh
+    lo, hi = 0, hh  # the largest H that fits, by bisection (the need grows with H)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if harmonics_bytes(mid, system.n_dof, n_q, all_dofs) <= budget else (lo, mid)
+    need = harmonics_bytes(hh, system.n_dof, n_q, all_dofs)
+    raise ParameterError(f"{caller}: n_harmonics must be in [1, {lo}] for this system ({system.n_dof} DOFs, {n_q} "
+                         f"joint coordinates): H = {hh} needs about {need / 2 ** 30:.3g} GiB, more than the "
+                         f"{budget / 2 ** 30:.3g} GiB one computation may take (a quarter of this machine's memory)")
+
+
+def memory_budget() -> int:
+    """The memory one balance may take [bytes]: a quarter of the machine's, at least 2 GiB (as the
+    marcher's configuration cache, :data:`~frictionjoint.solvers.marcher.events.CONFIG_CACHE_BYTES`)."""
+    from ..marcher.events import CONFIG_CACHE_BYTES
+
+    return CONFIG_CACHE_BYTES
+
+
 def _loop_work(t: np.ndarray, c: np.ndarray, dmat: np.ndarray) -> float:
     """``oint T du`` over the period from the coefficients of ``T`` and ``u``: ``pi sum_h h (T_a,h
     c_b,h - T_b,h c_a,h)``."""
@@ -105,6 +147,7 @@ class Condensed:
         self.w_ref = np.zeros(system.n_sliders)
         pre = system.slider_preload != 0
         self.w_ref[pre] = -system.slider_preload[pre] / system.slider_stiffness[pre]
+        self.set_force_scale(1.0)
         n = system.n_dof
         self._lin = (k_lin, system.mass, system.damping)
         # every harmonic's Z_h = K - (h w)^2 M + i h w C solved at once (one batched LAPACK call)
@@ -154,6 +197,17 @@ class Condensed:
             lin[:, ia] = qs[h].real
             lin[:, ib] = -qs[h].imag
         return big.reshape(nq * nc, nq * nc), lin.reshape(-1)
+
+    def set_force_scale(self, scale: float) -> None:
+        """Evaluate :meth:`forces` in units of ``scale`` [m]: the joint coordinates it is given, and
+        the forces it returns, are the true ones divided by ``scale`` (the joints' laws are positively
+        homogeneous: their slip forces, contact preloads and reference positions are divided by
+        ``scale``, their stiffnesses kept). A power of 2 is exact; it keeps ``k u`` finite at
+        amplitudes near the largest float (:func:`.nonlinear_mode.nonlinear_mode`)."""
+        self.force_scale = float(scale)
+        self._slip_force = self.system.slip_force / self.force_scale
+        self._preload = self.system.contact_preload / self.force_scale
+        self._w_ref = self.w_ref / self.force_scale
 
     def omega_derivative(self):
         """``(dY/domega, dq_linear/domega)`` from ``d Z^-1 = -Z^-1 Z' Z^-1``, ``Z_h' = -2 h^2 omega M + i h
@@ -215,7 +269,7 @@ class Condensed:
                 sn = slice(qn * nc, (qn + 1) * nc)
                 t, jts, jtp, rn, jnn, rn_w, m_open, w0[i], slips = hysteresis.flank_loop(
                     c, z[sn], sysm.slider_stiffness[i], self.mu[i], sysm.contact_stiffness[ic],
-                    sysm.contact_damping[ic], sysm.contact_preload[ic], self.omega, self.w_ref[i], jacobian)
+                    sysm.contact_damping[ic], self._preload[ic], self.omega, self._w_ref[i], jacobian)
                 r[sn] += rn
                 r_w[sn] += rn_w
                 if jacobian:
@@ -226,14 +280,14 @@ class Condensed:
                     damp = np.zeros((z.size, z.size)) if damp is None else damp
                     damp[sn, sn] -= sysm.contact_damping[ic] * m_open
             elif sysm.rigid[i]:
-                t, jt = hysteresis.coulomb_loop(c, sysm.slip_force[i], jacobian)
+                t, jt = hysteresis.coulomb_loop(c, self._slip_force[i], jacobian)
                 w0[i] = float(hysteresis.evaluate(c, 0.0)[0])
                 slips = bool(np.any(c[1:]))  # a rigid slider in continuous sliding moves with u
                 if jacobian:
                     jac[sl, sl] += jt
             else:
-                t, jt, w0[i], slips = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], sysm.slip_force[i],
-                                                              self.w_ref[i], jacobian)
+                t, jt, w0[i], slips = hysteresis.jenkins_loop(c, sysm.slider_stiffness[i], self._slip_force[i],
+                                                              self._w_ref[i], jacobian)
                 if jacobian:
                     jac[sl, sl] += jt
             r[sl] += t
@@ -311,7 +365,7 @@ def harmonic_balance(system: FrictionSystem, omega: float | None = None, n_harmo
     HarmonicBalance
     """
     check_system("system", system, FrictionSystem)
-    hh = check_count("n_harmonics", n_harmonics, 1)
+    hh = check_harmonics(n_harmonics, system, "harmonic_balance")
     if omega is not None:
         w = check_positive("omega", omega)
         if w != system.omega:

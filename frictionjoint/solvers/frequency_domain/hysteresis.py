@@ -41,6 +41,17 @@ __all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "flank_
            "derivative_matrix"]
 
 
+_EPS = float(np.finfo(float).eps)
+#: a Jenkins loop whose slip reach ``F/k`` is at most this many times ``(2H + 1) eps sum |c|`` (the
+#: rounding of ``u``) is Coulomb's (:func:`jenkins_loop`): the kernel, which finds the stuck pieces
+#: from ``u`` against ``u(theta_r) -+ 2 F/k``, fails from about ``(2H + 1) eps / 3`` (it held the spring
+#: over the whole period)
+UNRESOLVED_REACH = 4.0
+#: the deep-slip form of a Jenkins loop (:func:`_deep_slip`) is tried where ``F/k`` is at most this
+#: fraction of ``sum_{h >= 1} |c_h|`` (its error and the kernel's cross near ``eps^0.4 = 5.6e-7``)
+DEEP_SLIP = 1e-5
+
+
 def n_samples(n_harmonics: int) -> int:
     """Grid points per period that bracket the transitions of a loop driven by ``n_harmonics``
     harmonics: ``32 (H + 1)`` (16 per half-period of the highest harmonic, at least 64)."""
@@ -112,6 +123,10 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
                  jacobian: bool = True):
     """Steady force loop of a Jenkins slider driven by ``u`` (coefficients ``c``).
 
+    Where the slip reach ``F/k`` is below the rounding of ``u`` (:data:`UNRESOLVED_REACH`) and the
+    slider slips, the loop is its limit ``F/k -> 0``, the rigid slider's ``F sgn(u')``
+    (:func:`coulomb_loop`; deep slip, vanishing friction): exact to the rounding of ``k u``.
+
     Parameters
     ----------
     c : (2H+1,) ndarray
@@ -135,9 +150,22 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
         Whether the slider slips over the period.
     """
     c = np.ascontiguousarray(c, dtype=float)
+    cos_t, sin_t = _trig_tables((c.size - 1) // 2)
+    reach = float(slip_force) / float(stiffness)
+    size, motion = float(np.sum(np.abs(c))), float(np.sum(np.abs(c[1:])))
+    if reach <= DEEP_SLIP * motion:  # deep slip
+        unresolved = reach <= UNRESOLVED_REACH * c.size * _EPS * size
+        deep = _deep_slip(c, float(stiffness), float(slip_force), jacobian, unresolved)
+        if deep is not None:
+            return deep
+        if unresolved and float(np.ptp(c[0] + c[1::2] @ cos_t + c[2::2] @ sin_t)) > 2 * reach:
+            # the slip reach is below the rounding of u: the stuck pieces after the reversals (where
+            # u moves by 2 F/k) cannot be resolved, and the loop is its limit F/k -> 0, Coulomb's F
+            # sgn(u') (off by O(F sqrt(reach / |u|)), itself below the rounding of k u)
+            coef, jac = coulomb_loop(c, slip_force, jacobian)
+            return coef, jac, float(evaluate(c, 0.0)[0]), True
     # one algorithm: the kernel of .loop_kernels (compiled where numba is; plain Python in an
     # FMU's bundled copy, which never balances harmonics)
-    cos_t, sin_t = _trig_tables((c.size - 1) // 2)
     coef, jac, w0, slips = loop_kernels.jenkins_loop_kernel(c, float(stiffness), float(slip_force), float(w_ref),
                                                             bool(jacobian), cos_t, sin_t)
     return coef, (jac if jacobian else None), float(w0), bool(slips)
@@ -226,6 +254,21 @@ def flank_loop(cs: np.ndarray, cp: np.ndarray, stiffness: float, friction_coeffi
     return t, jts, jtp, rn, jnn, rn_w, m_open, float(w0), bool(slips)
 
 
+def _reversals(c: np.ndarray):
+    """``(roots, du)``: the sorted phases in ``[0, 2 pi)`` where ``u'`` changes sign (the reversals,
+    refined as the Jenkins loop refines its transitions) and ``u'`` on the bracketing grid."""
+    hh = (c.size - 1) // 2
+    grid = np.linspace(0.0, 2 * math.pi, n_samples(hh) + 1)
+    du = evaluate(c, grid[:-1], 1)
+    # the grid is periodic (u'(2 pi) is u'(0): evaluated there, a root within rounding of 0 could
+    # fall between the two)
+    sign = np.sign(du)  # (signs: a product of values near 1e300 overflows)
+    roots = [loop_kernels._root(c, 1, 0.0, float(grid[k]), float(grid[k + 1]))
+             for k in np.flatnonzero(sign * np.roll(sign, -1) < 0)]
+    roots += [float(grid[k]) for k in np.flatnonzero(du == 0)]
+    return sorted(set(roots)), du
+
+
 def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
     """Force of a rigid Coulomb slider in continuous sliding, ``F sgn(u')``, driven by ``u``.
 
@@ -233,17 +276,14 @@ def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
     zero) has the constant force ``F sgn(u')`` and no derivative.
     """
     c = np.ascontiguousarray(c, dtype=float)
+    return _coulomb(c, float(slip_force), jacobian, *_reversals(c))
+
+
+def _coulomb(c: np.ndarray, f: float, jacobian: bool, roots: list, du: np.ndarray):
+    """:func:`coulomb_loop` from the reversals ``roots`` (:func:`_reversals`)."""
     hh = (c.size - 1) // 2
-    f = float(slip_force)
     nrm = _norm(hh)
     n = c.size
-    grid = np.linspace(0.0, 2 * math.pi, n_samples(hh) + 1)
-    du = evaluate(c, grid, 1)
-    # reversals: the roots of u', refined as the Jenkins loop refines its transitions
-    roots = [loop_kernels._root(c, 1, 0.0, float(grid[k]), float(grid[k + 1]))
-             for k in np.flatnonzero(du[:-1] * du[1:] < 0)]
-    roots += [float(grid[k]) for k in np.flatnonzero(du[:-1] == 0)]
-    roots = sorted(set(roots))
     coef = np.zeros(n)
     jac = np.zeros((n, n)) if jacobian else None
     if not roots:
@@ -263,3 +303,48 @@ def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
             dphi = _basis(r, hh, 1)[:, 0]
             jac += jump * np.outer(psi, -dphi / dd)
     return nrm * coef, (nrm[:, None] * jac if jacobian else None)
+
+
+def _deep_slip(c: np.ndarray, k: float, f: float, jacobian: bool, unresolved: bool = False):
+    """The Jenkins loop in deep slip (:func:`jenkins_loop`): Coulomb's loop plus, after each
+    reversal ``theta_r`` (``sigma = -sgn u''(theta_r)`` the slip direction before it), the stuck
+    piece's excess over it, ``D(s) = 2 sigma F + k (u(theta_r + s) - u(theta_r))`` on ``[0, delta]``
+    (the spring runs from ``sigma F`` to ``-sigma F`` while ``u`` moves back by ``2 F/k``), expanded
+    in ``delta = sqrt(4 (F/k) / |u''|)``: with ``u - u_r = u'' s^2/2 + u''' s^3/6`` (the end's shift
+    enters at second order only, ``D(delta) = 0``),
+
+        int_0^delta D psi = sigma (4/3) F delta psi + (2/3) F (F/k) (u''' / u''^2) psi
+                            + sigma 2 F (F/k) / |u''| psi'     (at theta_r),
+
+    the last the dissipation's ``-4 F (F/k)`` per cycle (a single harmonic: ``b_1 = -(4 F/pi) (1 -
+    F/(k A))``, exact). Its error is ``O(F e^(3/2))``, ``e = 4 (F/k) sum_h h^3 |c_h| / u''^2`` at the
+    worst reversal, where the kernel's, which subtracts ``k w`` from ``k u``, is ``O(F eps sum |c| /
+    (F/k))``: it is used where the first is smaller. The Jacobian is Coulomb's (the correction's
+    derivative, ``O(F delta / A)``, is left out). None where the reversals are not all well apart
+    (``u`` moves by less than ``8 F/k`` between two: the slider may stick through them), some
+    ``u''`` vanishes, or (unless ``unresolved``: the kernel cannot resolve the loop) the kernel is
+    the more accurate."""
+    roots, du = _reversals(c)
+    reach = f / k
+    if len(roots) < 2:
+        return None
+    hh = (c.size - 1) // 2
+    u_r = np.array([loop_kernels._value(c, r, 0)[0] for r in roots])
+    d23 = np.array([loop_kernels._value(c, r, 2) for r in roots])  # u'', u''' at each reversal
+    if np.min(np.abs(np.diff(np.r_[u_r, u_r[0]]))) <= 8 * reach or np.any(d23[:, 0] == 0):
+        return None
+    h3 = float(np.sum(np.arange(1, hh + 1) ** 3 * (np.abs(c[1::2]) + np.abs(c[2::2]))))
+    d_min = float(np.min(np.abs(d23[:, 0])))
+    e = 4 * (reach / d_min) * (h3 / d_min)
+    if not unresolved and e ** 1.5 > _EPS * (float(np.sum(np.abs(c))) / reach):
+        return None
+    coef, jac = _coulomb(c, f, jacobian, roots, du)
+    corr = np.zeros(c.size)
+    for r, (d2, d3) in zip(roots, d23):
+        sigma = -math.copysign(1.0, d2)
+        corr += ((sigma * (4.0 / 3.0) * math.sqrt(4 * reach / abs(d2)) + (2.0 / 3.0) * (reach / d2) * (d3 / d2))
+                 * f * _basis(r, hh)[:, 0] + sigma * 2 * f * (reach / abs(d2)) * _basis(r, hh, 1)[:, 0])
+    du0 = float(evaluate(c, 0.0, 1)[0])
+    w0 = float(evaluate(c, 0.0)[0]) - math.copysign(reach, du0)
+    return coef + _norm(hh) * corr, jac, w0, True
+

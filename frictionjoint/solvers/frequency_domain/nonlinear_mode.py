@@ -50,7 +50,7 @@ from ...structure import LinearStructure
 from ...system import FrictionSystem
 from ...threads import owns_blas_threads
 from . import hysteresis
-from .hbm import Condensed, balanced_state
+from .hbm import Condensed, balanced_state, check_harmonics
 
 __all__ = ["nonlinear_mode", "orbit_starts"]
 
@@ -60,6 +60,10 @@ DECAY_CYCLES = 4
 DECAY_SAMPLES = 256
 #: halvings (in log amplitude) of a step that Newton could not take
 MAX_HALVINGS = 8
+#: amplitudes [m] beyond ``[1 / SCALED_BEYOND, SCALED_BEYOND]`` are solved in units of a power of 2
+#: near the largest (:func:`_amplitude_scale`): ``k u`` would overflow (or the square of an amplitude
+#: underflow)
+SCALED_BEYOND = 2.0 ** 500
 
 
 def free_system(system: FrictionSystem, omega: float | None = None) -> FrictionSystem:
@@ -93,11 +97,14 @@ def free_system(system: FrictionSystem, omega: float | None = None) -> FrictionS
 class _Equations:
     """The EPMC equations of a system without excitation at ``H`` harmonics, on all DOFs (module
     docstring); unknowns ``y = (X, omega, xi)``, ``X[dof (2H + 1) + j]`` (``j = 0`` the mean, ``2h -
-    1`` cos, ``2h`` sin). With ``stiffness`` given: that linear system, without the joints (a linear
-    limit)."""
+    1`` cos, ``2h`` sin), ``X`` and the amplitudes in units of ``scale`` [m] (the joints' forces
+    divided by it: :meth:`.hbm.Condensed.set_force_scale`). With ``stiffness`` given: that linear
+    system, without the joints (a linear limit)."""
 
-    def __init__(self, system: FrictionSystem, hh: int, dof: int, stiffness: np.ndarray | None = None):
+    def __init__(self, system: FrictionSystem, hh: int, dof: int, stiffness: np.ndarray | None = None,
+                 scale: float = 1.0):
         self.n_harmonics = hh
+        self.scale = scale  # the unit of the coefficients and amplitudes [m] (_amplitude_scale)
         self.nc = nc = 2 * hh + 1
         self.dof = dof
         n = system.n_dof
@@ -106,6 +113,7 @@ class _Equations:
         eye = np.eye(nc)
         if stiffness is None:
             self.cond = Condensed(system, hh)
+            self.cond.set_force_scale(scale)
             k_lin, m, c = self.cond._lin
             self.gk = np.kron(self.cond.G, eye)
         else:
@@ -115,7 +123,7 @@ class _Equations:
         self.k_lin, self.mass, self.damping = k_lin, m, c
         self.f0 = np.zeros(self.size)
         if stiffness is None:
-            self.f0[::nc] = system.constant_force
+            self.f0[::nc] = system.constant_force / scale
         self.dk = np.kron(np.eye(n), d)  # the phase derivative of every DOF's coefficients
         # row scales (a DOF's dynamic stiffness), for the line search and the linear solves
         self.row_scale = np.repeat(np.maximum(np.abs(np.diag(k_lin)), 1e-300), nc)
@@ -155,10 +163,16 @@ class _Equations:
         jac[nn + 1, ia + 1] = 1.0
         return r, jac, jf
 
-    def kinetic_integral(self, x: np.ndarray, matrix: np.ndarray) -> float:
-        """``int_0^2pi (dx/dtheta)^T A (dx/dtheta) dtheta`` of the coefficients ``x`` (``A`` = M or C)."""
-        dx = (self.dk @ x).reshape(-1, self.nc)
-        return float(math.pi * np.einsum("ij,ik,jk->", matrix, dx, dx))
+    def kinetic_integral(self, x: np.ndarray, matrix: np.ndarray, factor: float = 1.0) -> float:
+        """``factor int_0^2pi (dx/dtheta)^T A (dx/dtheta) dtheta`` of the coefficients ``x`` (``A`` = M
+        or C), ``x`` scaled by its largest coefficient first (at amplitudes near 1e300 the square
+        alone would overflow where the product with a small ``factor`` does not)."""
+        s = float(np.max(np.abs(x), initial=0.0))
+        if not 0 < s < math.inf:
+            return 0.0 if s == 0 else math.nan
+        dx = (self.dk @ (x / s)).reshape(-1, self.nc)
+        e = math.pi * float(np.einsum("ij,ik,jk->", matrix, dx, dx))
+        return 0.0 if e == 0 else float(factor) * s * (s * e)  # inf where the energy itself is beyond floats
 
     def harmonics(self, x: np.ndarray) -> np.ndarray:
         """Complex harmonics ``(H + 1, n_dof)``, ``X_h = a_h - i b_h`` (as :func:`.hbm.harmonic_balance`'s)."""
@@ -382,7 +396,7 @@ def _check_args(system, mode, amplitudes, n_harmonics, dof, check, tol, max_iter
     """The cleaned arguments of :func:`nonlinear_mode` (its Parameters); refuses what they cannot be."""
     check_system("system", system, FrictionSystem)
     mode = check_count("mode", mode, 0)
-    hh = check_count("n_harmonics", n_harmonics, 1)
+    hh = check_harmonics(n_harmonics, system, "nonlinear_mode", all_dofs=True)
     max_iter = check_count("max_iter", max_iter, 1)
     amps = check_grid("amplitudes", amplitudes, unit="m")
     if check is not True and check is not False:
@@ -454,8 +468,13 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
         dof = int(np.argmax(np.abs(shape)))
     elif shape[dof] == 0:
         raise ParameterError(f"nonlinear_mode: the stuck linear mode {mode} has a node at dof {dof}")
-    eq = _Equations(free, hh, dof)
-    rows, note = _follow(eq, amps, _start(eq, w_lin, shape, 1.0), tol, max_iter)
+    scale = _amplitude_scale(amps)
+    if scale != 1.0 and (check is not False or exact is not False):
+        raise ParameterError(f"nonlinear_mode: check and exact march the motion in time, which needs amplitudes in "
+                             f"[{1 / SCALED_BEYOND:.3g}, {SCALED_BEYOND:.3g}] m (got {amps.min():.3g} to "
+                             f"{amps.max():.3g} m)")
+    eq = _Equations(free, hh, dof, scale=scale)
+    rows, note = _follow(eq, amps / scale, _start(eq, w_lin, shape, 1.0), tol, max_iter)
     out = _result(system, free, eq, mode, amps, rows, tol)
     out.message += note
     if check is not False:
@@ -463,6 +482,16 @@ def nonlinear_mode(system: FrictionSystem, mode: int = 0, amplitudes: ArrayLike 
     if exact is not False:
         _exact(system, free, eq, out, exact)
     return out
+
+
+def _amplitude_scale(amps: np.ndarray) -> float:
+    """The unit of the equations' coefficients [m]: 1 where every amplitude is within
+    ``[1 / SCALED_BEYOND, SCALED_BEYOND]``, else the power of 2 at or just below the largest (exact:
+    the equations are homogeneous in the coefficients and the joints' forces)."""
+    top = float(np.max(amps))
+    if 1.0 / SCALED_BEYOND <= float(np.min(amps)) and top <= SCALED_BEYOND:
+        return 1.0
+    return math.ldexp(1.0, math.frexp(top)[1] - 1)
 
 
 def _picked(out: NonlinearMode, which) -> list:
@@ -522,14 +551,16 @@ def _follow(eq: _Equations, amps: np.ndarray, y_lin: np.ndarray, tol: float, max
 
 
 def _result(system, free, eq, mode, amps, rows, tol) -> NonlinearMode:
-    """The mode's points as a :class:`NonlinearMode`, with both linear limits."""
+    """The mode's points as a :class:`NonlinearMode`, with both linear limits (``rows`` in units of
+    ``eq.scale``, ``amps`` in metres)."""
     nn = eq.size
+    s = eq.scale
     conv = np.array([r[3] for r in rows])
     # a point Newton did not solve has no frequency nor damping (its last iterate is in harmonics)
     w = np.where(conv, [r[0][nn] for r in rows], np.nan)
     xi = np.where(conv, [r[0][nn + 1] for r in rows], np.nan)
-    inp = np.array([r[0][nn + 1] * r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.mass) for r in rows])
-    visc = np.array([r[0][nn] * eq.kinetic_integral(r[0][:nn], eq.damping) for r in rows])
+    inp = np.array([eq.kinetic_integral(r[0][:nn], eq.mass, r[0][nn + 1] * r[0][nn] * s) * s for r in rows])
+    visc = np.array([eq.kinetic_integral(r[0][:nn], eq.damping, r[0][nn] * s) * s for r in rows])
     k_stuck = eq.k_lin
     _, shape, _, _ = _linear_mode(k_stuck, free.mass, mode)
     stuck_lim = _limit(free, k_stuck, shape, eq.dof, tol)
@@ -539,10 +570,10 @@ def _result(system, free, eq, mode, amps, rows, tol) -> NonlinearMode:
                f"all {conv.size} amplitudes converged (H = {eq.n_harmonics}, {sum(r[2] for r in rows)} Newton iterations)")
     return NonlinearMode(
         amplitude=amps.copy(), frequency=w, damping_ratio=xi / (2 * w), negative_damping=xi,
-        harmonics=np.array([eq.harmonics(r[0][:nn]) for r in rows]), converged=conv,
-        dissipated_per_cycle=inp, friction_per_cycle=np.array([r[1].dissipated for r in rows]),
+        harmonics=np.array([eq.harmonics(r[0][:nn]) * s for r in rows]), converged=conv,
+        dissipated_per_cycle=inp, friction_per_cycle=np.array([r[1].dissipated * s * s for r in rows]),
         viscous_per_cycle=visc, stuck=np.array([r[1].stuck for r in rows]),
-        slider_positions=np.array([r[1].slider_positions for r in rows]),
+        slider_positions=np.array([r[1].slider_positions * s for r in rows]),
         iterations=np.array([r[2] for r in rows]), mode=mode, dof=eq.dof,
         dof_name=str(system.structure.dof_names[eq.dof]), n_harmonics=eq.n_harmonics,
         stuck_frequency=stuck_lim[0], stuck_damping_ratio=stuck_lim[1],
@@ -618,7 +649,7 @@ def free_decay(free: FrictionSystem, eq: _Equations, mode: NonlinearMode, k: int
         a, y = _at_modal_amplitude(eq, mode, phi, target, tol, max_iter)
         amps.append(a)
         mw.append(y[eq.size] if y is not None else math.nan)
-        md.append(y[eq.size + 1] * y[eq.size] * eq.kinetic_integral(y[:eq.size], eq.mass) if y is not None else math.nan)
+        md.append(eq.kinetic_integral(y[:eq.size], eq.mass, y[eq.size + 1] * y[eq.size]) if y is not None else math.nan)
     amps, mw, md = np.array(amps), np.array(mw), np.array(md)
     f_err = float(np.max(np.abs(freqs - mw) / mw))
     e_err = float(np.max(np.abs(energy - md) / md)) if np.all(md > 0) else math.nan
