@@ -47,7 +47,11 @@ Damping: the structure's (a dense or sparse matrix, projected) or ``rayleigh = (
 ``C = alpha M + beta K``, whose projection is ``alpha M_r + beta K_r`` exactly.
 
 On a small model both paths give the same frequencies and the same ``T`` (each mode up to its
-sign) to 1e-10 (``tests/test_reduction_sparse.py``). Interface reduction of a boundary of many
+sign) to their rounding bounds (``tests/test_reduction_sparse.py``). The sparse path is the more
+accurate: its lowest eigenvalue is within 1e-12 to 5e-12 of the exact one (a long-double Rayleigh
+quotient), where dense LAPACK's error scales with the largest eigenvalue (``p(n) eps ||K||
+||M^-1||``): 0.4e-10 to 2.5e-10 on a 324-DOF blade whose eigenvalues span 3e6, depending on the
+CPU's BLAS kernels. Interface reduction of a boundary of many
 nodes, after this one: :func:`frictionjoint.structures.interface.interface_reduction`.
 
 Reference: R. R. Craig, M. C. C. Bampton, "Coupling of substructures for dynamic analyses",
