@@ -62,6 +62,7 @@ over the root's parameters. The sweep's columns stay.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import itertools
 import json
@@ -79,7 +80,7 @@ from ..errors import ParameterError, check_bool
 from ..frequencies import FORM, check_omegas
 
 __all__ = ["Grid", "Values", "Random", "ModeDamping", "Study", "load_study", "MAX_POINTS", "DEFAULT_TIME_LIMIT",
-           "model_parameters"]
+           "model_parameters", "check_mode_declaration"]
 
 SPACINGS = ("linear", "log")
 METHODS = ("time", "hbm")
@@ -473,8 +474,6 @@ class Study:
                 for v in spec.values(name):
                     _check_value(f"vary.{name}", kinds[name], float(v))
         if self.mode_damping is not None:  # the mode and DOF against the blade's (built once, cached)
-            from .point import check_mode_declaration
-
             check_mode_declaration(self.model, self.mode_damping)
 
     @property
@@ -562,6 +561,62 @@ class Study:
         if self.mode_damping is not None:  # only then: the fingerprints of studies without it are unchanged
             desc["mode_damping"] = self.mode_damping.key()
         return hashlib.sha256(json.dumps(desc, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+@functools.lru_cache(maxsize=8)
+def _blade(model: str, stamp: float):
+    """The blade assembly of a model definition, or None if ``model`` names none; built once per
+    process and definition file (``stamp``: its modification time): every point of a study shares
+    the blade's structure and reduction, only the root's parameters change."""
+    from ..structures import BladeAssembly
+    from ..sweep import _blade_definition
+
+    definition = _blade_definition(model)
+    return None if definition is None else BladeAssembly.from_model(definition)
+
+
+def _base_model(model):
+    """A blade assembly for ``model`` (cached), or None for a model that is not a blade definition."""
+    from ..structures import MODELS_DIR, BladeAssembly
+
+    if isinstance(model, BladeAssembly):
+        return model
+    if not isinstance(model, (str, os.PathLike)):
+        return None
+    path = Path(model)
+    for candidate in (path, MODELS_DIR / f"{path.stem}.toml"):
+        if candidate.suffix == ".toml" and candidate.is_file():
+            return _blade(str(model), candidate.stat().st_mtime)
+    return None
+
+
+def check_mode_declaration(model, declared) -> None:
+    """Refuse, before any point runs, a nonlinear mode the blade of ``model`` cannot have: ``mode``
+    beyond its stuck modes (one per DOF of its reduced structure, from 0), or a ``dof`` not its.
+    The root's parameters a study varies change the joint, not the structure: what holds for the
+    model holds at every point.
+
+    Parameters
+    ----------
+    model : str, os.PathLike or BladeAssembly
+        The study's model (a blade definition or assembly; nothing is checked for another).
+    declared : ModeDamping
+
+    Raises
+    ------
+    ParameterError
+        Naming ``quantities.mode_damping.mode`` (with the number of modes) or ``.dof`` (with the
+        blade's DOFs).
+    """
+    asm = _base_model(model)
+    if asm is None:
+        return
+    s, where = asm.structure, "quantities.mode_damping"
+    if declared.mode >= s.n_dof:
+        raise ParameterError(f"{where}.mode must be < {s.n_dof} (the blade's {s.n_dof} DOFs: its stuck modes are 0 "
+                             f"to {s.n_dof - 1}), got {declared.mode}")
+    if declared.dof is not None and declared.dof not in s.dof_names:
+        raise ParameterError(f"{where}.dof: {declared.dof!r} is not a DOF of the blade; its DOFs are {list(s.dof_names)}")
 
 
 def _spec(name: str, entry) -> Grid | Values | Random:

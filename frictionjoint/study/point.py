@@ -14,11 +14,8 @@ the runner also ends such a worker process a grace period after the limit
 from __future__ import annotations
 
 import ctypes
-import functools
 import math
-import os
 import threading
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -26,12 +23,13 @@ import scipy.optimize
 
 from ..errors import ParameterError
 from ..threads import owns_blas_threads
+from .definition import ModeDamping, _base_model
 from .quantities import QUANTITIES, mode_amplitudes, quantities
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..system import FrictionSystem
 
-__all__ = ["evaluate_point", "mode_quantities", "check_mode_declaration", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
+__all__ = ["evaluate_point", "mode_quantities", "PointTimeLimit", "TIME_LIMIT_ERROR", "time_limit_row"]
 
 #: relative tolerance of a refined peak's frequency
 PEAK_XTOL = 1e-7
@@ -148,33 +146,6 @@ def _refined_peak(asm, fr, method: str, harmonics: int):
     return float(res.x), float(abs(hb.harmonics[1] @ row)), hb.dissipated_per_cycle, not hb.stuck
 
 
-@functools.lru_cache(maxsize=8)
-def _blade(model: str, stamp: float):
-    """The blade assembly of a model definition, or None if ``model`` names none; built once per
-    process and definition file (``stamp``: its modification time): every point of a study shares
-    the blade's structure and reduction, only the root's parameters change."""
-    from ..structures import BladeAssembly
-    from ..sweep import _blade_definition
-
-    definition = _blade_definition(model)
-    return None if definition is None else BladeAssembly.from_model(definition)
-
-
-def _base_model(model):
-    """A blade assembly for ``model`` (cached), or None for a model that is not a blade definition."""
-    from ..structures import MODELS_DIR, BladeAssembly
-
-    if isinstance(model, BladeAssembly):
-        return model
-    if not isinstance(model, (str, os.PathLike)):
-        return None
-    path = Path(model)
-    for candidate in (path, MODELS_DIR / f"{path.stem}.toml"):
-        if candidate.suffix == ".toml" and candidate.is_file():
-            return _blade(str(model), candidate.stat().st_mtime)
-    return None
-
-
 def mode_quantities(system: FrictionSystem, mode: int, amplitude: float, n_harmonics: int,
                     dof: str | int | None) -> tuple[dict, str]:
     """The nonlinear mode's quantities (:data:`~.quantities.MODE_QUANTITIES`) of ``system`` at
@@ -209,41 +180,10 @@ def mode_quantities(system: FrictionSystem, mode: int, amplitude: float, n_harmo
     return values, ("" if nm.converged[-1] else f"the nonlinear mode did not converge at {amplitude:g} m ({nm.message})")
 
 
-def check_mode_declaration(model, declared) -> None:
-    """Refuse, before any point runs, a nonlinear mode the blade of ``model`` cannot have: ``mode``
-    beyond its stuck modes (one per DOF of its reduced structure, from 0), or a ``dof`` not its.
-    The root's parameters a study varies change the joint, not the structure: what holds for the
-    model holds at every point.
-
-    Parameters
-    ----------
-    model : str, os.PathLike or BladeAssembly
-        The study's model (a blade definition or assembly; nothing is checked for another).
-    declared : ModeDamping
-
-    Raises
-    ------
-    ParameterError
-        Naming ``quantities.mode_damping.mode`` (with the number of modes) or ``.dof`` (with the
-        blade's DOFs).
-    """
-    asm = _base_model(model)
-    if asm is None:
-        return
-    s, where = asm.structure, "quantities.mode_damping"
-    if declared.mode >= s.n_dof:
-        raise ParameterError(f"{where}.mode must be < {s.n_dof} (the blade's {s.n_dof} DOFs: its stuck modes are 0 "
-                             f"to {s.n_dof - 1}), got {declared.mode}")
-    if declared.dof is not None and declared.dof not in s.dof_names:
-        raise ParameterError(f"{where}.dof: {declared.dof!r} is not a DOF of the blade; its DOFs are {list(s.dof_names)}")
-
-
 def _mode_row(asm, omega: float, declared) -> tuple[dict, str]:
     """The nonlinear mode's quantities of a point's blade (:func:`mode_quantities`) for the
     declaration ``declared`` (a :class:`~.definition.ModeDamping` or its keys), at its DOF or the
     root's tangential DOF."""
-    from .definition import ModeDamping
-
     md = ModeDamping.from_table(declared)
     dof = md.dof if md.dof is not None else getattr(asm.joints[0], "tangential_dof", None) if asm.joints else None
     return mode_quantities(asm.system(omega), md.mode, md.amplitude, md.n_harmonics, dof)
