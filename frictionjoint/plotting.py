@@ -107,6 +107,10 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     is the motion, grey bands where it is not, points with stops highlighted, and vertical
     lines where the response grows without bound or did not converge.
 
+    Outputs other than ``x`` recorded by the sweep (``fr.harmonics``, e.g. ``outputs=("x",
+    "friction_force")``, the command line's ``--output``) get a panel each below, their
+    first-harmonic amplitude.
+
     Parameters
     ----------
     fr : FrequencyResponse
@@ -117,7 +121,8 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
         Add a phase panel [deg] below the amplitude.
     ax : matplotlib Axes or (Axes, Axes), optional
         Draw into these axes instead of a new figure: a pair, the amplitude and the phase axes
-        (with ``phase``); one Axes, the amplitude only.
+        (with ``phase``); one Axes, the amplitude only (the other outputs' panels need a new
+        figure).
 
     Returns
     -------
@@ -125,19 +130,22 @@ def plot_frequency_response(fr, path=None, phase: bool = True, ax=None):
     """
     ratio = fr.frequency_ratio
     xvals = ratio if ratio is not None else fr.omega
+    extra = [name for name in fr.harmonics if name != "x"]  # the other outputs recorded (--output)
+    ax_o = []
     if ax is not None:  # a pair: amplitude and phase; one Axes: the amplitude only
         ax_a, ax_p = (tuple(ax) if phase and np.ndim(ax) == 1 and len(ax) == 2 else (ax, None))
         fig = ax_a.figure
-    elif phase:
-        fig = new_figure((8.0, 7.0))
-        ax_a, ax_p = fig.subplots(2, 1, sharex=True, height_ratios=[1.6, 1.0])
     else:
-        fig = new_figure((8.0, 4.8))
-        ax_a, ax_p = fig.subplots(1, 1), None
-    axes = [ax_a] + ([ax_p] if ax_p is not None else [])
+        rows = [1.6] + ([1.0] if phase else []) + [1.0] * len(extra)
+        fig = new_figure((8.0, (7.0 if phase else 4.8) + 2.4 * len(extra)))
+        grid = np.atleast_1d(fig.subplots(len(rows), 1, sharex=True, height_ratios=rows))
+        ax_a, ax_p = grid[0], (grid[1] if phase else None)
+        ax_o = list(grid[1 + phase:])
+    axes = [ax_a] + ([ax_p] if ax_p is not None else []) + ax_o
     ok = fr.converged & np.isfinite(fr.amplitude)
     handles, amp_ref = _draw_analytic(fr, ax_a, ax_p, axes)
     handles += _draw_points(fr, xvals, ok, ax_a, ax_p, axes)
+    _draw_outputs(fr, xvals, ok, extra, ax_o)
     _decorate_frequency_axes(fr, xvals, ok, amp_ref, ax_a, ax_p, axes)
     ax_a.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     _save(fig, path)
@@ -167,17 +175,24 @@ def _draw_analytic(fr, ax_a, ax_p, axes):
     ph_line = np.ma.filled(d_ph.astype(float), np.nan)
     scale = fr.natural_frequency if fr.frequency_ratio is not None else 1.0
     xd = dense / scale
-    ax_a.plot(xd, amp_line, color="k", lw=1.4, zorder=2)
-    if ax_p is not None:
-        ax_p.plot(xd, np.degrees(ph_line), color="k", lw=1.4, zorder=2)
-    handles.append(Line2D([], [], color="k", lw=1.4, label=f"{fr.analytic_name} (closed form)"))
-    bad = np.ma.getmaskarray(d_amp)
-    for a, b in _runs(bad):
+    if np.isfinite(amp_line).any():  # a closed form that is nowhere the motion is not drawn, nor listed
+        ax_a.plot(xd, amp_line, color="k", lw=1.4, zorder=2)
+        if ax_p is not None:
+            ax_p.plot(xd, np.degrees(ph_line), color="k", lw=1.4, zorder=2)
+        handles.append(Line2D([], [], color="k", lw=1.4, label=f"{fr.analytic_name} (closed form)"))
+    banded = False
+    for a, b in _runs(np.ma.getmaskarray(d_amp)):
+        if a == b and 0 < a < len(xd) - 1:
+            # one dense sample, the closed form valid on both sides (the resonance itself, where
+            # the amplitude is unbounded, or an isolated r = 1/(2n)): a point, not a band (its
+            # band would be two samples wide, hidden under the resonance's line)
+            continue
         x0 = xd[max(a - 1, 0)] if a > 0 else xd[a]
         x1 = xd[min(b + 1, len(xd) - 1)]
         for ax in axes:
             ax.axvspan(x0, x1, color="0.88", zorder=0, lw=0)
-    if bad.any():
+        banded = True
+    if banded:
         handles.append(Patch(color="0.88", label=f"{fr.analytic_name} not valid (stops / resonance)"))
     return handles, amp_ref
 
@@ -222,6 +237,27 @@ def _draw_points(fr, xvals, ok, ax_a, ax_p, axes):
                 ax.axvline(xv, color=color, ls=":", lw=1.5, zorder=1)
         handles.append(Line2D([], [], color=color, ls=":", lw=1.5, label=label))
     return handles
+
+
+def _draw_outputs(fr, xvals, ok, names, axes):
+    """One panel per other recorded output (``fr.harmonics``): its first-harmonic amplitude per
+    branch, as the amplitude panel's markers."""
+    import re
+
+    from .stepping import OSCILLATOR_OUTPUTS
+
+    for name, ax in zip(names, axes):
+        h1 = np.asarray(fr.harmonics[name]["amplitude"], dtype=float)
+        for branch in ("up", "down"):
+            sel = (fr.branch == branch) & ok
+            if not sel.any():
+                continue
+            style = {k: v for k, v in _BRANCH_STYLE[branch].items() if k != "label"}
+            order = np.argsort(xvals[sel], kind="stable")
+            ax.plot(xvals[sel][order], h1[sel][order], zorder=3, **style)
+        unit = re.search(r"\[([^\]]+)\]\s*$", OSCILLATOR_OUTPUTS.get(name, (None, ""))[1])
+        ax.set_ylabel(f"{name}, first harmonic" + (f" [{unit.group(1)}]" if unit else ""))
+        ax.grid(True, alpha=0.3)
 
 
 def _decorate_frequency_axes(fr, xvals, ok, amp_ref, ax_a, ax_p, axes):
@@ -513,10 +549,38 @@ def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     ax.set_yscale("log")
     ax.set_xlabel("omega [rad/s]")
     ax.set_ylabel(f"first-harmonic amplitude of {sw.output} [m]")
+    how = "harmonic balance" if getattr(sw, "fold", None) is not None else "stepped sine"
+    meaning = dof_meaning(sw.output)
+    ax.set_title(f"Forced response ({how}) of {sw.output}" + (f":\n{meaning}" if meaning else ""), fontsize=10)
     ax.legend(fontsize="small")
     ax.grid(True, which="both", alpha=0.3)
     _save(fig, path)
     return fig
+
+
+def dof_meaning(name: str) -> str:
+    """What a blade DOF's name means, in words (``""`` if it is not a blade's): the beam's
+    ``u<i>``, ``w<i>``, ``t<i>`` (:attr:`~frictionjoint.structures.BeamBlade.dof_names`) and the
+    solid's or an FE model's ``n<node>_u<d>`` (:func:`~frictionjoint.structures.dof_name`).
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+    """
+    import re
+
+    beam = re.fullmatch(r"([uwt])(\d+)", name)
+    if beam:
+        what = {"u": "axial displacement", "w": "transverse (bending) displacement", "t": "slope dw/ds"}[beam[1]]
+        return f"the {what} at beam node {beam[2]} (node 0 at the root; the tip is the last node)"
+    solid = re.fullmatch(r"n(\d+)_u([123])", name)
+    if solid:
+        return f"the {'xyz'[int(solid[2]) - 1]} displacement of node {solid[1]}"
+    return ""
 
 
 def plot_hbm_sweep(sw, output=0, ax=None, path=None):
@@ -681,9 +745,11 @@ def plot_study_monte_carlo(table, quantity: str = "peak_amplitude", path=None):
         ax.grid(True, alpha=0.3)
     ax = axes[-1]
     ax.hist(zv[ok], bins=max(5, int(np.sqrt(ok.sum()))), color="C0", alpha=0.7)
+    # the percentiles named in a legend, not beside their lines: close percentiles' labels overlapped
+    styles = {5.0: ":", 50.0: "-", 95.0: "--"}
     for q, v in table.percentiles(quantity).items():
-        ax.axvline(v, color="C3", ls="--" if q != 50 else "-", lw=1.2)
-        ax.text(v, ax.get_ylim()[1] * 0.95, f"P{q:g}", rotation=90, va="top", ha="right", fontsize="small")
+        ax.axvline(v, color="C3", ls=styles.get(float(q), "-."), lw=1.2, label=f"P{q:g} = {v:.4g}")
+    ax.legend(fontsize="small", framealpha=0.9)
     ax.set_xlabel(_QUANTITY_LABELS.get(quantity, quantity))
     ax.set_ylabel("points")
     ax.set_title(f"{int(ok.sum())} of {len(table)} points", fontsize="small")

@@ -128,3 +128,88 @@ def test_every_point_is_compared_or_left_out_once(tmp_path):
     fr.to_csv(tmp_path / "fr.csv")
     back = FrequencyResponse.from_csv(tmp_path / "fr.csv")
     assert list(back.analytic_regime) == list(fr.analytic_regime) and back._left_out() == left
+
+
+# ---------------------------------------------------------------- issue 39 §6: plots say what they draw
+
+
+def _legend_texts(ax):
+    legend = ax.get_legend()
+    return [t.get_text() for t in legend.get_texts()] if legend is not None else []
+
+
+def _bands(ax, min_width):
+    """The axes' vertical bands (axvspan) at least ``min_width`` wide in data units."""
+    from matplotlib.patches import Polygon, Rectangle
+
+    widths = []
+    for p in ax.patches:
+        if isinstance(p, Rectangle):
+            widths.append(p.get_width())
+        elif isinstance(p, Polygon):
+            x = p.get_xy()[:, 0]
+            widths.append(x.max() - x.min())
+    return [w for w in widths if w >= min_width]
+
+
+@pytest.mark.parametrize("slip_force", [0.3, 0.9])
+def test_the_legend_lists_only_what_is_drawn(slip_force):
+    # F/P0 = 0.3: the closed form is invalid only at r = 1 itself (unbounded): before, a band two
+    # dense samples wide (0.27 % of the axis) hidden under the resonance's line was listed; F/P0 =
+    # 0.9: the closed form is nowhere the motion (stops everywhere): before, "Den Hartog (closed
+    # form)" was listed with no curve drawn
+    fr = oscillator_sweep(1.0, 1.0, slip_force, 1.0, [0.8, 1.2])  # the dense closed form crosses r = 1
+    fig = fr.plot()
+    ax = fig.axes[0]
+    texts = _legend_texts(ax)
+    band = any("not valid" in t for t in texts)
+    assert band == bool(_bands(ax, 0.01 * np.ptp(ax.get_xlim())))
+    closed = any("closed form" in t for t in texts)
+    drawn = [ln for ln in ax.get_lines() if ln.get_color() == "k" and np.isfinite(np.asarray(ln.get_ydata(), float)).any()]
+    assert closed == bool(drawn)
+    assert closed == (slip_force == 0.3) and band == (slip_force == 0.9)
+
+
+def test_other_outputs_reach_the_plot():
+    # sweep(..., outputs=("x", "friction_force")), the command line's --output friction_force:
+    # before, recorded and printed but never drawn
+    fr = sweep("CoulombOscillator", [0.6, 0.7], outputs=("x", "friction_force"))
+    fig = fr.plot()
+    assert len(fig.axes) == 3
+    ax = fig.axes[2]
+    assert ax.get_ylabel() == "friction_force, first harmonic [N]"
+    y = np.concatenate([np.asarray(ln.get_ydata(), float) for ln in ax.get_lines()])
+    assert np.allclose(np.sort(y), np.sort(fr.harmonics["friction_force"]["amplitude"]), rtol=0, atol=0)
+
+
+def test_an_output_sweep_has_a_title_that_says_what_its_output_is():
+    # tip.png (frictionjoint sweep ti64_compressor_blade ... --plot tip.png): before, no title and
+    # the output named only "w30"
+    from frictionjoint.plotting import dof_meaning
+    from frictionjoint.results import OutputSweep
+
+    n = 3
+    sw = OutputSweep(omega=np.array([1.0, 2.0, 3.0]), output="w30", response=np.full(n, 1e-4 + 0j),
+                     limits={"stuck": np.full(n, 1e-4 + 0j)}, stuck=np.ones(n, bool), converged=np.ones(n, bool),
+                     dissipated_per_cycle=np.zeros(n))
+    title = sw.plot().axes[0].get_title()
+    assert "w30" in title and "transverse" in title and "node 30" in title
+    assert dof_meaning("n1634_u3") == "the z displacement of node 1634" and dof_meaning("x") == ""
+
+
+def test_monte_carlo_percentiles_are_named_without_overlap():
+    # mc.png: before, P5 and P50 were texts beside their lines, overlapping where the percentiles are
+    # close; now a legend names each line with its value
+    from frictionjoint.results.study import StudyTable
+
+    rng = np.random.default_rng(0)
+    n = 40
+    peak = np.concatenate([np.full(n - 4, 1e-4), 1e-4 + rng.uniform(0, 1e-4, 4)])
+    table = StudyTable(columns={"point": np.arange(n), "friction_coefficient": rng.uniform(0.2, 0.4, n),
+                                "peak_amplitude": peak, "status": np.array(["ok"] * n, dtype=object)},
+                       varied=("friction_coefficient",), random=("friction_coefficient",))
+    fig = table.plot()
+    ax = fig.axes[-1]
+    q = table.percentiles()
+    assert _legend_texts(ax) == [f"P{k:g} = {v:.4g}" for k, v in q.items()]
+    assert not ax.texts  # no labels beside the lines to overlap
