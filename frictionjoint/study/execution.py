@@ -136,7 +136,10 @@ def connect(scheduler: str, timeout: float | None = None):
     elif outcome[0] is not None:
         exc = outcome[0]
         text = " ".join(str(exc).split())
-        why = f"{type(exc).__name__}: {text[:200]}" if text else type(exc).__name__
+        text = f"{type(exc).__name__}: {text[:200]}" if text else type(exc).__name__
+        # an OSError is the connection's (refused, reset, closed); anything else, the answer's
+        why = f"the connection failed: {text}" if isinstance(exc, OSError) else \
+            f"what answers is not a Dask scheduler: {text}"
     if why is None:
         try:
             return Client(scheduler, timeout=limit, set_as_default=False)  # it answered: this connects at once
