@@ -193,10 +193,14 @@ def _add_study(sub) -> None:
                     help="local worker processes (default: the machine's cores; 1: in this process)")
     st.add_argument("--scheduler", default=None, metavar="ADDRESS",
                     help="a running Dask scheduler, e.g. tcp://host:8786 (start one with 'dask scheduler' and "
-                         "workers with 'dask worker tcp://host:8786')")
+                         "workers with 'dask worker tcp://host:8786'); contacted first, before the table is touched: "
+                         "it must answer as a Dask scheduler within 10 s")
     st.add_argument("--table", default=None, metavar="FILE",
-                    help="the table, .csv or .parquet (default: the study's 'table', or FILE with .csv)")
-    st.add_argument("--restart", action="store_true", help="discard the rows already in the table")
+                    help="the table, .csv or .parquet (default: the study's 'table', or FILE's name with .csv, in "
+                         "the working directory)")
+    st.add_argument("--restart", action="store_true",
+                    help="compute every point again (the rows already in the table are replaced once the points "
+                         "can run)")
     st.add_argument("--plot", dest="out", default=None, metavar="PNG",
                     help="write the study's plot (damper curve, contour or Monte Carlo scatter and histogram)")
     st.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
