@@ -26,6 +26,12 @@ phi(theta_r))`` there and 0 while it slips. A rigid Coulomb slider (``k = inf``)
 sliding has ``T = F sgn(u')``: its coefficients change only through the reversal times,
 ``d theta_r/dc = -phi'(theta_r)/u''(theta_r)``, at which ``T`` jumps by ``2F``.
 
+Deep slip (``F/k`` a small fraction of the motion): the stuck pieces, found from ``u`` against
+``u(theta_r) -+ 2 F/k``, lose ``eps |u| / (F/k)`` of ``F`` to rounding, and below the rounding of ``u``
+cannot be found at all; there the loop is Coulomb's plus the stuck pieces' excess expanded in
+``sqrt(F/k)`` (:func:`_deep_slip`), whose limit is the free slip. The flank loop has no such form
+yet: it is the kernel's at any friction coefficient.
+
 Coefficients are normalised as the displacement's: ``T[0]`` the mean, ``T[2h-1], T[2h]`` the
 cosine and sine amplitudes.
 """
