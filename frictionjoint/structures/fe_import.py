@@ -681,9 +681,9 @@ def _read_op4(path: Path, name: str | None, n_dof: tuple | None) -> sp.csr_array
     if ascii_file:
         _check_last_line(path)
     names, sizes = op4.dir(str(path), verbose=False)[:2]  # the headers, without reading the matrices
-    _check_declared_size(path, *_pick(path, {k.upper(): v for k, v in zip(names, sizes)}, name), n_dof)
-    matrices = op4.read(str(path), sparse=True)
-    return sp.csr_array(_pick(path, {k.upper(): v for k, v in matrices.items()}, name))
+    found, size = _pick(path, {k.upper(): (k, v) for k, v in zip(names, sizes)}, name)
+    _check_declared_size(path, *size, n_dof)
+    return sp.csr_array(op4.read(str(path), namelist=[found], sparse=True)[found])  # this matrix only
 
 
 def _pick(path: Path, matrices: dict, name: str | None):
