@@ -11,7 +11,7 @@ Subcommands::
                            [--amplitude A] [--harmonics H] [--plot PNG] [--csv FILE]
     frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
                              [--blade MODEL ...] [--fmi-version {2,3}] [--no-early-return]
-    frictionjoint host-env
+    frictionjoint host-env [COMMAND ...]
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
 ``demo`` sweeps the single-DOF Coulomb oscillator across resonance (stepped sine, up and down,
@@ -22,7 +22,8 @@ same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` bui
 FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included);
 ``campbell`` computes a blade model's Campbell diagram (its frequencies on the stuck and on the
 slipping root against rotor speed, the engine-order crossings, with ``--amplitude`` the nonlinear
-modes between them); ``host-env`` prints the environment a non-Python host (Ecos, a C/C++ master) needs to run them;
+modes between them); ``host-env`` runs a non-Python host (Ecos, a C/C++ master) with the environment it needs to run them, in
+that process only (without a command, it prints that environment);
 ``bench`` runs the work-precision benchmark of the source tree (``benchmarks/harness.py``) and writes its CSV
 and plot. Progress bars go to stderr, results to stdout; invalid options exit with status 2 and a
 message.
