@@ -463,7 +463,7 @@ def test_files_that_are_no_text_empty_or_out_of_range_give_one_line(tmp_path):
     (tmp_path / "big_abaqus.mtx").write_text("100000000000000000000,1,100000000000000000000,1,1.0\n")
     (tmp_path / "comments.pch").write_text("$ nothing but a comment\n")
     cases = {  # (read_fe_model arguments, the file named, words)
-        "random bytes": ((garbage, garbage), {}, garbage, "not a nastran_dmig file: byte 0x"),
+        "random bytes": ((garbage, garbage), {}, garbage, "is not text: not a file of the nastran_dmig format"),
         "empty": ((tmp_path / "empty.mtx", DATA / "lattice_K.mtx"), dict(dofs=DOFS), tmp_path / "empty.mtx",
                   "is empty"),
         "node id in a DOF table": ((DATA / "lattice_M.mtx", DATA / "lattice_K.mtx"),

@@ -439,7 +439,9 @@ def read_fe_model(mass: str | Path | tuple, stiffness: str | Path | tuple, dampi
     files = {role: str(path) for role, (path, _) in specs.items()}
     if fmt in _OWN_DOFS:
         if dofs is not None:
-            raise ParameterError(f"{files['mass']}: a {fmt} file carries its own DOF table; give no dofs")
+            why = (" (a .mtx file whose first line is not '%%MatrixMarket ...' is Abaqus matrix input)"
+                   if fmt == "abaqus_matrix_input" and format is None else "")
+            raise ParameterError(f"{files['mass']}: a {fmt} file carries its own DOF table; give no dofs{why}")
         matrices, table = _read_keyed(fmt, specs)
     else:  # the DOF table first: the matrices' declared sizes are checked against it before they are read
         if dofs is None:
@@ -634,8 +636,8 @@ def _text(path: Path, fmt: str) -> str:
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise ParameterError(f"{path}: not a {fmt} file: byte {data[exc.start]:#04x} at offset {exc.start} is not "
-                             f"text") from None
+        raise ParameterError(f"{path}: byte {data[exc.start]:#04x} at offset {exc.start} is not text: not a file "
+                             f"of the {fmt} format") from None
     _check_last_line(path)
     return text
 
