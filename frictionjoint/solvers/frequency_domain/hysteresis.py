@@ -29,8 +29,10 @@ sliding has ``T = F sgn(u')``: its coefficients change only through the reversal
 Deep slip (``F/k`` a small fraction of the motion): the stuck pieces, found from ``u`` against
 ``u(theta_r) -+ 2 F/k``, lose ``eps |u| / (F/k)`` of ``F`` to rounding, and below the rounding of ``u``
 cannot be found at all; there the loop is Coulomb's plus the stuck pieces' excess expanded in
-``sqrt(F/k)`` (:func:`_deep_slip`), whose limit is the free slip. The flank loop has no such form
-yet: it is the kernel's at any friction coefficient.
+``sqrt(F/k)`` (:func:`_deep_slip`), whose limit is the free slip. A flank whose band is below the
+rounding of ``s`` on a contact closed all period slides, ``mu N sgn(s')`` (:func:`_sliding_flank`);
+between that and moderate slip the flank kernel loses ``eps |s| / (mu N / k)`` of its force (no
+expansion yet), and a flank that lifts off is the kernel's at any friction coefficient.
 
 Coefficients are normalised as the displacement's: ``T[0]`` the mean, ``T[2h-1], T[2h]`` the
 cosine and sine amplitudes.
@@ -249,6 +251,15 @@ def flank_loop(cs: np.ndarray, cp: np.ndarray, stiffness: float, friction_coeffi
     hh = (cs.size - 1) // 2
     cos_t, sin_t = _trig_tables(hh)
     kn, cn = float(normal_stiffness), float(normal_damping)
+    if hh >= 1 and friction_coefficient * kn * (preload / kn + abs(cp[0]) + float(np.sum(np.abs(cp[1:])))) <= (
+            UNRESOLVED_REACH * cs.size * _EPS * float(stiffness) * float(np.sum(np.abs(cs)))) \
+            and cp[0] + float(np.sum(np.abs(cp[1:]))) < preload / kn:
+        # the band's half-width mu N / k is below the rounding of s and the contact never opens: the
+        # stuck pieces cannot be resolved (the kernel held the spring over the period), and the loop
+        # is its limit, mu N(theta) sgn(s') (as jenkins_loop's, there exact to the rounding of k s)
+        slip = _sliding_flank(cs, cp, float(friction_coefficient), kn, float(preload), jacobian)
+        if slip is not None:
+            return slip
     t, jts, jtp, rn, jb, m_open, w0, slips = loop_kernels.flank_loop_kernel(
         cs, cp, float(stiffness), float(friction_coefficient), kn, cn, float(preload), float(omega),
         float(w_ref), True, cos_t, sin_t)
@@ -258,6 +269,40 @@ def flank_loop(cs: np.ndarray, cp: np.ndarray, stiffness: float, friction_coeffi
     if not jacobian:
         jts = jtp = jnn = None
     return t, jts, jtp, rn, jnn, rn_w, m_open, float(w0), bool(slips)
+
+
+def _sliding_flank(cs: np.ndarray, cp: np.ndarray, mu: float, kn: float, n0: float, jacobian: bool):
+    """:func:`flank_loop` in continuous sliding on a closed contact (``N = N0 - kn p > 0`` throughout):
+    ``T = mu N sgn(s')``, in closed form between the reversals of ``s``, ``int N psi = N0 int psi - kn
+    int p psi``; ``dT/dcs`` from the reversal times (``T`` jumps by ``2 mu N``), ``dT/dcp = -mu kn
+    sgn(s') psi phi^T`` integrated; the contact carries no correction (closed). None without two
+    reversals."""
+    roots, _ = _reversals(cs)
+    if len(roots) < 2:
+        return None
+    hh = (cs.size - 1) // 2
+    n = cs.size
+    nrm = _norm(hh)
+    t = np.zeros(n)
+    jts = np.zeros((n, n))
+    jtp = np.zeros((n, n))
+    v = np.empty(n)
+    pm = np.empty((n, n))
+    edges = roots + [roots[0] + 2 * math.pi]
+    for a, b in zip(edges[:-1], edges[1:]):
+        sgn = math.copysign(1.0, loop_kernels._value(cs, 0.5 * (a + b), 1)[0])
+        loop_kernels._integrals(a, b, hh, v, pm, True)
+        t += sgn * mu * (n0 * v - kn * (pm @ cp))
+        jtp -= sgn * mu * kn * pm
+    for r in roots:
+        dd = loop_kernels._value(cs, r, 2)[0]
+        if dd != 0.0:
+            force = mu * (n0 - kn * loop_kernels._value(cp, r, 0)[0])
+            jts += -2 * force * math.copysign(1.0, dd) * np.outer(_basis(r, hh)[:, 0], -_basis(r, hh, 1)[:, 0] / dd)
+    zero = np.zeros((n, n))
+    w0 = float(evaluate(cs, 0.0)[0])
+    return (nrm * t, nrm[:, None] * jts if jacobian else None, nrm[:, None] * jtp if jacobian else None,
+            np.zeros(n), zero if jacobian else None, np.zeros(n), zero, w0, True)
 
 
 def _reversals(c: np.ndarray):
