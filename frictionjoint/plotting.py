@@ -239,13 +239,14 @@ def _draw_points(fr, xvals, ok, ax_a, ax_p, axes):
     return handles
 
 
+#: units of the oscillator's outputs that have a first harmonic (frictionjoint.stepping.OSCILLATOR_OUTPUTS;
+#: not imported here: stepping imports the results, which import this module)
+_OUTPUT_UNITS = {"x": "m", "v": "m/s", "friction_force": "N", "dissipated_energy": "J"}
+
+
 def _draw_outputs(fr, xvals, ok, names, axes):
     """One panel per other recorded output (``fr.harmonics``): its first-harmonic amplitude per
     branch, as the amplitude panel's markers."""
-    import re
-
-    from .stepping import OSCILLATOR_OUTPUTS
-
     for name, ax in zip(names, axes):
         h1 = np.asarray(fr.harmonics[name]["amplitude"], dtype=float)
         for branch in ("up", "down"):
@@ -255,8 +256,8 @@ def _draw_outputs(fr, xvals, ok, names, axes):
             style = {k: v for k, v in _BRANCH_STYLE[branch].items() if k != "label"}
             order = np.argsort(xvals[sel], kind="stable")
             ax.plot(xvals[sel][order], h1[sel][order], zorder=3, **style)
-        unit = re.search(r"\[([^\]]+)\]\s*$", OSCILLATOR_OUTPUTS.get(name, (None, ""))[1])
-        ax.set_ylabel(f"{name}, first harmonic" + (f" [{unit.group(1)}]" if unit else ""))
+        unit = _OUTPUT_UNITS.get(name)
+        ax.set_ylabel(f"{name}, first harmonic" + (f" [{unit}]" if unit else ""))
         ax.grid(True, alpha=0.3)
 
 
