@@ -420,6 +420,26 @@ def test_unreachable_scheduler_is_refused_before_the_table_is_touched(tmp_path, 
     assert table.read_text() == text
 
 
+def test_folder_that_cannot_be_written_is_refused_before_the_table_is_touched(tmp_path, monkeypatch):
+    """A table in a folder that cannot be written (a read-only mount: tried by creating a file
+    there, which the mode bits cannot tell for root) is refused, naming the table, before the
+    finished rows are touched, even with restart (made read-only here by the file creation failing
+    as on such a mount)."""
+    import errno
+
+    from frictionjoint.study import execution
+
+    f, table, text = _finished(tmp_path)
+
+    def read_only(*args, **kwargs):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(execution.tempfile, "TemporaryFile", read_only)
+    with pytest.raises(ParameterError, match="table: cannot write in the folder of .*Read-only file system"):
+        run_study(load_study(f), table, workers=1, restart=True, on_row=_never)
+    assert table.read_text() == text
+
+
 def test_finished_table_says_nothing_was_computed(tmp_path, monkeypatch, capsys):
     """A study run again on its finished table computes nothing and says so (not that it ran)."""
     monkeypatch.chdir(tmp_path)
