@@ -184,8 +184,11 @@ SOLID_OMEGAS = np.array([1894.0, 1916.0])
 SOLID_DEFINITION_TOL = 2e-10
 #: FMU against the library's sweep of the very same reduced assembly (the FMU running the installed
 #: library, whose reductions it shares): measured up to 4.8e-11 (first harmonics) and 6e-11
-#: (amplitudes) over 6 points from 1850 to 1960 rad/s in three runs
-SOLID_SAME_MODEL_TOL = 2e-10
+#: (amplitudes) over 6 points from 1850 to 1960 rad/s in three runs. Two shootings of one orbit,
+#: each to the residual 1e-12 that (I - monodromy)^-1 amplifies at this lightly damped resonance
+#: (by ~60 here): not rounding of one machine, so 1e-9, the exact methods' promise (100x the
+#: measured would exceed it)
+SOLID_SAME_MODEL_TOL = 1e-9
 
 
 @pytest.fixture(scope="module")
