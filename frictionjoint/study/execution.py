@@ -11,6 +11,10 @@ or on a running ``dask.distributed`` cluster; rows stream into the table as poin
   fingerprint, so a table of another study is refused, and so is a row whose parameters are not
   those of its point. A journal is never discarded silently: a byte-order mark or a lost column
   line is read through, anything else that is not a row is refused with its line number.
+- **Preconditions first.** The table's folder writable, the table's rows this study's and, with a
+  scheduler, the scheduler answering as one (:func:`connect`, within :data:`CONNECT_TIMEOUT`) are
+  checked before the table is changed: even a restart replaces the finished rows only once the
+  points can run.
 - **Robust.** A point that raises is a row with status ``'failed'`` and the error; so is a point
   that reaches the study's ``time_limit`` (:mod:`.point`: raised in the point's thread, serially,
   on the pool and on Dask). The local pool's workers are processes of this runner's own: one that
