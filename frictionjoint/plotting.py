@@ -227,6 +227,13 @@ def _draw_points(fr, xvals, ok, ax_a, ax_p, axes):
         if ax_p is not None:
             ax_p.plot(xvals[sel], np.degrees(fr.phase[sel]), zorder=4, **style)
         handles.append(Line2D([], [], label=label, **style))
+    family = ok & ~np.asarray(fr.unique, bool) & (fr.regime != "stuck")  # the tables' '*' (a stuck mass's
+    if family.any():  # rest positions always form a family: the regime says so)
+        style = dict(marker="o", ms=11, mfc="none", mec="C2", mew=1.5, ls="none")
+        ax_a.plot(xvals[family], fr.amplitude[family], zorder=5, **style)
+        if ax_p is not None:
+            ax_p.plot(xvals[family], np.degrees(fr.phase[family]), zorder=5, **style)
+        handles.append(Line2D([], [], label="not unique: one member of a family of orbits", **style))
     for regime, color, label in (("unbounded", "C3", "unbounded growth (resonance)"),
                                  ("not converged", "m", "no periodic orbit found")):
         sel = fr.regime == regime

@@ -213,3 +213,13 @@ def test_monte_carlo_percentiles_are_named_without_overlap():
     q = table.percentiles()
     assert _legend_texts(ax) == [f"P{k:g} = {v:.4g}" for k, v in q.items()]
     assert not ax.texts  # no labels beside the lines to overlap
+
+
+def test_a_non_unique_orbit_is_marked_and_explained_in_the_plot():
+    # r = 1/2, F/P0 = 0.05: the stop-free orbit is one of a family (Den Hartog's U = 0); the tables
+    # mark it '*' with a footnote, and the plot now rings it with a legend entry saying why
+    fr = oscillator_sweep(1.0, 1.0, 0.05, 1.0, [0.45, 0.5])
+    assert list(fr.unique) == [True, False]
+    ax = fr.plot().axes[0]
+    assert "not unique: one member of a family of orbits" in _legend_texts(ax)
+    assert "* not unique: one member of a family of periodic orbits" in fr.table()
