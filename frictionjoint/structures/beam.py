@@ -157,10 +157,10 @@ class BeamBlade:
                   "axial stiffness entries [N/m]": (log_e + log_a - log_l, e, True),
                   "bending stiffness entries [N/m]": (log_e + log_i - 3 * log_l, e, True),
                   "slope stiffness entries [N m]": (log_e + log_i - log_l, e, True),
-                  # the elements' highest: 12 E / (rho l^2) axial (linear bar, consistent mass),
-                  # 1680 E I / (rho A l^4) bending (the Hermite element's highest is below it)
+                  # the elements' highest (consistent mass): 12 E / (rho l^2) axial (linear bar),
+                  # 8400 E I / (rho A l^4) bending (Hermite cubic); the assembled model's is below
                   "highest omega^2 [rad^2/s^2]": (log_e - log_rho + max(lg(12) - 2 * log_l,
-                                                                        lg(1680) + log_i - log_a - 4 * log_l), w2, True),
+                                                                        lg(8400) + log_i - log_a - 4 * log_l), w2, True),
                   "lowest omega^2 [rad^2/s^2]": (log_e + log_i - log_rho - log_a - 4 * lg(self.length), w2, True)}
         if self.rotor_speed > 0:
             log_om2 = 2 * lg(self.rotor_speed)
