@@ -18,7 +18,7 @@ import os
 
 from .errors import ParameterError
 
-__all__ = ["available_memory", "check_fits", "format_bytes"]
+__all__ = ["available_memory", "computation_budget", "check_fits", "format_bytes"]
 
 
 def _meminfo_available() -> int | None:
@@ -56,6 +56,18 @@ def available_memory() -> int | None:
     where the platform does not say."""
     found = [v for v in (_meminfo_available() or _sysconf_available(), _cgroup_available()) if v is not None]
     return min(found) if found else None
+
+
+def computation_budget(floor: int = 2 * 2 ** 30) -> int:
+    """The memory one computation may take [bytes]: a quarter of the machine's physical memory, at
+    least ``floor``; ``floor`` where the platform does not say (Windows). Fixed for a machine, so
+    that what fits (a harmonic count, a configuration cache) does not change from run to run with
+    what other processes hold."""
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):  # no sysconf, or no such name
+        return floor
+    return max(floor, total // 4)
 
 
 def format_bytes(n: float) -> str:

@@ -340,7 +340,8 @@ def test_n_harmonics_is_bounded_by_the_memory_before_any_allocation(hh):
     n_harmonics and the largest H that fits, for the balance, the branch and the nonlinear mode."""
     import time
 
-    from frictionjoint.solvers.frequency_domain.hbm import harmonics_bytes, memory_budget
+    from frictionjoint.memory import computation_budget
+    from frictionjoint.solvers.frequency_domain.hbm import harmonics_bytes
 
     sysm = jenkins_sdof(1.2, 0.2)
     t0 = time.perf_counter()
@@ -351,7 +352,7 @@ def test_n_harmonics_is_bounded_by_the_memory_before_any_allocation(hh):
             call()
         most = int(info.value.args[0].split("[1, ")[1].split("]")[0])
         all_dofs = name == "nonlinear_mode"
-        assert harmonics_bytes(most, 1, 1, all_dofs) <= memory_budget() < harmonics_bytes(most + 1, 1, 1, all_dofs)
+        assert harmonics_bytes(most, 1, 1, all_dofs) <= computation_budget() < harmonics_bytes(most + 1, 1, 1, all_dofs)
     assert time.perf_counter() - t0 < 5.0  # measured 0.05 s
 
 

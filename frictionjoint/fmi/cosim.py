@@ -40,7 +40,6 @@ the README's chain is exact from T/20 on and loses 2 of its 31 events at T/10.
 from __future__ import annotations
 
 import math
-import os
 import sys
 import threading
 import weakref
@@ -51,12 +50,13 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import FMUError, ParameterError, check_positive, check_real
+from ..memory import available_memory
 from ..results import CoSimulationResult
 from ..threads import owns_blas_threads
 from .ports import split_port
 from .ssp import write_ssp
 
-__all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS", "available_memory"]
+__all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS"]
 
 #: outputs of a component that take part in event location (positive while the status at the step's
 #: start holds, negative once it has changed), each with the outputs of its rate of change and of its
@@ -245,7 +245,7 @@ class FMUSystem:
             Communication step ``h`` [s], > 0 and above the rounding of the times (``t0 + h`` must
             differ from ``t0``, and ``stop_time`` from ``stop_time + h``). The recorded grid,
             ``(n + 1) * (len(outputs) + 1)`` floats for ``n`` steps, must fit in the memory
-            available (:func:`available_memory`): a run that cannot is refused before any FMU is
+            available (:func:`frictionjoint.memory.available_memory`): a run that cannot is refused before any FMU is
             loaded, with the estimate.
         outputs : sequence of str
             ``"component.variable"`` names to record at every communication point.
@@ -735,17 +735,6 @@ def _illinois(phi, lo, hi, f_lo=None, f_hi=None, predict=None):
     return hi
 
 
-def available_memory() -> int:
-    """Memory [bytes] this process may still take: the physical memory not in use where
-    ``os.sysconf`` reports it (Linux), else the physical memory; 2**62 where neither is known."""
-    for pages in ("SC_AVPHYS_PAGES", "SC_PHYS_PAGES"):
-        try:
-            return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf(pages))
-        except (AttributeError, ValueError, OSError):  # no sysconf (Windows), or no such name
-            continue
-    return 2 ** 62
-
-
 def _step_count(t0: float, stop: float, h: float, n_outputs: int = 0, bytes_per_value: float = 8.0) -> int:
     """The number of communication steps ``n`` from ``t0`` to ``stop`` (the last ``t0 + n h <=
     stop`` within rounding), refused before anything is allocated when the points are not distinct
@@ -761,7 +750,7 @@ def _step_count(t0: float, stop: float, h: float, n_outputs: int = 0, bytes_per_
         raise ParameterError(f"stop_time must be at least one step ({h!r} s) after start_time, got {stop!r}")
     grid = (span + 2) * (n_outputs + 1) * bytes_per_value  # the times and the outputs
     free = available_memory()
-    if grid > free:
+    if free is not None and grid > free:
         raise ParameterError(f"stop_time = {stop!r} s with step = {h!r} s is {span:.3g} communication steps, whose "
                              f"recorded times and {n_outputs} output(s) take {grid / 2 ** 30:.3g} GiB, beyond the "
                              f"{free / 2 ** 30:.3g} GiB of memory available: take a longer step or a shorter run")

@@ -32,6 +32,7 @@ import scipy.optimize
 
 from ...threads import owns_blas_threads
 from ...errors import ParameterError, check_count, check_positive, check_system
+from ...memory import computation_budget
 from ...results.harmonic import HarmonicBalance
 from ...system import FrictionSystem
 from . import hysteresis
@@ -76,11 +77,11 @@ def harmonics_bytes(n_harmonics: int, n_dof: int, n_q: int, all_dofs: bool = Fal
 
 def check_harmonics(n_harmonics, system: FrictionSystem, caller: str, all_dofs: bool = False) -> int:
     """``n_harmonics`` as an int >= 1 whose balance of ``system`` fits the memory one computation may
-    take (:func:`memory_budget`, from :func:`harmonics_bytes`); refused before anything is allocated,
+    take (:func:`~frictionjoint.memory.computation_budget`, from :func:`harmonics_bytes`); refused before anything is allocated,
     with the largest that fits."""
     hh = check_count("n_harmonics", n_harmonics, 1)
     n_q = int(np.unique(np.vstack([system.slider_direction, system.contact_normal]), axis=0).shape[0])
-    budget = memory_budget()
+    budget = computation_budget()
     if harmonics_bytes(hh, system.n_dof, n_q, all_dofs) <= budget:
         return hh
     lo, hi = 0, hh  # the largest H that fits, by bisection (the need grows with H)
@@ -91,14 +92,6 @@ def check_harmonics(n_harmonics, system: FrictionSystem, caller: str, all_dofs: 
     raise ParameterError(f"{caller}: n_harmonics must be in [1, {lo}] for this system ({system.n_dof} DOFs, {n_q} "
                          f"joint coordinates): H = {hh} needs about {need / 2 ** 30:.3g} GiB, more than the "
                          f"{budget / 2 ** 30:.3g} GiB one computation may take (a quarter of this machine's memory)")
-
-
-def memory_budget() -> int:
-    """The memory one balance may take [bytes]: a quarter of the machine's, at least 2 GiB (as the
-    marcher's configuration cache, :data:`~frictionjoint.solvers.marcher.events.CONFIG_CACHE_BYTES`)."""
-    from ..marcher.events import CONFIG_CACHE_BYTES
-
-    return CONFIG_CACHE_BYTES
 
 
 def _loop_work(t: np.ndarray, c: np.ndarray, dmat: np.ndarray) -> float:
