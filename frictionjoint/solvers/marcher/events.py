@@ -62,9 +62,41 @@ _SAMPLES_PER_PERIOD = 16
 #: them, e.g. a slip velocity inside its zero band for a whole period of quasi-static forcing,
 #: would otherwise march for days; 2e5 pieces are about 5 s)
 MAX_PIECES_PER_PERIOD = 200_000
+#: fast events (each ending a piece shorter than 1/CHATTER_PIECES of the excitation period) a march
+#: may take per excitation period it has marched (plus two periods' worth) before it stops as chattering:
+#: the stuck mode of a Jenkins spring far stiffer than the structure rings at every stop with the
+#: stop's inertial force, whatever its stiffness (the structure's damping does not reach it), and
+#: sticks and slips once per period of that mode while the load nears the slip force, about
+#: sqrt(kt) events a period (a unit oscillator at F/P0 = 0.8, r = 1.2: 416 at kt/k = 1e6, 1312 at
+#: 1e7, 4144 at 1e8, 13112 at 1e9; the 2-DOF chain of tests/stress/test_mdof_stiff_joint.py took
+#: 25 s at 1e8 at load 7, and is refused from about 3e8 on). A transient's chatter that ends passes
+#: (2761 events within 0.23-0.4 of the first period at kt/k = 1e9, F/P0 = 0.5, r = 0.8). Springs stiff enough for their rigid limit to be exact are
+#: marched rigid (FrictionSystem.rigid_limit); below, a chatter that lasts is refused
+CHATTER_PIECES = 2_000
 #: the status a slider takes when its event row of kind ``v`` (stop), ``o`` (lift-off) or ``c``
 #: (closure) is violated
 _AFTER = {"v": 0, "o": 2, "c": 0}
+
+
+def _chatter_message(system, t: float, fast: int) -> str:
+    """Why a march stopped after ``fast`` fast events (:data:`CHATTER_PIECES`), naming the stiffest
+    Jenkins springs against the structure (:meth:`~frictionjoint.system.FrictionSystem.rigid_limit`)."""
+    jen = np.flatnonzero(~system.rigid)
+    stiff = ""
+    if jen.size:
+        d = system.slider_direction[jen]
+        k_d = np.maximum(np.einsum("ij,jk,ik->i", d, system.stiffness, d),
+                         system.omega ** 2 * np.einsum("ij,jk,ik->i", d, system.mass, d))
+        dd = np.einsum("ij,ij->i", d, d)
+        with np.errstate(divide="ignore"):
+            ratio = system.slider_stiffness[jen] * dd * dd / k_d
+        i = int(np.argmax(ratio))
+        stiff = (f"; the stiffest Jenkins spring, slider {int(jen[i])}, is {ratio[i]:.3g} times the structure's "
+                 "stiffness along it: its stuck mode rings at every stop and sticks and slips once per period "
+                 "of that mode (about sqrt(kt) events a period); from 1e11 times on a spring is marched as rigid "
+                 "(its exact limit), below that its chatter is marched event by event")
+    return (f"chattering: {fast} events up to t = {t!r} s each within 1/{CHATTER_PIECES} of the excitation "
+            f"period after the previous one, more than {CHATTER_PIECES} a period{stiff}")
 
 
 _NO_ROWS = np.zeros(0, np.intp)
@@ -766,7 +798,9 @@ class Marcher:
         max_pieces = math.inf
         if omega > 0:
             max_pieces = MAX_PIECES_PER_PERIOD * (1.0 + max(t_end - state.t, 0.0) * omega / (2 * math.pi))
-        pieces = 0
+        pieces = fast = 0
+        fast_piece = 2 * math.pi / omega / CHATTER_PIECES if omega > 0 else 0.0
+        t_start = state.t
         events_left = math.inf if max_events is None else max_events
         while state.t < t_end and events_left > 0:
             pieces += 1
@@ -811,6 +845,9 @@ class Marcher:
                     "stiffer than the structure, or a forcing period many decades beyond its natural periods)")
             if not (np.isfinite(state.x).all() and np.isfinite(state.v).all()):
                 raise ConvergenceError(f"non-finite state at t = {state.t!r}")
+            fast += trigger is not None and tau < fast_piece
+            if fast > CHATTER_PIECES * (2.0 + (state.t - t_start) * omega / (2 * math.pi)):
+                raise ConvergenceError(_chatter_message(self.system, state.t, fast - 1))
             itv = self.settle(state, log, trigger)
             if trigger is not None:
                 events_left -= 1

@@ -604,6 +604,9 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
     """
     check_system("system", system, FrictionSystem)
     t0, t_end, t_eval, record = check_run(system.omega, t0, t_end, t_eval, record)
+    rigid = ()
+    if marcher is None:  # a caller's marcher marches its own system as it is
+        system, rigid = system.rigid_limit()
     m = marcher if marcher is not None else Marcher(system)
     log = EventLog()
     state = m.initial_state(x0, v0, w0, t0=t0, log=log)
@@ -615,7 +618,16 @@ def simulate(system: FrictionSystem, t_end: float, x0: ArrayLike = 0.0, v0: Arra
         # a failed march is a status of the result: the outputs after the failure are NaN
         success, message = False, f"the march failed at t = {state.t!r}: {exc}"
         rec.fail()
-    return rec.result(log, state, success, message)
+    return rec.result(log, state, success, message + rigid_note(rigid))
+
+
+def rigid_note(rigid) -> str:
+    """The words a result carries where Jenkins sliders were marched as rigid
+    (:meth:`~frictionjoint.system.FrictionSystem.rigid_limit`); empty where none was."""
+    if not len(rigid):
+        return ""
+    return (f"; Jenkins slider(s) {', '.join(str(int(i)) for i in rigid)} marched as rigid (stiffness >= 1e11 "
+            "times the structure's along them: the rigid limit, within about 50 k/kt of the spring's motion)")
 
 
 class _Recorder:

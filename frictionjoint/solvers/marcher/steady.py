@@ -24,7 +24,7 @@ from ...system import FrictionSystem
 from ...results import PeriodicResponse
 from .events import EventLog, MarchState, Marcher
 from .monodromy import march_jacobian
-from .response import displacement_fourier, piece_peaks, piece_slip
+from .response import displacement_fourier, piece_peaks, piece_slip, rigid_note
 from ..shooting import ShootingOutcome, find_periodic_orbit, has_unit_eigenvalue, orbit_message, residual_floor
 
 __all__ = ["periodic_response", "failed_response", "FD_STEP", "FD_FLOOR", "SECTION_MARGIN", "JACOBIAN_AT_ORBIT",
@@ -444,10 +444,15 @@ def periodic_response(system: FrictionSystem, x0: ArrayLike = 0.0, v0: ArrayLike
     n_samples = check_count("n_samples", n_samples, 0)
     if jacobian not in ("exact", "fd"):
         raise ParameterError(f"jacobian must be 'exact' or 'fd', got {jacobian!r}")
+    rigid = ()
+    if marcher is None:  # a caller's marcher marches its own system as it is
+        system, rigid = system.rigid_limit()
     m = marcher if marcher is not None else Marcher(system)
     try:
-        return _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian,
-                                  bool(peaks))
+        res = _periodic_response(system, m, x0, v0, w0, tol, max_newton, max_periods, n_samples, jacobian,
+                                 bool(peaks))
+        res.message += rigid_note(rigid)
+        return res
     except (ConvergenceError, np.linalg.LinAlgError) as exc:
         # a failed march (no consistent stick/slip status, chattering, a non-finite state) is a
         # status of the result, not an exception for the caller to catch
