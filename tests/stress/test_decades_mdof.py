@@ -133,14 +133,16 @@ def test_blade_root_normal_stiffness_answers_in_bounded_time(kn, variation, _wal
     # Reference: the sweep's own 'stuck' linear limit (frictionjoint.linear_limits: the blade on
     # its stuck root, a complex linear solve independent of the marcher). The assembled
     # stiffness carries the root's normal springs, rounded by eps kn against the blade's: the
-    # stuck orbit differs from the limit by 4e-6 at 1e14 and 3.4e-4 at 1e16 (measured), hence the
-    # tolerance; beyond, the march cannot resolve the root's normal modes (5.7e10 rad/s at
+    # stuck orbit differs from the limit by 4e-6 at 1e14 and 3.4e-4 at 1e16 (measured): rounding,
+    # which differs between CPUs and BLAS builds, so the tolerance is 100x the largest, 3e-2 (the
+    # slipping root's response differs from the stuck one by far more); beyond, the march cannot
+    # resolve the root's normal modes (5.7e10 rad/s at
     # 1e18, 3e7 times the excitation) and gives up with the reason.
     r = fj.sweep("ti64_compressor_blade", [2000.0], {"normal_stiffness": kn, "normal_load_variation": variation})
     assert time.monotonic() - _wall_clock_guard < GUARD
     if kn <= 1e16:
         assert r.converged.all() and r.stuck.all(), r.messages
-        np.testing.assert_allclose(np.abs(r.response), np.abs(r.limits["stuck"]), rtol=1e-3)
+        np.testing.assert_allclose(np.abs(r.response), np.abs(r.limits["stuck"]), rtol=3e-2)
     else:
         assert not r.converged.any()
         assert np.all(np.isnan(r.response))
