@@ -232,15 +232,8 @@ class FrictionSystem:
             sliders' stiffness) and the indices of the sliders made rigid.
         """
         ratio = check_positive("ratio", ratio)
-        d = self.slider_direction
-        if not d.size:
-            return self, np.zeros(0, dtype=int)
-        dd = np.einsum("ij,ij->i", d, d)
-        k_d = np.maximum(np.einsum("ij,jk,ik->i", d, self.stiffness, d),
-                         self.omega ** 2 * np.einsum("ij,jk,ik->i", d, self.mass, d))
-        with np.errstate(over="ignore", invalid="ignore"):
-            stiff = ((self.slider_stiffness * dd * dd >= ratio * k_d) & np.isfinite(self.slider_stiffness)
-                     & (self.slider_preload == 0) & (self.slider_contact < 0) & (k_d > 0))
+        stiff = ((self.stiffness_ratio() >= ratio) & np.isfinite(self.slider_stiffness)
+                 & (self.slider_preload == 0) & (self.slider_contact < 0))
         index = np.flatnonzero(stiff)
         if not index.size:
             return self, index
@@ -249,6 +242,22 @@ class FrictionSystem:
         out.slider_stiffness[index] = np.inf
         out.rigid = np.isinf(out.slider_stiffness)
         return out, index
+
+    def stiffness_ratio(self) -> np.ndarray:
+        """Each slider's stiffness over the structure's along it, ``kt |d|^4 / max(d^T K d,
+        omega^2 d^T M d)`` (inf for a rigid slider or where the structure has neither along it).
+
+        Returns
+        -------
+        (n_sliders,) ndarray
+        """
+        d = self.slider_direction
+        dd = np.einsum("ij,ij->i", d, d)
+        k_d = np.maximum(np.einsum("ij,jk,ik->i", d, self.stiffness, d),
+                         self.omega ** 2 * np.einsum("ij,jk,ik->i", d, self.mass, d))
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            out = self.slider_stiffness * dd * dd / k_d
+        return np.where(k_d > 0, out, np.inf)
 
     @property
     def n_dof(self) -> int:

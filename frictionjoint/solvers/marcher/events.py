@@ -84,17 +84,12 @@ def _chatter_message(system, t: float, fast: int) -> str:
     jen = np.flatnonzero(~system.rigid)
     stiff = ""
     if jen.size:
-        d = system.slider_direction[jen]
-        k_d = np.maximum(np.einsum("ij,jk,ik->i", d, system.stiffness, d),
-                         system.omega ** 2 * np.einsum("ij,jk,ik->i", d, system.mass, d))
-        dd = np.einsum("ij,ij->i", d, d)
-        with np.errstate(divide="ignore"):
-            ratio = system.slider_stiffness[jen] * dd * dd / k_d
+        ratio = system.stiffness_ratio()[jen]
         i = int(np.argmax(ratio))
         stiff = (f"; the stiffest Jenkins spring, slider {int(jen[i])}, is {ratio[i]:.3g} times the structure's "
                  "stiffness along it: its stuck mode rings at every stop and sticks and slips once per period "
-                 "of that mode (about sqrt(kt) events a period); from 1e11 times on a spring is marched as rigid "
-                 "(its exact limit), below that its chatter is marched event by event")
+                 "of that mode (about sqrt(kt) events a period); from 1e11 times on, periodic_response and "
+                 "simulate march a spring as rigid (its limit, exact to about 50 k/kt)")
     return (f"chattering: {fast} events up to t = {t!r} s each within 1/{CHATTER_PIECES} of the excitation "
             f"period after the previous one, more than {CHATTER_PIECES} a period{stiff}")
 
