@@ -166,3 +166,21 @@ def test_stiff_slipping_sdof_over_decades(log_kt):
                                omega=w).steady_state()
     x = float(ref.amplitude)
     np.testing.assert_allclose(pr.amplitude, x, rtol=4 * fs / (math.sqrt(kt) * w * x) + EXACT)
+
+
+def test_rigid_limit_picks_the_stiff_unloaded_jenkins_sliders():
+    """rigid_limit makes rigid only Jenkins sliders with kt |d|^4 >= ratio max(d K d, w^2 d M d), no
+    preload and no varying contact; a bad ratio is refused by name. The chain's joints: d K d = 2
+    and 1, w^2 d M d = 1.44, so 1e12 is 5e11 and 6.9e11 times the structure's stiffness."""
+    system = _chain(1e12)
+    np.testing.assert_allclose(system.stiffness_ratio(), [1e12 / 2.0, 1e12 / 1.44], rtol=1e-15)
+    rigid, index = system.rigid_limit()
+    assert list(index) == [0, 1] and rigid.rigid.all() and not system.rigid.any()
+    soft = _chain(1e10)
+    same, none = soft.rigid_limit()
+    assert same is soft and none.size == 0
+    _, index = system.rigid_limit(6e11)
+    assert list(index) == [1]
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(fj.ParameterError, match="ratio"):
+            system.rigid_limit(bad)
