@@ -10,6 +10,8 @@ import os
 
 import numpy as np
 
+from .results.dof_names import dof_meaning
+
 __all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
            "new_figure", "plot_target", "plot_study_curve", "plot_study_contour", "plot_study_monte_carlo",
            "plot_slip_pattern"]
@@ -564,31 +566,6 @@ def plot_output_sweep(sw, ax=None, path=None, label: str | None = None):
     ax.grid(True, which="both", alpha=0.3)
     _save(fig, path)
     return fig
-
-
-def dof_meaning(name: str) -> str:
-    """What a blade DOF's name means, in words (``""`` if it is not a blade's): the beam's
-    ``u<i>``, ``w<i>``, ``t<i>`` (:attr:`~frictionjoint.structures.BeamBlade.dof_names`) and the
-    solid's or an FE model's ``n<node>_u<d>`` (:func:`~frictionjoint.structures.dof_name`).
-
-    Parameters
-    ----------
-    name : str
-
-    Returns
-    -------
-    str
-    """
-    import re
-
-    beam = re.fullmatch(r"([uwt])(\d+)", name)
-    if beam:
-        what = {"u": "axial displacement", "w": "transverse (bending) displacement", "t": "slope dw/ds"}[beam[1]]
-        return f"the {what} at beam node {beam[2]} (node 0 at the root; the tip is the last node)"
-    solid = re.fullmatch(r"n(\d+)_u([123])", name)
-    if solid:
-        return f"the {'xyz'[int(solid[2]) - 1]} displacement of node {solid[1]}"
-    return ""
 
 
 def plot_hbm_sweep(sw, output=0, ax=None, path=None):

@@ -185,7 +185,7 @@ def test_other_outputs_reach_the_plot():
 def test_an_output_sweep_has_a_title_that_says_what_its_output_is():
     # tip.png (frictionjoint sweep ti64_compressor_blade ... --plot tip.png): before, no title and
     # the output named only "w30"
-    from frictionjoint.plotting import dof_meaning
+    from frictionjoint.results.dof_names import dof_meaning
     from frictionjoint.results import OutputSweep
 
     n = 3

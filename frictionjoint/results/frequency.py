@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ParameterError
+from .dof_names import dof_meaning
 from .response import PointsContract
 
 if TYPE_CHECKING:  # computing never imports matplotlib
@@ -587,7 +588,8 @@ class OutputSweep(PointsContract):
             " ".join(f"{n + ' [m]':>13}" for n in names) + f" {'stuck':>5} {'ok':>3}" + \
             (f" {'stable':>6}" if self.stable is not None else "") + (f" {'fold':>4}" if self.fold is not None else "") + \
             (f" {'trunc. err':>10}" if self.truncation_error is not None else "")
-        lines = [f"output {self.output}", head]
+        meaning = dof_meaning(self.output)
+        lines = [f"output {self.output}" + (f" ({meaning})" if meaning else ""), head]
         for k, w in enumerate(self.omega):
             amp = f"{self.amplitude[k]:12.5e}" if self.converged[k] else f"{'--':>12}"
             lines.append(f"{w:14.6g} {amp} {self.phase[k]:11.5f} "
