@@ -218,7 +218,9 @@ class FrictionSystem:
         3e-7, 4e-7, 1.6e-8, 5e-8 of the rigid (Coulomb) one at ``kt/k = 1e7, 3e7, 1e8, 3e8, 1e9``:
         at most ``50 k/kt``. Where ``kt >= ratio k_d`` (default 1e11: ``5e-10`` by that
         measurement) the slider is marched as rigid. Sliders with a static preload or on a
-        contact with a varying normal load keep their springs.
+        contact with a varying normal load keep their springs, and so does a slider whose direction
+        depends on those of the rigid sliders (the stiffest taken first): the marcher's rigid
+        constraints must be independent.
 
         Parameters
         ----------
@@ -232,9 +234,19 @@ class FrictionSystem:
             sliders' stiffness) and the indices of the sliders made rigid.
         """
         ratio = check_positive("ratio", ratio)
-        stiff = ((self.stiffness_ratio() >= ratio) & np.isfinite(self.slider_stiffness)
+        k_ratio = self.stiffness_ratio()
+        stiff = ((k_ratio >= ratio) & np.isfinite(self.slider_stiffness)
                  & (self.slider_preload == 0) & (self.slider_contact < 0))
-        index = np.flatnonzero(stiff)
+        # the marcher's rigid sliders must constrain independent directions (two stuck rigid sliders
+        # on one DOF are one constraint twice): the stiffest first, a parallel one keeps its spring
+        rows = list(self.slider_direction[self.rigid])
+        index = []
+        for i in sorted(np.flatnonzero(stiff), key=lambda j: -k_ratio[j]):
+            trial = np.array(rows + [self.slider_direction[i]])
+            if np.linalg.matrix_rank(trial) == len(trial):
+                rows.append(self.slider_direction[i])
+                index.append(i)
+        index = np.array(sorted(index), dtype=int)
         if not index.size:
             return self, index
         out = copy.copy(self)

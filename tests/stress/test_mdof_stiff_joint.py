@@ -184,3 +184,20 @@ def test_rigid_limit_picks_the_stiff_unloaded_jenkins_sliders():
     for bad in (0.0, -1.0, float("nan")):
         with pytest.raises(fj.ParameterError, match="ratio"):
             system.rigid_limit(bad)
+
+
+def test_parallel_stiff_sliders_keep_one_rigid_constraint():
+    """An Iwan of four sliders on DOF 0 beside the joint between the masses, kt = 7.6e11 (hypothesis's
+    example of tests/stress/test_stress.py): two of the Iwan's sliders reach 1e11 times the structure's
+    stiffness along DOF 0, and making both rigid gave two stuck rigid constraints on one DOF, a
+    singular projection (LinAlgError). Only the stiffest of parallel sliders is made rigid; the march
+    keeps its energy balance (the stress suite's 1e-9 of the scale; 3e-19 here)."""
+    kt, fs, w, zeta = 757961807974.5333, 2.151719412092144e-08, 2.1563520427309517, 0.11489342449907096
+    els = [fj.Jenkins(kt, fs, direction=[1.0, -1.0]), fj.Iwan([(kt * (j + 1) / 4, fs * (j + 1) / 4) for j in range(4)],
+                                                               dof=0)]
+    system = fj.FrictionSystem(fj.LinearStructure(M, K, zeta * K), els, omega=w, excitation=[fj.HarmonicForce(1, 1.0)])
+    assert list(system.rigid_limit()[1]) == [0, 4]  # the joint, and the Iwan's stiffest (slider 3 is parallel)
+    tr = fj.simulate(system, 3e-5, record=("x", "energy"))
+    assert tr.success, tr.message
+    scale = max(np.max(np.abs(tr.work)), np.max(tr.stored_energy), 1.0)
+    assert np.max(np.abs(tr.energy_residual())) <= 1e-9 * scale
