@@ -47,6 +47,14 @@ flanks against the centrifugal stiffening, has a damping ratio of 7.8e-6 (Raylei
 the elastic stiffness only), so that its frequency error, 1.9e-6 with 5 modes, is 0.24 of its peak.
 
 Run: ``python -m benchmarks.solid_blade_accuracy`` (some 2-5 minutes on this shared machine).
+
+The partial-slip resonance, full size (``--resonance``; the tests run its onset only, 1880-1901
+rad/s): the exact time-domain sweep over 1880-1940 rad/s (``fj.sweep``, as ``frictionjoint sweep
+ti64_solid_blade`` runs it; its 1920 rad/s point alone took 154 s, which is why
+``test_command_line_python_and_study_give_the_same_sweep`` stops at 1900), and the harmonic balance
+sweep at ``H = 15`` with every branch point checked against its exact orbit (``check=True``), the
+truncation error per point (measured before: 1.4e-3 to 1.5e-2 over 1902-1941 rad/s, 25 branch
+points, 9 min on a loaded machine; a point whose exact orbit is not found prints NaN).
 """
 from __future__ import annotations
 
@@ -165,5 +173,24 @@ def main(n_modes=(5, 10, 20), n_grid: int = 60) -> None:
         print(f"  ({omegas.size} frequencies, {cost:.2f} s each unreduced; its first modes {np.round(full[:6])})")
 
 
+def resonance(omega: str = "1880:1940:7", n_harmonics: int = 15) -> None:
+    """The partial-slip resonance at full size (module docstring): the exact sweep, then the
+    checked harmonic balance sweep, each timed."""
+    import frictionjoint as fj
+
+    t0 = time.perf_counter()
+    exact = fj.sweep(MODEL, omega)
+    print(f"exact sweep {omega} rad/s: {time.perf_counter() - t0:.0f} s")
+    for w, a, stuck, ok in zip(exact.omega, exact.amplitude, exact.stuck, exact.converged):
+        print(f"  {w:9.3f} {a:.6e} m stuck {stuck!s:5} converged {ok}")
+    t0 = time.perf_counter()
+    hb = fj.sweep(MODEL, omega, method="hbm", n_harmonics=n_harmonics, check=True)
+    print(f"harmonic balance H = {n_harmonics}, every point checked: {time.perf_counter() - t0:.0f} s")
+    for w, a, stuck, err in zip(hb.omega, hb.amplitude, hb.stuck, hb.truncation_error):
+        print(f"  {w:9.3f} {a:.6e} m stuck {stuck!s:5} truncation error {err:.2e}")
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    resonance() if "--resonance" in sys.argv[1:] else main()
