@@ -64,7 +64,9 @@ DESIGN.md section 2; Hong & Liu (2000) for the rules at ``v = 0``.
   itself, so :meth:`evaluate` and the Fourier integrals of the pieces are those of ``x_qs``.
   Between that regime and an affordable march (``omega/omega_n`` about 1e-9 .. 1e-5, undamped), a
   march is refused with :class:`EventBudgetError` once it has taken ``_PIECES_PER_PERIOD`` pieces per
-  period: bounded time and a message that says why, never hours.
+  period: bounded time and a message that says why, never hours. Where that count is foreseen
+  (:meth:`SdofCoulomb._chatter_rate`: undamped, a break-away every period) the march is refused
+  before it starts, and a slip piece that outlasts its safe steps is the same refusal.
 
 Everything in the inner loop is ``math`` on floats: no arrays, no per-event set-up. For the
 n-DOF systems (Jenkins elements, several sliders) use :class:`~frictionjoint.solvers.marcher.events.Marcher`.
