@@ -47,8 +47,10 @@ def test_chordwise_is_flapwise_softened(nu):
     # exact in the discrete problem (K_chord = K_flap - Omega^2 M); the eigensolver's rounding is
     # eps times the largest eigenvalue of the mesh, 1.1e8 (flapwise) and 1.6e8 (chordwise) times the
     # first at nu = 3: 2.3e-8 + 3.5e-8 of omega^2, hence 1e-7 (measured 4.1e-10; the former 1e-9 took
-    # the ratio for 1e6 and sat 2.4x above it). BeamBlade.natural_frequencies by eigh(K, M); the
-    # inverted problem eigh(M, K) gives the low modes to a few eps (measured: 1e-15 across drivers)
+    # the ratio for 1e6 and sat 2.4x above it). The matrices' own rounding (eps |K_ij|) moves omega_1^2
+    # by up to that much whatever the solver; natural_frequencies solves the inverted pencil
+    # eigh(M, K), whose largest eigenvalues (the low modes) carry only a few eps of their own:
+    # measured 7.2e-11 (4.1e-10 with eigh(K, M), whose drivers disagreed by 3.4e-8 at 120 elements)
     assert np.max(np.abs(c ** 2 - (f ** 2 - om ** 2)) / f ** 2) <= 1e-7
 
 
@@ -118,9 +120,10 @@ def test_craig_bampton_frequencies_and_stuck_root_frf(speed, hub):
     tip = f"w{b.n_elements}"
     red = craig_bampton(full, ["u0", "w0", "t0"], loaded_dofs=[tip])  # default: 5 modes
     assert red.dof_names == ("u0", "w0", "t0", "q1", "q2", "q3", "q4", "q5", f"r_{tip}")
-    # root clamped: exactly the retained modes, to the rounding of natural_frequencies' eigh(K, M):
-    # eps lambda_max / lambda_1 / 2 = 2.6e-8 in omega_1 at rest (lambda ratio 2.4e8; ARPACK's
-    # shift-invert is accurate to a few eps), hence 1e-7 (measured 8.5e-10, within 1.2x of 1e-9)
+    # root clamped: exactly the retained modes, to the rounding of the matrices themselves:
+    # eps lambda_max / lambda_1 / 2 = 2.6e-8 in omega_1 at rest (lambda ratio 2.4e8), hence 1e-7;
+    # both solvers give the low modes to a few eps of their own (ARPACK's shift-invert, and
+    # natural_frequencies' inverted pencil eigh(M, K)): measured 8.3e-12 (8.5e-10 with eigh(K, M))
     got = np.sqrt(scipy.linalg.eigh(red.stiffness[3:8, 3:8], red.mass[3:8, 3:8], eigvals_only=True)[:3])
     assert np.max(np.abs(got / b.natural_frequencies(3) - 1)) <= 1e-7
     # root stuck (held by springs): the first three frequencies to 1e-3 (about 1e-5 here)
