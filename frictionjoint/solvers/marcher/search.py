@@ -325,9 +325,13 @@ def _locate(pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r,
             or _slope(pla, lam, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, b, r) <= 0):
         return -1.0
     tm = _brentq(1, pa, pla, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, r, a, b, xtol)
-    if start_zero and (tm <= 1e-9 * h or t0 + tm == t0):
+    if start_zero and (tm <= 1e-9 * h or tm <= 1e-14 * abs(t0)):
         # the bottom at the start (or within the time's resolution at t0: the same instant, found
-        # again and again, e.g. at a load reversal 3e9 s into quasi-static forcing)
+        # again and again, e.g. at a load reversal 3e9 s into quasi-static forcing). The event
+        # functions take the absolute time t0 + tau in their harmonic terms, so instants a few ulps
+        # of t0 apart are the same instant: 1e-14 |t0| is about 64 ulps (a grazing stuck row on the
+        # solid blade, at 13 ulps under another CPU's BLAS rounding, was found again 13 ulps at a
+        # time until the march's piece cap, where 't0 + tm == t0' caught only 1 ulp)
         return -1.0
     gm = _value(pa, lam, k0, kp, km, cc, cs, w, t0, harmonic, pn, nlam, nmu, tm, r)
     if start_zero and gm >= 0:
@@ -757,7 +761,7 @@ def _np_locate(itv, red, j, a, b, crossing, tol, h, start_zero):
     # tolerances are at a few ulps of the time, where g' is rounding noise and Brent's
     # interpolation steps can use up the iterations without reaching them: scipy would raise)
     tm = scipy.optimize.brentq(dg, a, b, xtol=xtol, rtol=RTOL, maxiter=_MAXITER, disp=False)
-    if start_zero and (tm <= 1e-9 * h or itv.t0 + tm == itv.t0):  # see _locate
+    if start_zero and (tm <= 1e-9 * h or tm <= 1e-14 * abs(itv.t0)):  # see _locate
         return None
     gm = g(tm)
     if start_zero and gm >= 0:  # turns up without going below zero: no event (see _locate)
