@@ -824,8 +824,7 @@ class SdofCoulomb:
             if new != s:
                 counts[1] += 1
             s = new
-        zero_steps = 0
-        budget, n_pieces, first = self._budget(t, t_end), 0, sum(counts)  # (a settle at t0 is at t0)
+        budget, n_pieces, first, zero_steps = self._budget(t, t_end), 0, sum(counts), 0  # (a settle at t0 is at t0)
         if self._chatter_rate() * (t_end - t) > budget:
             raise EventBudgetError(self._budget_message(budget, t0, t_end, "stick/slip events", "foreseen: "))
         while t < t_end and (max_events is None or sum(counts) - first < max_events):
