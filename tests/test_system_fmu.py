@@ -116,6 +116,28 @@ def test_run_matches_simulate_and_holds_inputs():
     assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
 
 
+def test_joints_far_stiffer_than_the_structure_run_as_frictionjoint_simulate_runs_them():
+    """Issue 39: Jenkins springs 1e12 times stiffer than the chain chatter at their stuck mode's rate
+    (about sqrt(kt) events a period) and the FMU's march stopped as chattering; the FMU marches them
+    as rigid sliders, their exact limit, as fj.simulate does (FrictionSystem.rigid_limit): the same
+    motion within TOL (the same closed-form pieces; measured at rounding)."""
+    d = load_system_definition(CHAIN)
+    stiff = {"j1_tangential_stiffness": 1e12, "j2_tangential_stiffness": 1e12}
+    h = T / 20
+    t = h * np.arange(20 * 2 + 1)
+    run = SystemRun(d, stiff)
+    x = []
+    for tk in t:
+        run.advance(tk)
+        x.append([run.output("x_x1"), run.output("x_x2")])
+    structure = chain_system().structure
+    ref = fj.simulate(fj.FrictionSystem(structure, [fj.Jenkins(1e12, 0.8, dof="x1"), fj.Jenkins(1e12, 0.8, dof="x2")],
+                                        omega=OMEGA, excitation=[fj.HarmonicForce("x2", 1.0)]),
+                      t[-1], t_eval=t, record=("x",))
+    assert "marched as rigid" in ref.message
+    assert np.max(np.abs(np.array(x).T - ref.x)) <= TOL * np.max(np.abs(ref.x))
+
+
 @pytest.mark.slow  # a fresh Python with fmpy and the FMU's bundle: about 2 s
 def test_fmpy_simulate_fmu_at_three_steps(chain_fmu):
     """fmpy.simulate_fmu (its own process: the FMU's bundle is not this process's package) at
