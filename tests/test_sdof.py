@@ -322,3 +322,22 @@ def test_a_stuck_mass_without_forcing_stays_stuck():
     k = SdofCoulomb(1.0, 1.0, 0.5, 0.0, 0.3, 0.0)
     res = k.march(0.0, 0.2, 0.0, 10.0, status=0)
     assert (res.t, res.x, res.v, res.status, res.n_events) == (10.0, 0.2, 0.0, 0, 0)
+
+
+@pytest.mark.parametrize("kw, name", [
+    (dict(stiffness=1e308), r"stiffness must be in \(0, 1e\+150\] N/m"),
+    (dict(mass=1e-320), r"mass must be >= stiffness / 1e\+300"),
+    (dict(omega=1e80), r"mass \* omega\*\*2 must be <= 1e\+150 N/m"),
+    (dict(damping=1e160), r"damping \* omega must be <= 1e\+150 N/m"),
+])
+def test_scales_beyond_the_closed_form_are_refused_by_name(kw, name):
+    """Issue 39: stiffness 1e308 was an OverflowError naming nothing (the closed form squares k,
+    m w^2 and c w), mass 1e-320 an infinite natural frequency; refused where the kernel is made,
+    which the library's oscillator and the CoulombOscillator FMU share."""
+    from frictionjoint.solvers.sdof.kernel import SdofCoulomb
+
+    args = dict(mass=1.0, stiffness=1.0, slip_force=0.5, force_amplitude=1.0, omega=1.5, damping=0.0)
+    args.update(kw)
+    with pytest.raises(ParameterError, match=name):
+        SdofCoulomb(**args)
+    assert SdofCoulomb(1.0, 1e150, 0.5, 1.0, 1.5).stiffness == 1e150  # the bound itself is taken

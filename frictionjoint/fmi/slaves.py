@@ -395,35 +395,9 @@ class CoulombOscillatorSlave(_RunSlave):
                           "external force on the mass, added to the harmonic one, held over a step [N]",
                           OSCILLATOR_OUTPUTS)
 
-    #: the largest stiffness, mass * omega**2 and damping * omega [N/m] and natural frequency
-    #: sqrt(stiffness / mass) [rad/s] the FMU takes: its closed form
-    #: (:class:`~frictionjoint.solvers.sdof.kernel.SdofCoulomb`) squares them, which overflows beyond
-    #: ~5e154 (stiffness 1e308 was an OverflowError with no parameter named, mass 1e-320 an infinite
-    #: natural frequency that refused every step); 1e150 is far beyond any physical joint
-    max_scale = 1e150
-
     def _initialise(self):
         params = {k: getattr(self, k) for k in OSCILLATOR_PARAMETERS}
-        self._check_scales(params)
         self._run = OscillatorRun(params, start_time=self.start_time, force=self.force)
-
-    def _check_scales(self, p) -> None:
-        """A :class:`ParameterError` naming the parameter whose scale is beyond :attr:`max_scale`
-        (values that are not positive are left to the run's own checks)."""
-        top = self.max_scale
-        m, k, c, w = (p[n] for n in ("mass", "stiffness", "damping", "omega"))
-        if not all(isinstance(v, float) and math.isfinite(v) for v in (m, k, c, w)) or min(m, k, w) <= 0 or c < 0:
-            return
-        if k > top:
-            raise ParameterError(f"stiffness must be in (0, {top:.0e}] N/m in this FMU (its closed form squares "
-                                 f"it), got {k!r}")
-        if k / m > top * top:
-            raise ParameterError(f"mass must be >= stiffness / {top * top:.0e} = {k / (top * top):.3g} kg in this FMU "
-                                 f"(a natural frequency sqrt(stiffness/mass) <= {top:.0e} rad/s), got {m!r}")
-        for name, value in (("mass * omega**2", m * w * w), ("damping * omega", c * w)):
-            if value > top:
-                raise ParameterError(f"{name} must be <= {top:.0e} N/m in this FMU (its closed form squares it), "
-                                     f"got {value:.3g} (mass = {m!r}, omega = {w!r}, damping = {c!r})")
 
     def _idle(self, name):
         return {"x": self.x0, "v": self.v0}.get(name, OSCILLATOR_OUTPUTS[name][0]())

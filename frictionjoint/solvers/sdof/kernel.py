@@ -91,6 +91,27 @@ _NEAR = 0.25
 #: The quasi-static regime: where :meth:`SdofCoulomb.quasi_static_bound` is at most this fraction of
 #: the quasi-static slip amplitude ``(|P0| - F)/k``, a slip that starts from a stick follows ``x_qs``.
 QUASI_STATIC_TOL = 1e-9
+#: the largest stiffness, mass * omega**2 and damping * omega [N/m] and natural frequency
+#: sqrt(stiffness / mass) [rad/s] the kernel takes: its closed form squares them (|D|^2 with
+#: D = k - m w^2 - i c w, (0.25 k)^2), which overflows beyond ~5e154 (stiffness 1e308 was an
+#: OverflowError naming nothing, mass 1e-320 an infinite natural frequency that refused every
+#: step); 1e150 is far beyond any physical joint, and the answers hold there (k x at 1e150 is the
+#: hand-computed cos(w t) + 0.5, clamped at -F)
+MAX_SCALE = 1e150
+
+
+def _check_scales(m: float, k: float, c: float, w: float) -> None:
+    """A :class:`ParameterError` naming the parameter whose scale is beyond :data:`MAX_SCALE`."""
+    top = MAX_SCALE
+    if k > top:
+        raise ParameterError(f"stiffness must be in (0, {top:.0e}] N/m (the closed form squares it), got {k!r}")
+    if k / m > top * top:
+        raise ParameterError(f"mass must be >= stiffness / {top * top:.0e} = {k / (top * top):.3g} kg (a natural "
+                             f"frequency sqrt(stiffness/mass) <= {top:.0e} rad/s), got {m!r}")
+    for name, value in (("mass * omega**2", m * w * w), ("damping * omega", c * w)):
+        if value > top:
+            raise ParameterError(f"{name} must be <= {top:.0e} N/m (the closed form squares it), got {value:.3g} "
+                                 f"(mass = {m!r}, omega = {w!r}, damping = {c!r})")
 #: Pieces a march may take per excitation period it spans (plus two periods' worth): the exact
 #: motion of a forcing period far beyond the natural one sticks and slips about once per natural
 #: period (Coulomb friction restarts the free oscillation at every break-away), so its event count
@@ -214,6 +235,7 @@ class SdofCoulomb:
         p0 = self.force_amplitude = check_real("force_amplitude", force_amplitude)
         w = self.omega = check_positive("omega", omega)
         c = self.damping = check_nonnegative("damping", damping)
+        _check_scales(m, k, c, w)
         wn = math.sqrt(k / m)
         self._wn, self._wn2 = wn, k / m
         self._a = a = c / (2.0 * m)
