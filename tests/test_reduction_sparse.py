@@ -281,3 +281,20 @@ def test_a_rotating_solid_blade_reduced_to_its_root_face():
     print(f"SolidBlade {blade.n_dof} DOFs: fixed-interface frequencies against natural_frequencies "
           f"{np.max(error / lam_nat) / 2:.1e}, {np.max(error / bound):.2g} of the bound")
     assert np.all(error <= bound)
+
+
+
+def test_a_reduction_beyond_the_machine_is_refused_before_anything_is_allocated(blade, monkeypatch):
+    """Issue 39: the reduction's dense transformation (every DOF x the kept ones) and ARPACK's
+    Lanczos vectors are counted before either is made: with 64 KiB available the 324-DOF blade's
+    reduction (8 bytes x 324 x (36 + 20) = 142 KiB at the least) is refused naming n_modes, on
+    both paths; with the machine's memory it runs."""
+    import frictionjoint.memory
+
+    root = blade.dofs_of("root")
+    monkeypatch.setattr(frictionjoint.memory, "available_memory", lambda: 64 * 1024)
+    for model in (blade, _dense(blade)):
+        with pytest.raises(ParameterError, match=r"n_modes = 3 on 324 DOFs \(36 boundary\) needs about"):
+            craig_bampton(model, root, 3)
+    monkeypatch.undo()
+    assert craig_bampton(blade, root, 3).n_dof == len(root) + 3

@@ -66,6 +66,7 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from ..errors import ParameterError, check_count, check_nonnegative
+from ..memory import check_fits
 from ..structure import LinearStructure
 
 if TYPE_CHECKING:
@@ -134,6 +135,12 @@ def craig_bampton(structure: LinearStructure | FEModel, boundary_dofs: Sequence,
     if any(in_b[d] for d in loaded) or len(set(loaded)) != len(loaded):
         raise ParameterError(f"loaded_dofs must be distinct interior DOFs, got {list(loaded_dofs)!r}")
     damping = _damping(structure, rayleigh)
+    # the dense transformation (every DOF x the reduced ones) and ARPACK's Lanczos vectors, or the
+    # dense interior eigenproblem's copies, checked before either is allocated
+    n_red, ncv = len(b) + n_modes + len(loaded), max(2 * n_modes + 1, 20)
+    check_fits(8.0 * len(names) * (n_red + ncv) + (0.0 if sparse else 24.0 * len(i) ** 2),
+               f"n_modes = {n_modes} on {len(names)} DOFs ({len(b)} boundary)",
+               f"the {len(names)} x {n_red} transformation and the interior eigenproblem's work")
     t, lam = (_sparse_basis if sparse else _dense_basis)(structure, b, i, n_modes, loaded)
     m_r, k_r = _project(structure.mass, t), _project(structure.stiffness, t)
     if rayleigh is not None:
