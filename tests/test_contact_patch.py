@@ -267,14 +267,43 @@ def test_elastic_root_slips_partially(elastic, vary, force, slip_pattern):
     assert frac.min() == 0.0 and frac.max() > 0.1
 
 
-def test_energy_balance_of_a_patch(elastic):
-    """The march of the elastic root on its patches, normal loads varying: work = stored change +
-    friction + viscous dissipation to 1e-9 of the work done."""
+@pytest.fixture(scope="module")
+def patch_march(elastic):
+    """One march of the elastic root on its patches, normal loads varying, from the static state over
+    one period (137 events: the run-up's slips and sticks), shared by the two tests below (each
+    marched two periods of its own: 18 s and 27 s on a loaded machine, 45 s of the quick subset;
+    the shared one period, 12 s): the result with its energy record, and per modal piece with
+    friction work, its closed form (response.modal_varying_friction, exponential sums) beside the
+    Gauss rule of 8 sub-intervals per period of the fastest mode (response.gauss_pieces)."""
+    from frictionjoint.solvers.marcher import response
+
     root = fj.PatchDovetailRoot(_flank(elastic["right"]), _flank(elastic["left"]), G, MU, elastic["reduced_load"],
                                 normal_load_variation=True)
     sysm = fj.FrictionSystem(elastic["reduced"], [root], omega=3000.0,
                              excitation=[fj.HarmonicForce(elastic["tip"], 1600.0)])
-    r = fj.simulate(sysm, 2 * 2 * math.pi / sysm.omega, record=("x", "energy"))
+    pairs = []
+    closed_form = response.modal_varying_friction
+
+    def both(system, itv, a, b):  # the closed form, as the march uses it, and the Gauss rule beside it
+        value = closed_form(system, itv, a, b)
+        if value is not None and value != 0.0:
+            nodes, wts = response.gauss_pieces(itv, a, b)
+            xq, vq = itv.state(nodes)
+            pairs.append((value, response.varying_friction(system, itv, wts, xq, vq)))
+        return value
+
+    response.modal_varying_friction = both
+    try:
+        r = fj.simulate(sysm, 2 * math.pi / sysm.omega, record=("x", "energy"))
+    finally:
+        response.modal_varying_friction = closed_form
+    return r, np.array(pairs)
+
+
+def test_energy_balance_of_a_patch(patch_march):
+    """The march of the elastic root on its patches, normal loads varying: work = stored change +
+    friction + viscous dissipation to 1e-9 of the work done."""
+    r = patch_march[0]
     scale = float(np.max(np.abs(r.work)))
     assert r.dissipated_friction[-1] > 1e-3 * scale
     assert float(np.max(np.abs(r.energy_residual()))) <= 1e-9 * scale
@@ -304,34 +333,12 @@ def test_refused_static_states_and_bad_input(elastic):
     assert _rigid_patch(2, KT_STUCK, False).replace(friction_coefficient=0.5).friction_coefficient == 0.5
 
 
-def test_varying_friction_energy_closed_form_is_the_gauss_rules(elastic):
+def test_varying_friction_energy_closed_form_is_the_gauss_rules(patch_march):
     """The friction energy of sliders on contacts, per closed-form piece: the closed form of modal
     pieces (response.modal_varying_friction, exponential sums) against the Gauss rule of 8
     sub-intervals per period of the fastest mode (exact to rounding for such integrands), over
-    two periods of the elastic root on its patches with varying normal loads."""
-    from frictionjoint.solvers.marcher import response
-
-    root = fj.PatchDovetailRoot(_flank(elastic["right"]), _flank(elastic["left"]), G, MU, elastic["reduced_load"],
-                                normal_load_variation=True)
-    sysm = fj.FrictionSystem(elastic["reduced"], [root], omega=3000.0,
-                             excitation=[fj.HarmonicForce(elastic["tip"], 1600.0)])
-    pairs = []
-    closed_form = response.modal_varying_friction
-
-    def both(system, itv, a, b):
-        value = closed_form(system, itv, a, b)
-        if value is not None and value != 0.0:
-            nodes, wts = response.gauss_pieces(itv, a, b)
-            xq, vq = itv.state(nodes)
-            pairs.append((value, response.varying_friction(system, itv, wts, xq, vq)))
-        return value
-
-    response.modal_varying_friction = both
-    try:
-        fj.simulate(sysm, 2 * 2 * math.pi / sysm.omega, record=("energy",))
-    finally:
-        response.modal_varying_friction = closed_form
-    values = np.array(pairs)
+    the march of the elastic root on its patches with varying normal loads (patch_march)."""
+    values = patch_march[1]
     assert len(values) > 10
     # closed form against Gauss quadrature, both exact: rounding (measured 8e-15 of the piece's
     # energy once, 1.3e-13 on another run); 1e-10 is over 100x
