@@ -207,8 +207,14 @@ def test_blade_example_runs():
     assert namespace["reduced"].dof_names[-1] == "r_w30" and namespace["model"].name == "Ti64CompressorBlade"
 
 
-@pytest.mark.slow  # about 30 s: three loads and three friction coefficients
+@pytest.mark.slow
+@pytest.mark.weekly  # 74 s on a loaded 2-core machine: two 3-point studies and three 121-point FRFs
 def test_blade_root_study_example(tmp_path):
+    """examples/blade_root_study.py, whole. Weekly (.ci/weekly): what it runs is covered on every commit
+    by test_study_example_runs (a Study of the same blade definition on a local pool, the damper
+    curve's minimum inside the loads), tests/test_study.py and tests/test_study_robust.py (Values,
+    run_study's restart from its CSV), tests/test_dovetail.py's friction-damper optimum and
+    tests/test_cli.py's blade sweep with its linear limits (BladeAssembly.frequency_response)."""
     out = tmp_path / "study.png"
     env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "blade_root_study.py"), str(out)],
@@ -248,8 +254,14 @@ def test_solid_blades_example_runs(tmp_path, monkeypatch):
     assert (tmp_path / "slip_pattern.png").read_bytes()[:8] == PNG_MAGIC
 
 
-@pytest.mark.slow  # about 50 s of CPU: three frequencies far apart, two of them slipping, the varying loads
+@pytest.mark.slow
+@pytest.mark.weekly  # 89 s on a loaded 2-core machine: three frequencies far apart, two slipping, the varying loads
 def test_solid_blade_root_example(tmp_path):
+    """examples/solid_blade_root.py, whole. Weekly (.ci/weekly): what it runs is covered on every commit
+    by test_solid_blades_example_runs (the solid blade reduced to its flanks, its static state, a
+    partial-slip steady state and its slip pattern), tests/test_solid_blade_model.py (the definition's
+    sweep, frozen and varying normal loads with lift-off), tests/test_solid_root.py (the static contact
+    state), tests/test_slip_pattern.py and tests/test_blade_fmu.py's solid blade run."""
     env = dict(os.environ, FRICTIONJOINT_EXAMPLE_POINTS="3")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "solid_blade_root.py"), str(tmp_path / "study")],
                           capture_output=True, text=True, timeout=600, cwd=tmp_path, env=env)
