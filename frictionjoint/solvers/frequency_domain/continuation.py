@@ -6,7 +6,9 @@ in scaled coordinates ``y = (z / z_s, omega / omega_s)`` (``z_s`` the size of th
 predictor along the unit tangent ``t``, corrector
 by Newton's method on ``r = 0`` and ``t . (y - y_pred) = 0`` with the analytic Jacobian (``dr/dz``
 from the exact hysteresis, ``dr/domega`` from ``d Z^-1 = -Z^-1 Z' Z^-1``). The step grows by 1.5
-after an easy correction (<= 3 iterations) and halves after a failed one. A fold (turning point)
+after an easy correction (<= 3 iterations) and halves after a failed one or one that does not
+continue the branch (:func:`_continues`: it jumped to another stretch, went back in omega without a
+fold, or turned by more than ``MAX_TURN`` in one step). A fold (turning point)
 is where the tangent's ``omega`` component changes sign: both branches of a hysteretic resonance
 come out in one run.
 """
@@ -102,6 +104,7 @@ def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b:
     y_prev = None
     ds = 1.0 / n_points
     ds_min, ds_max = 1e-7, 4.0 / n_points
+    ds_corner = ds / 64  # at or below it a turn of more than MAX_TURN is a corner of the branch (_continues)
     rows = [(w, cond.harmonics(jf.r), jf.dissipated, False, first.converged, first.message, jf.slider_positions,
              jf.stuck)]
     message = ""
@@ -116,20 +119,14 @@ def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b:
     try:
         while len(rows) < max_points:
             y_pred = y + ds * t
-            ok, yk, it, ck, jz, jw, jf = _correct(system, hh, y_pred, t, ws, zs, tol)
-            # a corrector that lands behind the last point (nearer the one before it) retraces the
-            # branch: at a kink of the loops' Jacobian (a slider's stick/slip boundary) the
-            # hyperplane can cut the branch twice; a shorter step goes on past the kink
-            # so does a corrector that moved farther than the step from its predictor (it jumped to
-            # another stretch of a steep, lightly damped resonance)
-            if (not ok or np.linalg.norm(yk - y_pred) > ds
-                    or (y_prev is not None and np.linalg.norm(yk - y_prev) < np.linalg.norm(yk - y))):
+            ok, yk, it, ck, jz, jw, jf = _correct(system, hh, y_pred, t, ws, zs, tol, y if ds <= ds_corner else None)
+            t_new = _tangent(jz, jw, t, ws, zs) if ok else None
+            if not ok or not _continues(y, y_prev, y_pred, yk, t, t_new, ds, ds_corner):
                 ds *= 0.5
                 if ds < ds_min:
                     message = f"step below {ds_min:g} at omega = {y[nz] * ws:.6g} rad/s: the branch could not be followed"
                     break
                 continue
-            t_new = _tangent(jz, jw, t, ws, zs)
             fold = (t_new[nz] * t[nz]) < 0
             y_prev = y
             y, t = yk, t_new
@@ -152,6 +149,55 @@ def _follow(system: FrictionSystem, hh: int, tol: float, first, w_a: float, w_b:
     finally:
         bar.close()
     return rows, message
+
+
+#: The largest turn of the unit tangent over one step [rad] (Allgower & Georg, *Introduction to
+#: Numerical Continuation Methods*, SIAM 2003, the steplength control of their Program 1: ``amax``)
+MAX_TURN = np.pi / 3
+
+
+def _continues(y, y_prev, y_pred, yk, t, t_new, ds, ds_corner) -> bool:
+    """Whether the corrected point ``yk`` (unit tangent ``t_new``) continues the branch from ``y``
+    (unit tangent ``t``; the point before it ``y_prev``) along the step ``ds`` predicted at ``y_pred``.
+
+    Refused (the caller halves the step), at any step:
+
+    - a point nearer the one before the last than the last: it retraces the branch (at a corner the
+      hyperplane can cut the branch twice; a shorter step goes on past the corner);
+    - a point behind the last in omega while both tangents point ahead in omega: no fold lies
+      between them, so a smooth arc from ``y`` to ``yk`` would have to turn back and forth (two folds)
+      within one step. This is the jump across a sharp peak: its loop brings the flanks below and
+      above it within a step of each other (a lightly damped linear peak, the free-slip limit of a
+      friction joint), and the hyperplane through a coarse predictor cuts the other flank (the
+      Ti-64 blade at friction_coefficient = 1e-20 went 1715 -> 1613 -> 1840 rad/s).
+
+    and above ``ds_corner`` (Allgower & Georg's steplength control, *Introduction to Numerical
+    Continuation Methods*, SIAM 2003, ch. 6: the distance to the curve and the angle between
+    tangents):
+
+    - a corrector that moved farther than the step from its predictor (it jumped to another stretch
+      of the branch);
+    - a step whose arc turns by more than ``MAX_TURN``: any smooth arc from ``y`` to ``yk`` turns by
+      at least ``a + b``, ``a`` and ``b`` the angles between the chord ``yk - y`` and the tangents
+      ``t`` and ``t_new`` (the chord is a mean of the arc's tangents, which lie within the spherical
+      ellipse of directions whose angles to ``t`` and ``t_new`` add up to at most the arc's turn).
+      On a plane arc ``a + b`` is the angle between the tangents; it is larger where the corrector
+      landed on another stretch of the branch.
+
+    At or below ``ds_corner`` a larger turn is a corner of the branch (a slider's stick/slip
+    boundary, a contact's lift-off: the loops' Jacobian jumps there), and passes; there the corrector
+    solves on the sphere of radius ``ds`` about ``y`` (:func:`_correct`), which cuts the branch
+    past a corner of any angle.
+    """
+    if y_prev is not None and np.linalg.norm(yk - y_prev) < np.linalg.norm(yk - y):
+        return False
+    if t[-1] * t_new[-1] > 0 and (yk[-1] - y[-1]) * t[-1] < -1e-6 * ds * abs(t[-1]):
+        return False
+    if ds <= ds_corner:
+        return True
+    chord = (yk - y) / np.linalg.norm(yk - y)
+    turn = np.arccos(np.clip(t @ chord, -1.0, 1.0)) + np.arccos(np.clip(chord @ t_new, -1.0, 1.0))
+    return bool(np.linalg.norm(yk - y_pred) <= ds and turn <= MAX_TURN)
 
 
 def _check_range(omega_range, n_points, check):
@@ -203,11 +249,15 @@ def _tangent(jz: np.ndarray, jw: np.ndarray, t_prev: np.ndarray, ws: float, zs: 
     return t if t @ t_prev >= 0 else -t
 
 
-def _correct(system: FrictionSystem, hh: int, y_pred: np.ndarray, t: np.ndarray, ws: float, zs: float, tol: float):
-    """Newton's corrector from the predicted ``y_pred`` on ``r = 0`` and ``t . (y - y_pred) = 0``:
-    ``(ok, y, iterations + 1, condensed system, dr/dz, dr/domega, joint forces)`` (``ok`` False:
-    no convergence in 15 iterations, a frequency <= 0 or a singular matrix)."""
+def _correct(system: FrictionSystem, hh: int, y_pred: np.ndarray, t: np.ndarray, ws: float, zs: float, tol: float,
+             centre: np.ndarray | None = None):
+    """Newton's corrector from the predicted ``y_pred`` on ``r = 0`` and ``t . (y - y_pred) = 0``
+    (or, given ``centre``, on the sphere ``|y - centre| = |y_pred - centre|``: it cuts the branch
+    past a corner of any angle, where the hyperplane cuts the branch's new stretch far away or not
+    at all): ``(ok, y, iterations + 1, condensed system, dr/dz, dr/domega, joint forces)`` (``ok``
+    False: no convergence in 15 iterations, a frequency <= 0 or a singular matrix)."""
     nz = y_pred.size - 1
+    radius = None if centre is None else float(np.linalg.norm(y_pred - centre))
     yk = y_pred.copy()
     ck = jz = jw = jf = None
     for it in range(1, 16):
@@ -217,13 +267,16 @@ def _correct(system: FrictionSystem, hh: int, y_pred: np.ndarray, t: np.ndarray,
         ck = Condensed(_at(system, wk), hh)
         zk = yk[:nz] * zs
         res, jz, jw, jf = _equations(zk, ck)
-        arc = t @ (yk - y_pred)
+        if centre is None:
+            arc, row = t @ (yk - y_pred), t
+        else:  # (|y - centre|^2 - radius^2) / (2 radius): the hyperplane's arc to first order
+            arc, row = ((yk - centre) @ (yk - centre) - radius ** 2) / (2.0 * radius), (yk - centre) / radius
         if float(np.max(np.abs(res))) <= tol * max(float(np.max(np.abs(zk))), 1e-6 * zs) and abs(arc) <= 1e-12:
             return True, yk, it, ck, jz, jw, jf
         a = np.zeros((nz + 1, nz + 1))
         a[:nz, :nz] = jz * zs
         a[:nz, nz] = jw * ws
-        a[nz] = t
+        a[nz] = row
         try:
             step = np.linalg.solve(a, -np.r_[res, arc])
         except np.linalg.LinAlgError:
