@@ -102,7 +102,7 @@ def test_readme_opens_with_the_two_commands():
     assert "CoulombOscillator.fmu" in main_job and "--compare analytic" in main_job
     assert "--plot " in main_job
     assert tests.startswith("python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && ")
-    assert tests.endswith("pytest -q")
+    assert tests.endswith("pytest -q -n auto")  # pytest-xdist: every core (the tests are single-threaded)
     assert "<!-- numbers filled in by the core developer -->" in text or "## Accuracy" in text
     # what a newcomer needs in the first five minutes; the rest is in the guide (issue 27)
     assert len(text.splitlines()) <= 250
