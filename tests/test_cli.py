@@ -279,10 +279,12 @@ def test_sweep_through_the_fmu_reports_requested_outputs(fmus, tmp_path):
     assert "friction_force_peak" in text and "v_amplitude" in text
 
 
-def test_sweep_rejects_an_fmu_without_oscillator_variables(fmus):
-    proc = run("sweep", str(fmus["JenkinsJoint"]), "--omega", "1:2:2", "--set", "force_amplitude=1")
-    assert proc.returncode == 2
-    assert "not an oscillator FMU" in proc.stderr and "lacks the variables" in proc.stderr
+def test_sweep_rejects_an_fmu_without_oscillator_variables(fmus, capsys):
+    with pytest.raises(SystemExit) as exc:  # in this process: the same parser as the subprocess's
+        main(["sweep", str(fmus["JenkinsJoint"]), "--omega", "1:2:2", "--set", "force_amplitude=1"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "not an oscillator FMU" in err and "lacks the variables" in err
 
 
 def test_host_env_prints_what_a_native_host_needs(capsys):
@@ -364,27 +366,28 @@ def test_build_fmus_blade(tmp_path, capsys):
         assert words in capsys.readouterr().err
 
 
-@pytest.mark.slow  # about 4 s: a subprocess sweeping the blade on its root
-def test_sweep_blade_model_with_its_linear_limits(tmp_path):
+@pytest.mark.slow  # about 4 s: sweeping the blade on its root
+def test_sweep_blade_model_with_its_linear_limits(tmp_path, capsys):
     """``sweep ti64_compressor_blade``: the tip's first harmonic with the root's linear limits; far
     from resonance the root sticks and the tip equals the stuck limit (the same linear solve, to
-    rounding); the CSV round trip keeps every number; bad input names itself."""
+    rounding); the CSV round trip keeps every number; bad input names itself. In this process
+    through main(argv) (the real command's subprocesses: the demo, map and compare tests above)."""
     from frictionjoint.results import OutputSweep
 
     png, table = tmp_path / "blade.png", tmp_path / "blade.csv"
-    proc = run("sweep", "ti64_compressor_blade", "--set", "centrifugal_force=200", "--omega", "1800:2100:4",
-               "--csv", str(table), "--plot", str(png), "--no-progress")
-    assert proc.returncode == 0, proc.stderr
-    assert "4 of 4 points converged" in proc.stdout
+    assert main(["sweep", "ti64_compressor_blade", "--set", "centrifugal_force=200", "--omega", "1800:2100:4",
+                 "--csv", str(table), "--plot", str(png), "--no-progress"]) == 0
+    assert "4 of 4 points converged" in capsys.readouterr().out
     fr = OutputSweep.from_csv(table)
     assert fr.output == "w30" and fr.stuck[0]
     assert abs(fr.response[0] - fr.limits["stuck"][0]) <= 1e-9 * abs(fr.limits["stuck"][0])
     assert png.read_bytes()[:8] == PNG_MAGIC
-    bad = run("sweep", "ti64_compressor_blade", "--set", "flank=1", "--omega", "1800:2100:2")
-    assert bad.returncode != 0 and "flank" in bad.stderr
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", "ti64_compressor_blade", "--set", "flank=1", "--omega", "1800:2100:2"])
+    assert exc.value.code == 2 and "flank" in capsys.readouterr().err
 
 
-def test_sweep_blade_fmu_equals_the_library_sweep(fmus, tmp_path):
+def test_sweep_blade_fmu_equals_the_library_sweep(fmus, tmp_path, capsys):
     """``sweep BladeDovetail.fmu``: the blade FMU through fmpy; its CSV equals the library's sweep
     of the definition (to 1e-8; tests/test_blade_fmu.py for more)."""
     import numpy as np
@@ -400,36 +403,38 @@ def test_sweep_blade_fmu_equals_the_library_sweep(fmus, tmp_path):
     fr = OutputSweep.from_csv(table)
     lib = fj.sweep("ti64_compressor_blade", fr.omega, {"centrifugal_force": 46.0})
     assert np.max(np.abs(fr.response - lib.response) / np.abs(lib.response)) <= 1e-8
-    bad = run("sweep", str(fmus["BladeDovetail"]), "--set", "flank=1", "--omega", "1800:2100:2")
-    assert bad.returncode != 0 and "flank" in bad.stderr
+    with pytest.raises(SystemExit) as exc:  # in this process: the same parser as the subprocess's
+        main(["sweep", str(fmus["BladeDovetail"]), "--set", "flank=1", "--omega", "1800:2100:2"])
+    assert exc.value.code == 2 and "flank" in capsys.readouterr().err
 
 
-def test_sweep_blade_model_by_harmonic_balance(tmp_path):
+def test_sweep_blade_model_by_harmonic_balance(tmp_path, capsys):
     """``sweep MODEL --method hbm --harmonics H``: the harmonic-balance branch (continuation) in the
     same table and CSV, its stuck points on the stuck linear limit (the same linear solve); the
-    oscillator has no --method hbm."""
+    oscillator has no --method hbm. In this process through main(argv)."""
     import numpy as np
 
     from frictionjoint.results import OutputSweep
 
     table = tmp_path / "hbm.csv"
-    proc = run("sweep", "ti64_compressor_blade", "--set", "centrifugal_force=259", "--omega", "1950:2100:20",
-               "--method", "hbm", "--harmonics", "5", "--check", "--csv", str(table), "--no-progress")
-    assert proc.returncode == 0, proc.stderr
-    assert "harmonic balance (H = 5)" in proc.stdout and "points converged" in proc.stdout
-    assert "stable" in proc.stdout.splitlines()[2] and "fold" in proc.stdout.splitlines()[2]
+    assert main(["sweep", "ti64_compressor_blade", "--set", "centrifugal_force=259", "--omega", "1950:2100:20",
+                 "--method", "hbm", "--harmonics", "5", "--check", "--csv", str(table), "--no-progress"]) == 0
+    stdout = capsys.readouterr().out
+    assert "harmonic balance (H = 5)" in stdout and "points converged" in stdout
+    assert "stable" in stdout.splitlines()[2] and "fold" in stdout.splitlines()[2]
     fr = OutputSweep.from_csv(table)
     assert fr.converged.all() and fr.omega[0] == 1950.0 and fr.omega[-1] >= 2100.0
     # every point checked against its exact orbit (the blade's forced resonance has no fold: all
     # stable); stuck points are exact, slipping ones carry the truncation (at H = 5 up to 64 % of
     # the complex first harmonic just after the root starts to slip, where the phase swings)
     assert fr.stable is not None and all(v is True for v in fr.stable) and not fr.fold.any()
-    assert "trunc. err" in proc.stdout and np.all(np.isfinite(fr.truncation_error))
+    assert "trunc. err" in stdout and np.all(np.isfinite(fr.truncation_error))
     assert np.all(fr.truncation_error[fr.stuck] <= 1e-9) and np.all(fr.truncation_error[~fr.stuck] > 1e-6)
     assert fr.stuck.any() and not fr.stuck.all()
     s = fr.stuck
     assert np.max(np.abs(fr.response[s] - fr.limits["stuck"][s]) / np.abs(fr.limits["stuck"][s])) <= 1e-8
-    bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--method", "hbm")
-    assert bad.returncode != 0 and "blade model" in bad.stderr
-    bad = run("sweep", "CoulombOscillator", "--omega", "0.5:2:3", "--check")
-    assert bad.returncode != 0 and "--check" in bad.stderr
+    for option in (["--method", "hbm"], ["--check"]):
+        with pytest.raises(SystemExit) as exc:
+            main(["sweep", "CoulombOscillator", "--omega", "0.5:2:3", *option])
+        err = capsys.readouterr().err
+        assert exc.value.code == 2 and "blade model" in err and option[0] in err
