@@ -293,14 +293,48 @@ def blade(normal_load_variation=False):
     return asm.system(2000.0)
 
 
-@pytest.mark.slow
-def test_blade_against_the_exact_epmc_orbit():
+@pytest.fixture(scope="module")
+def blade_below_the_folds():
+    """The blade (frozen normal loads) at H = 15 and H = 7 from stuck (1e-7 m at w0) to 1e-5 m, where
+    the root sticks and slips by turns below the modal interaction's folds (zeta = 0.069), and the
+    exact EPMC orbits at the H = 15 points: ``(system, nm15, nm7, orbits, dw15, dz15)``."""
+    system = blade()
+    amps = np.geomspace(1e-7, 1e-5, 5)
+    nm15 = nonlinear_mode(system, amplitudes=amps, n_harmonics=15, dof="w0")
+    nm7 = nonlinear_mode(system, amplitudes=amps, n_harmonics=7, dof="w0")
+    assert nm15.success and nm7.success, (nm15.message, nm7.message)
+    orbits, dw, dz = exact_against_balance(system, nm15)
+    return system, nm15, nm7, orbits, dw, dz
+
+
+@pytest.mark.slow  # the blade's exact EPMC orbits: 4-9 s
+def test_blade_against_the_exact_epmc_orbit(blade_below_the_folds):
+    """The blade (frozen normal loads), H = 15, against the EPMC orbit solved exactly in time, with
+    the bounds of the full branch (test_blade_full_branch_against_the_exact_epmc_orbit, weekly) on
+    its two ends, without the modal interaction's folds (their arc length:
+    test_blade_branch_through_the_modal_interaction): from stuck (1e-7 m) to 1e-5 m, stuck the same (a linear mode) and where the root
+    sticks and slips by turns within 3e-3 in frequency and 3.5e-2 in zeta (measured 2.0e-4, 8.9e-3);
+    followed down from deep slip (1e-2 m to 5.6e-4 m) within 1e-4 and 1e-3 (measured 5.6e-5, 8.1e-4)."""
+    system, nm, _, orbits, dw, dz = blade_below_the_folds
+    assert all(o.converged for o in orbits) and nm.stuck[0]
+    assert np.all(dw[nm.stuck] <= EXACT_TOL) and np.all(dz[nm.stuck] <= EXACT_TOL)
+    assert np.max(dw) <= 3e-3 and np.max(dz) <= 3.5e-2, (dw, dz)
+    deep = nonlinear_mode(system, amplitudes=[1e-2, 1e-3, 5.6e-4], n_harmonics=15, dof="w0")
+    assert deep.success and not deep.stuck.any(), deep.message
+    orbits, dw, dz = exact_against_balance(system, deep)
+    assert all(o.converged for o in orbits)
+    assert np.all(dw <= 1e-4) and np.all(dz <= 1e-3), (dw, dz)
+
+
+@pytest.mark.weekly
+def test_blade_full_branch_against_the_exact_epmc_orbit():
     """The blade (frozen normal loads), H = 15, 21 amplitudes at w0 from stuck (1e-7 m) through the
     damping peak (zeta = 0.129 at 1.8e-5 m) to deep slip (1e-2 m), against the EPMC orbit solved
     exactly in time at each: stuck the same (a linear mode); deep in slip (>= 5.6e-4 m) within 1e-4
     in frequency and 1e-3 in zeta (measured 5.6e-5, 8.0e-4); where the root sticks and slips by turns
-    the truncation shows, up to 2.7e-3 in frequency and 3.1e-2 in zeta (at 5.6e-5 m), which the next
-    test shows falling with H."""
+    the truncation shows, up to 2.7e-3 in frequency and 3.1e-2 in zeta (at 5.6e-5 m), which
+    test_blade_truncation_falls_with_the_harmonics_past_the_folds shows falling with H. Weekly (83 s
+    under load): test_blade_against_the_exact_epmc_orbit covers its code paths on the branch's ends."""
     system = blade()
     nm = nonlinear_mode(system, amplitudes=np.geomspace(1e-7, 1e-2, 21), n_harmonics=15, dof="w0")
     assert nm.success, nm.message
@@ -313,12 +347,27 @@ def test_blade_against_the_exact_epmc_orbit():
     assert 0.12 <= max(o.damping_ratio for o in orbits) <= 0.14  # measured 0.129
 
 
-@pytest.mark.slow
-def test_blade_truncation_falls_with_the_harmonics():
+@pytest.mark.slow  # the blade's exact EPMC orbits: 4-9 s
+def test_blade_truncation_falls_with_the_harmonics(blade_below_the_folds):
+    """At 1e-5 m at w0 (the root sticks and slips by turns, zeta = 0.069) the balance's difference
+    from the exact EPMC orbit is its truncation: it falls with H (measured in zeta 2.3e-2 and 6.2e-3
+    at H = 7 and 15, in frequency 1.3e-3 and 7.8e-7). The same past the folds, at H = 15 and 31:
+    test_blade_truncation_falls_with_the_harmonics_past_the_folds (weekly)."""
+    _, nm15, nm7, orbits, dw, dz = blade_below_the_folds
+    exact = orbits[-1]
+    assert exact.converged and nm7.amplitude[-1] == nm15.amplitude[-1]
+    dw7 = abs(nm7.frequency[-1] / exact.frequency - 1)
+    dz7 = abs(nm7.damping_ratio[-1] / exact.damping_ratio - 1)
+    assert dz7 > 1e-2 and dz[-1] <= dz7 / 3 and dw[-1] <= dw7 / 3, (dw7, dz7, dw[-1], dz[-1])
+
+
+@pytest.mark.weekly
+def test_blade_truncation_falls_with_the_harmonics_past_the_folds():
     """At 5.6e-5 m at w0 (past the modal interaction's folds, zeta = 0.056) the balance's difference
     from the exact EPMC orbit is its truncation: it falls about as 1 / H^2 (measured in zeta 3.1e-2,
     8.0e-3 and 2.0e-3 at H = 15, 31 and 63; in frequency 1.9e-3, 4.9e-4, 1.2e-4); H = 63 is left out
-    here for its cost (2 minutes)."""
+    here for its cost (2 minutes). Weekly (166 s under load): test_blade_truncation_falls_with_the_harmonics
+    covers its code paths below the folds, test_blade_branch_through_the_modal_interaction the folds."""
     system = blade()
     amps = np.geomspace(1e-7, 5.623e-5, 12)
     errors = []
@@ -332,15 +381,33 @@ def test_blade_truncation_falls_with_the_harmonics():
     assert dz15 > 1e-2 and dz31 <= dz15 / 3 and dw31 <= dw15 / 3, errors
 
 
-@pytest.mark.slow
+@pytest.mark.slow  # the blade's exact EPMC orbits: 4-9 s
 def test_blade_with_normal_load_variation_against_the_exact_epmc_orbit():
+    """The blade with its flanks' normal loads varying, H = 15, from stuck (1e-7 m at w0) to 1e-5 m
+    (below the modal interaction's folds), against the exact EPMC orbit: stuck the same; within the
+    bounds of the full branch (2.5e-3 in frequency and 2.9e-2 in zeta; measured here 2.6e-4 and
+    1.2e-2), the same truncation as with frozen loads. The full branch through the damping peak:
+    test_blade_with_normal_load_variation_full_branch (weekly)."""
+    system = blade(normal_load_variation=True)
+    nm = nonlinear_mode(system, amplitudes=np.geomspace(1e-7, 1e-5, 5), n_harmonics=15, dof="w0")
+    assert nm.success, nm.message
+    orbits, dw, dz = exact_against_balance(system, nm)
+    assert all(o.converged for o in orbits) and nm.stuck[0]
+    assert np.all(dw[nm.stuck] <= EXACT_TOL) and np.all(dz[nm.stuck] <= EXACT_TOL)
+    assert np.max(dw) <= 2.5e-3 and np.max(dz) <= 2.9e-2, (dw, dz)
+
+
+@pytest.mark.weekly
+def test_blade_with_normal_load_variation_full_branch():
     """The blade with its flanks' normal loads varying, H = 15, from stuck (1e-7 m at w0) through the
     damping peak (zeta = 0.132 at 1.8e-5 m) to 5.6e-5 m, against the exact EPMC orbit: stuck the
     same; up to 2.5e-3 in frequency and 2.9e-2 in zeta (measured 2.4e-3 and 2.8e-2), the same
     truncation as with frozen loads. Beyond, the exact orbit's flanks lift off (its least normal
     load 5.4 N at 5.6e-5 m; lifted 3 % of the period at 6.5e-5 m): a motion of impacts on the stiff
     normal contact, where the exact orbit was solved at 6.3e-5 and 6.5e-5 m and not beyond, by
-    amplitude or by arc length, and where the balance folds twice and stops at 1.15e-4 m."""
+    amplitude or by arc length, and where the balance folds twice and stops at 1.15e-4 m. Weekly (69 s
+    under load): test_blade_with_normal_load_variation_against_the_exact_epmc_orbit covers its code
+    paths below the folds."""
     system = blade(normal_load_variation=True)
     nm = nonlinear_mode(system, amplitudes=np.geomspace(1e-7, 1e-4, 13)[:12], n_harmonics=15, dof="w0")
     assert nm.success, nm.message
