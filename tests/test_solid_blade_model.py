@@ -135,14 +135,15 @@ def test_balance_at_the_partial_slip_peak_needs_more_harmonics(assembly):
     assert err[31] <= HBM < err[15]
 
 
-@pytest.mark.slow  # about 16 s (80 s on a loaded machine): the balance at H = 31 and its exact orbit
+@pytest.mark.slow  # about 20 s (40 s on a loaded machine): the balance at H = 31 (10 s) and its exact orbit (14 s)
 def test_balance_with_varying_normal_loads_and_lift_off(assembly):
     """Normal loads varying with the motion (each node's slip limit mu N_i(t), lift-off): at 50 N the
     root stays stuck near 1900 rad/s; at 150 N and 1900 rad/s every node slips over part of the
     cycle and two lift off (right flank's leading-edge node, left flank's trailing-edge node: the
     corner force twists the root). H = 31 is within 1e-3 of the exact orbit; H = 15 is not
-    (1.6e-3; H = 21 1.2e-3): the lift-offs and closures make the joint forces' harmonics fall
-    slowly, as at the frozen loads' peak."""
+    (measured 1.6e-3, not run here: 4 s and nothing asserted on it; H = 21 1.2e-3, H = 25 9.3e-4):
+    the lift-offs and closures make the joint forces' harmonics fall slowly, as at the frozen
+    loads' peak."""
     w = 1900.0
     varying = BladeAssembly(assembly.structure, [assembly.joints[0].replace(normal_load_variation=True)],
                             {assembly.tip: 150.0})
@@ -150,13 +151,12 @@ def test_balance_with_varying_normal_loads_and_lift_off(assembly):
     hb31 = harmonic_balance(varying.system(w), n_harmonics=31, check=True)
     exact = hb31.exact
     x_exact = varying.first_harmonic(exact, varying.tip)
-    hb15 = harmonic_balance(varying.system(w), n_harmonics=15)
-    err = {h: _relative(complex(hb.harmonics[1] @ row), x_exact) for h, hb in ((15, hb15), (31, hb31))}
+    err = _relative(complex(hb31.harmonics[1] @ row), x_exact)
     lifted = sorted({s for _, _, s, kind in exact.events if kind == "lift-off"})
     print(f"varying normal loads, 150 N, {w:g} rad/s: |X| = {abs(x_exact):.6e} m, sliders slipping "
-          f"{_slipping_nodes(exact)}, lifting off {lifted}; error H = 15 {err[15]:.2e}, H = 31 {err[31]:.2e}")
-    assert exact.converged and not exact.stuck and hb31.converged and hb15.converged
-    assert lifted and err[31] <= HBM
+          f"{_slipping_nodes(exact)}, lifting off {lifted}; error H = 31 {err:.2e}")
+    assert exact.converged and not exact.stuck and hb31.converged
+    assert lifted and err <= HBM
 
 
 # ------------------------------------------------------------ reduced against unreduced, linear limits
@@ -182,7 +182,7 @@ def test_reduction_is_exact_off_resonance(assembly, unreduced):
 
 
 @pytest.mark.slow  # 2 x ~14 sparse LUs of the unreduced model, two reductions (was 74 s at load 4)
-def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
+def test_reduction_against_unreduced_by_number_of_modes(model, assembly, unreduced):
     """Tip receptance below the cut-off ``omega_n / 3``, at the unreduced model's resonances there
     (where the error, the mode's frequency error over its damping ratio, is largest) and 6
     frequencies between, relative to the largest receptance: 20 modes meet 1e-3 in both limits;
@@ -195,7 +195,7 @@ def test_reduction_against_unreduced_by_number_of_modes(model, unreduced):
     import scipy.sparse.linalg as spla
 
     limits, tip = unreduced
-    assemblies = {n: BladeAssembly.from_model(model, n_modes=n) for n in (5, 20)}
+    assemblies = {5: assembly, 20: BladeAssembly.from_model(model, n_modes=20)}  # 5: the definition's
     cuts = {n: cut_off(a) / 3 for n, a in assemblies.items()}
     errors = {}
     for limit, (m, k, c) in limits.items():
