@@ -42,7 +42,11 @@ def test_damper_curve_has_a_minimum_between_the_linear_limits(blade):
     fc0 = blade.joints[0].centrifugal_force
     curve = {}
     for scale in (1e-3, 2.154e-3, 4.642e-3, 0.1, 1.0):
-        w, amp = blade.with_root(centrifugal_force=scale * fc0).peak(1600.0, 2200.0, "w30", n_grid=41, xtol=1e-7)
+        # one resonance in 1600-2200 rad/s: 13 grid points bracket it (the same peaks as 41 to 3e-11 in
+        # amplitude); xtol 1e-7 for the 1e-9 check at full load, 1e-5 elsewhere (a flat top: amplitudes
+        # the same to 4e-11, peaks within 4e-6 in omega against the 1e-3 bounds): 20 -> 8 s
+        w, amp = blade.with_root(centrifugal_force=scale * fc0).peak(1600.0, 2200.0, "w30", n_grid=13,
+                                                                     xtol=1e-7 if scale == 1.0 else 1e-5)
         curve[scale] = (w, amp)
         assert w_slip * (1 - 1e-3) <= w <= w_stuck * (1 + 1e-3)  # between the limits
     assert curve[1.0][1] == pytest.approx(a_stuck, rel=1e-9)
