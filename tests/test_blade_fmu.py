@@ -227,13 +227,15 @@ def test_solid_blade_fmu_validates_with_the_patch_outputs(solid_fmu, fmus):
 def test_solid_blade_fmu_sweep_equals_the_library_sweep(solid_fmu):
     """frictionjoint.sweep of the solid blade's FMU (through fmpy, as BladeDovetail.fmu's) equals the
     library's sweep of the definition (SOLID_DEFINITION_TOL, see there) and, where the FMU ran the
-    installed library, the library's sweep of the FMU's own reduced assembly to SOLID_SAME_MODEL_TOL;
-    the dissipation per cycle likewise where the flanks slip."""
+    installed library, the library's sweep of the FMU's own reduced assembly to SOLID_SAME_MODEL_TOL
+    (that assembly is the definition's bit for bit); the dissipation per cycle likewise where the
+    flanks slip."""
     from frictionjoint.structures import blade_run
 
     blade_run._REDUCED.clear()
     a = fj.sweep(str(solid_fmu), SOLID_OMEGAS)
-    b = fj.sweep(SOLID, SOLID_OMEGAS)
+    lib = BladeAssembly.from_model(load_blade_model(SOLID))  # what fj.sweep(SOLID, ...) sweeps
+    b = fj.sweep(lib, SOLID_OMEGAS)
     assert a.converged.all() and b.converged.all(), (a.messages, b.messages)
     # 1894 rad/s sticks: its dissipation is rounding (~1e-13 J, or 0), the flag may say either
     slip = b.dissipated_per_cycle > 1e-6
@@ -242,10 +244,14 @@ def test_solid_blade_fmu_sweep_equals_the_library_sweep(solid_fmu):
     diss = np.abs(a.dissipated_per_cycle - b.dissipated_per_cycle)[slip] / b.dissipated_per_cycle[slip]
     assert np.max(diss) <= SOLID_DEFINITION_TOL
     if len(blade_run._REDUCED) == 1:  # the FMU ran the installed library (the bundle where it is edited)
-        c = fj.sweep(next(iter(blade_run._REDUCED.values())), SOLID_OMEGAS)
-        assert np.max(np.abs(a.response - c.response) / np.abs(c.response)) <= SOLID_SAME_MODEL_TOL
-        diss = np.abs(a.dissipated_per_cycle - c.dissipated_per_cycle)[slip] / c.dissipated_per_cycle[slip]
-        assert np.max(diss) <= SOLID_SAME_MODEL_TOL
+        # its reduced assembly is the definition's bit for bit (repeatable reductions), so b is the
+        # sweep of the FMU's own model and the bound above (within SOLID_SAME_MODEL_TOL) holds for it;
+        # sweeping that model again gave b's numbers exactly (21 s of the test's 70 s, loaded)
+        own = next(iter(blade_run._REDUCED.values()))
+        for name in ("mass", "stiffness", "damping"):
+            assert np.array_equal(getattr(own.structure, name), getattr(lib.structure, name)), name
+        assert own.loads == lib.loads and repr(own.joints) == repr(lib.joints)
+        assert SOLID_DEFINITION_TOL <= SOLID_SAME_MODEL_TOL
 
 
 @pytest.mark.slow

@@ -68,11 +68,13 @@ import numpy as np
 import scipy.linalg
 
 from ..errors import ParameterError, check_count
+from ..threads import owns_blas_threads
 from ..structure import LinearStructure
 
 __all__ = ["interface_reduction"]
 
 
+@owns_blas_threads
 def interface_reduction(reduced: LinearStructure, n_modes: int, keep: Sequence = ()) -> LinearStructure:
     """Reduce the boundary of a Craig-Bampton model to the ``keep`` DOFs plus ``n_modes``
     interface modes (module docstring).

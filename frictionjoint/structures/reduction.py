@@ -67,6 +67,7 @@ import scipy.sparse as sp
 
 from ..errors import ParameterError, check_count, check_nonnegative
 from ..memory import check_fits
+from ..threads import owns_blas_threads
 from ..structure import LinearStructure
 
 if TYPE_CHECKING:
@@ -78,6 +79,7 @@ __all__ = ["craig_bampton", "BLOCK"]
 BLOCK = 64
 
 
+@owns_blas_threads
 def craig_bampton(structure: LinearStructure | FEModel, boundary_dofs: Sequence, n_modes: int = 5,
                   loaded_dofs: Sequence = (), *, rayleigh: tuple | None = None) -> LinearStructure:
     """Craig-Bampton reduction of ``structure`` to ``boundary_dofs`` plus ``n_modes`` modes.
