@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import collections
 import math
-import os
 from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ...errors import ConvergenceError, ParameterError, check_system, check_vector
+from ...memory import computation_budget
 from ...system import FrictionSystem
 from .eventlog import EVENT_KINDS, EventLog, MarchState
 from .patterns import StatusPattern
@@ -36,16 +36,6 @@ from . import search
 __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 
 
-def _quarter_of_memory(fallback: int = 2 * 2 ** 30) -> int:
-    """A quarter of the physical memory [bytes] where ``os.sysconf`` reports it (POSIX), at least
-    ``fallback``; ``fallback`` elsewhere (Windows)."""
-    try:
-        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, ValueError, OSError):  # no sysconf, or no such name
-        return fallback
-    return max(fallback, total // 4)
-
-
 #: memory of decomposed configurations and their status patterns one marcher keeps [bytes], as
 #: counted when they are built and packed (the event search's modal coefficients included; a
 #: first-order matrix built on a rare first use is not): beyond, the least recently used are
@@ -55,7 +45,7 @@ def _quarter_of_memory(fallback: int = 2 * 2 ** 30) -> int:
 #: decomposed every configuration twice per period). At 200 DOFs a configuration holds about
 #: 2.3 MB and 1.3 MB packed for the consistency test, a status pattern about 0.8 MB, and a chain
 #: of 200 DOFs and 40 joints visits 80 configurations and 160 statuses per period
-CONFIG_CACHE_BYTES = _quarter_of_memory()
+CONFIG_CACHE_BYTES = computation_budget()
 _SAMPLES_PER_PERIOD = 16
 #: closed-form pieces one march may take per excitation period (plus one period's worth): beyond,
 #: it stops with a ConvergenceError (a scene whose events come faster than the march can take
