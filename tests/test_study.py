@@ -277,7 +277,11 @@ def test_ctrl_c_on_the_command_leaves_a_table_that_resumes(tmp_path):
                  '[sweep]\nomega = "1990:2060:6"\nrefine_peak = false\n')
     table = tmp_path / "s.csv"
     cmd = [sys.executable, "-m", "frictionjoint", "study", str(f), "--workers", "2", "--no-progress"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    # Ctrl-C as in a terminal: SIGINT at its default in the command (a shell without job control
+    # starts background jobs with SIGINT ignored, which a child inherits and Python then keeps:
+    # run so, e.g. from a CI script started with '&', the command never saw the signal)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and (not table.exists() or table.read_text().count("\n") < 3):
         time.sleep(0.1)  # header lines, then the first row
