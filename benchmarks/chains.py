@@ -1,9 +1,15 @@
 """Steady states of multi-DOF chains with Jenkins joints: run time, periods marched, per-event cost.
 
-The chain: ``n`` unit masses, fixed-free, unit springs (``LinearStructure.chain``), 2 % of critical
-damping in the first mode (mass-proportional), force 0.01 N at the free end at ``0.9 w1``, and
-``j`` Jenkins joints to the ground on the outer half (stiffness ``0.5 w1^2``, slip force 0.3 x the
-spring force of the stuck linear response, so that they stick and slip every period).
+The chain: ``n`` unit masses, fixed-free, unit springs (``LinearStructure.chain``), a dashpot
+``0.02 w1`` to the ground at each mass (mass-proportional: 1 % of critical damping in the first
+mode), force 0.01 N at the free end at ``0.9 w1``, and ``j`` Jenkins joints to the ground on the
+outer half (stiffness ``0.5 w1^2``, slip force 0.3 x the largest joint spring force of the stuck
+linear response, the same for every joint).
+
+The damping families of issue 40 (:func:`damped_chain`): the same chain and force with the damping
+users have -- mass- or stiffness-proportional, Rayleigh, modal, or mass-proportional with a
+discrete dashpot -- and joints from ``0.5 w1^2`` to 10 x the chain's springs, each joint's slip
+force 0.3 x its own stuck force, so that every joint sticks and slips every period.
 
 Baseline, in the same process: the algorithm before the fast paths, reproduced by switches of the
 same code -- the period map's Jacobian by finite differences (``jacobian='fd'``), the NumPy event
@@ -25,6 +31,7 @@ import time
 from contextlib import contextmanager
 
 import numpy as np
+import scipy.linalg
 
 import frictionjoint as fj
 from frictionjoint.solvers.marcher import piece_kernels, propagator, steady
@@ -36,7 +43,7 @@ def chain(n: int, joints: int, slip_ratio: float = 0.3) -> fj.FrictionSystem:
     """The benchmark chain (see the module docstring); ``slip_ratio`` large: joints stay stuck."""
     w1 = 2 * math.sin(math.pi / (2 * (2 * n + 1)))
     structure = fj.LinearStructure.chain(n, damping=0.02 * w1)
-    dofs = sorted({int(d) for d in np.linspace(n - 1, n // 2, joints).round()})
+    dofs = joint_dofs(n, joints)
     kt = 0.5 * w1 ** 2
     exc = [fj.HarmonicForce(n - 1, 0.01)]
     k = structure.stiffness + kt * sum(np.outer(np.eye(n)[d], np.eye(n)[d]) for d in dofs)
@@ -44,6 +51,100 @@ def chain(n: int, joints: int, slip_ratio: float = 0.3) -> fj.FrictionSystem:
     x = np.linalg.solve(k - w * w * structure.mass + 1j * w * structure.damping, 0.01 * np.eye(n)[n - 1])
     slip = slip_ratio * kt * float(np.max(np.abs(x[dofs])))
     return fj.FrictionSystem(structure, [fj.Jenkins(kt, slip, dof=d) for d in dofs], omega=w, excitation=exc)
+
+
+#: damping forms of :func:`damped_chain`
+DAMPINGS = ("mass", "stiffness", "rayleigh", "modal", "dashpot")
+ZETA = 0.01  # the damping ratio the forms are set to (of critical, in the free chain's modes)
+
+
+def joint_dofs(n: int, joints: int) -> list[int]:
+    """The joints' DOFs: ``joints`` spread evenly over the outer half (fewer if they coincide)."""
+    return sorted({int(d) for d in np.linspace(n - 1, n // 2, joints).round()})
+
+
+def free_modes(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Circular frequencies (n,) [rad/s], ascending, and mass-normalised mode shapes (n, n) of the
+    free chain (``LinearStructure.chain(n)``, no joint)."""
+    base = fj.LinearStructure.chain(n)
+    lam, phi = scipy.linalg.eigh(base.stiffness, base.mass)
+    return np.sqrt(lam), phi
+
+
+def rayleigh_mode(n: int) -> int:
+    """The higher mode (1-based) of the Rayleigh family's second 1 % point: the mode near ``n / 10``,
+    at least mode 2 (at most mode ``n``)."""
+    return min(max(round(n / 10), 2), n)
+
+
+def damping_matrix(n: int, damping: str) -> np.ndarray:
+    """The damping matrix (n, n) [N s/m] of :func:`damped_chain`'s form ``damping`` for the free
+    chain of ``n`` unit masses (``w``: its circular frequencies, ``Phi``: its mass-normalised modes):
+
+    - ``'mass'``: ``alpha M``, ``ZETA`` of critical in mode 1 (``alpha = 2 ZETA w1``);
+    - ``'stiffness'``: ``beta K``, ``ZETA`` in mode 1 (``beta = 2 ZETA / w1``);
+    - ``'rayleigh'``: ``alpha M + beta K`` with ``ZETA`` in mode 1 and in mode :func:`rayleigh_mode`
+      (between them less, above more);
+    - ``'modal'``: ``M Phi diag(2 ZETA w_i) Phi^T M``, ``ZETA`` in every mode;
+    - ``'dashpot'``: ``'mass'`` plus one dashpot ``2 w1`` [N s/m] from the tip (DOF ``n - 1``, a joint's
+      DOF) to the ground: the critical damping of mode 1 in mass-normalised coordinates, which adds
+      about ``2 / n`` of critical to mode 1 (``Phi_tip^2``) and couples the modes.
+    """
+    if damping not in DAMPINGS:
+        raise ValueError(f"damping must be one of {DAMPINGS}, got {damping!r}")
+    w, phi = free_modes(n)
+    base = fj.LinearStructure.chain(n)
+    m, k = base.mass, base.stiffness
+    if damping in ("mass", "dashpot"):
+        c = 2 * ZETA * w[0] * m
+        if damping == "dashpot":
+            c[n - 1, n - 1] += 2 * w[0]
+        return c
+    if damping == "stiffness":
+        return (2 * ZETA / w[0]) * k
+    if damping == "rayleigh":
+        w1, w2 = w[0], w[rayleigh_mode(n) - 1]
+        return (2 * ZETA * w1 * w2 / (w1 + w2)) * m + (2 * ZETA / (w1 + w2)) * k
+    c = m @ phi @ np.diag(2 * ZETA * w) @ phi.T @ m
+    return 0.5 * (c + c.T)
+
+
+def damped_chain(n: int, joints: int, damping: str = "stiffness", joint_stiffness: float | str = 1.0,
+                 slip_ratio: float = 0.3) -> fj.FrictionSystem:
+    """A chain of issue 40's damping families (see the module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Unit masses [kg], fixed-free, unit springs [N/m].
+    joints : int
+        Jenkins joints to the ground, spread over the outer half (:func:`joint_dofs`).
+    damping : {'mass', 'stiffness', 'rayleigh', 'modal', 'dashpot'}
+        The damping form (:func:`damping_matrix`), 1 % of critical in the free chain's mode 1.
+    joint_stiffness : float or 'soft'
+        Each joint's stiffness as a multiple of the chain's springs (1: as stiff as the structure);
+        ``'soft'``: ``0.5 w1^2`` as in :func:`chain`.
+    slip_ratio : float
+        Each joint's slip force over its own spring force in the stuck linear response at the
+        forcing frequency (below 1: every joint sticks and slips every period).
+
+    Returns
+    -------
+    FrictionSystem
+        Force 0.01 N at the tip at ``0.9 w1`` of the free chain.
+    """
+    w1 = free_modes(n)[0][0]
+    base = fj.LinearStructure.chain(n)
+    structure = fj.LinearStructure(base.mass, base.stiffness, damping_matrix(n, damping))
+    kt = 0.5 * w1 ** 2 if joint_stiffness == "soft" else float(joint_stiffness)
+    if not kt > 0:
+        raise ValueError(f"joint_stiffness must be > 0 or 'soft', got {joint_stiffness!r}")
+    dofs = joint_dofs(n, joints)
+    k = structure.stiffness + kt * sum(np.outer(np.eye(n)[d], np.eye(n)[d]) for d in dofs)
+    w = 0.9 * w1
+    x = np.linalg.solve(k - w * w * structure.mass + 1j * w * structure.damping, 0.01 * np.eye(n)[n - 1])
+    joints_ = [fj.Jenkins(kt, slip_ratio * kt * float(abs(x[d])), dof=d) for d in dofs]
+    return fj.FrictionSystem(structure, joints_, omega=w, excitation=[fj.HarmonicForce(n - 1, 0.01)])
 
 
 @contextmanager
