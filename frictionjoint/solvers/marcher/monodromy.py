@@ -30,6 +30,18 @@ to slip does so at the force limit, where the acceleration is continuous and onl
 slider's ``w`` rate changes; a zero-duration stop reverses the friction force (a jump of
 acceleration). An event at a fixed time (the end of a march, a break in an external force) needs
 no saltation.
+
+The rows ``[dx, dv]`` of the variations may be carried in the modal coordinates of the current
+configuration instead of physical ones where ``N = I`` (no stuck rigid slider): classical modes
+(``xi = Phi^T M dx``, ``eta = Phi^T M dv``, a 2 x 2 map per mode) and, without contacts, the
+general modes of a non-classically damped configuration made real: with ``z = V^-1 dy`` the
+coordinates of ``dy = [dx, dv]`` on the eigenvectors ``V`` of ``A``, a conjugate pair ``(lam,
+conj lam)`` of vectors ``(v, conj v)`` has ``z`` and ``conj z`` (``dy`` is real), so its real pair
+``(Re z, Im z)`` says both and ``dy = sum_pairs (2 Re v Re z - 2 Im v Im z) + sum_real v z``. In
+absolute coordinates a piece maps ``dy`` by ``e^{A tau}`` plus the stuck Jenkins sliders' ``dw``
+through ``int e^{A s} ds [0, M^-1 sum k d dw]``: per pair a rotation-and-decay ``e^{lam tau}``
+(2 x 2 real) and per real root a scaling, ``O(m nZ)``; a change of configuration is one real
+product with ``V_new^-1 V_old`` made real (cached).
 """
 from __future__ import annotations
 
@@ -45,28 +57,121 @@ from .propagator import _phi1
 __all__ = ["march_jacobian"]
 
 #: memory held by the cached changes of modal basis between configurations (:func:`_basis_change`;
-#: ``8 n^2`` bytes per pair of configurations met in a row: 0.3 MB at n = 200) [bytes]
+#: per pair of configurations met in a row ``8 n^2`` bytes between classical ones, 0.3 MB at n =
+#: 200, ``32 n^2`` where one has general modes, 1.3 MB) [bytes]
 BASIS_CACHE_BYTES = 2 ** 29
+
+
+#: a root is taken as real where ``|Im lam| <= PAIR_TOL |lam|``; the second root of a conjugate
+#: pair and its vector must be the first's conjugate to ``PAIR_TOL`` (relative), and a real root's
+#: vector real to it up to a phase, for the real modal rows (:class:`_RealModes`); else the
+#: configuration takes physical rows. ``eig`` of a real matrix returns exact conjugates (0);
+#: refined modes (:func:`.propagator._refine_modes`, each root on its own) differ by rounding.
+PAIR_TOL = 1e-10
+
+
+class _RealModes:
+    """The real modal coordinates of a configuration's general modes (``N = I``, ``V`` and ``V^-1``
+    of the first-order matrix, both roots of every conjugate pair): ``keep`` the root kept of each
+    pair (``Im lam > 0``, the first ``p``) then the real roots, ``lam`` theirs (real roots with
+    imaginary part 0), ``phase`` the unit factors that make the real roots' vectors real. The
+    rows of a variation are ``(Re z, Im z)`` of each kept pair's root, interleaved, then ``z`` of
+    each real root (times its phase's inverse): ``2m`` real rows."""
+
+    __slots__ = ("p", "keep", "lam", "phase")
+
+    def __init__(self, p, keep, lam, phase):
+        self.p, self.keep, self.lam, self.phase = p, keep, lam, phase
+
+    @classmethod
+    def of(cls, cfg) -> _RealModes | None:
+        """The real modal coordinates of ``cfg``'s modes, None where its roots or vectors do not
+        come in conjugate pairs to :data:`PAIR_TOL` (the march takes physical rows there)."""
+        lam, v = cfg.lam, cfg.V
+        scale = np.abs(lam)
+        cplx = np.abs(lam.imag) > PAIR_TOL * scale
+        up = np.flatnonzero(cplx & (lam.imag > 0))
+        down = np.flatnonzero(cplx & (lam.imag < 0))
+        if up.size != down.size:
+            return None
+        # pairs in order of (Re, |Im|): stable sorts keep eig's order among equal roots
+        up = up[np.lexsort((lam[up].imag, lam[up].real))]
+        down = down[np.lexsort((-lam[down].imag, lam[down].real))]
+        if np.any(np.abs(lam[down] - lam[up].conj()) > PAIR_TOL * scale[up]):
+            return None
+        vu = v[:, up]
+        size = np.max(np.abs(vu), axis=0, initial=0.0)
+        if np.any(np.max(np.abs(v[:, down] - vu.conj()), axis=0, initial=0.0) > PAIR_TOL * size):
+            return None
+        real = np.flatnonzero(~cplx)
+        vr = v[:, real]
+        big = vr[np.argmax(np.abs(vr), axis=0), np.arange(real.size)]
+        if real.size and np.any(big == 0):
+            return None
+        phase = big.conj() / np.abs(big) if real.size else np.ones(0, complex)
+        if np.any(np.max(np.abs((vr * phase).imag), axis=0, initial=0.0) > PAIR_TOL * np.abs(big)):
+            return None
+        keep = np.concatenate((up, real))
+        lam_k = lam[keep].copy()
+        lam_k[up.size:] = lam_k[up.size:].real
+        return cls(up.size, keep, lam_k, phase)
+
+    def rows(self, z: np.ndarray) -> np.ndarray:
+        """Real rows ``(2m, ...)`` of complex modal coordinates ``z`` of the kept roots (rows in
+        :attr:`keep`'s order): a pair's ``Re z``, ``Im z``, a real root's ``z / phase``."""
+        p = self.p
+        out = np.empty((2 * p + self.phase.size,) + z.shape[1:])
+        out[0:2 * p:2] = z[:p].real
+        out[1:2 * p:2] = z[:p].imag
+        ph = self.phase.reshape((-1,) + (1,) * (z.ndim - 1))
+        out[2 * p:] = (z[p:] / ph).real
+        return out
+
+    def cols(self, c: np.ndarray) -> np.ndarray:
+        """Real columns ``(..., 2m)`` that take the real rows back: ``c`` the kept roots' vectors
+        (columns in :attr:`keep`'s order) or a row vector times them; a pair's ``2 Re c``, ``-2 Im
+        c``, a real root's ``c phase``."""
+        p = self.p
+        out = np.empty(c.shape[:-1] + (2 * p + self.phase.size,))
+        out[..., 0:2 * p:2] = 2.0 * c[..., :p].real
+        out[..., 1:2 * p:2] = -2.0 * c[..., :p].imag
+        out[..., 2 * p:] = (c[..., p:] * self.phase).real
+        return out
+
+
+def _real_modes(marcher, cfg) -> _RealModes | None:
+    """:meth:`_RealModes.of` of ``cfg``, cached on the marcher with a weak key (a configuration
+    the marcher forgot takes its entry with it)."""
+    cache = marcher.__dict__.get("_real_modes")
+    if cache is None:
+        cache = marcher.__dict__["_real_modes"] = weakref.WeakKeyDictionary()
+    if cfg not in cache:
+        cache[cfg] = _RealModes.of(cfg)
+    return cache[cfg]
 
 
 class _ConfigSensitivity:
     """Per-configuration parts of the piece maps, cached on the marcher.
 
     Modal configurations: ``W B_y`` and ``W B_b`` restricted to their nonzero columns (the
-    velocity block ``v`` and the displacement and stuck-``w`` blocks ``x``, ``w``). Classically
-    damped ones (:attr:`~.propagator.ConfigData.shapes`): real mode shapes instead, ``U = N Phi``,
-    ``P = Phi^T Mr N^T`` (velocity to modal velocity) and ``S = U^T K_c`` (displacement to modal
-    force), so that a piece in physical rows costs four real products with the ``n x m`` shapes
-    instead of complex ones with the ``2m x 2m`` eigenvectors; with ``N = I`` (``modal_rows``) the
-    march carries the rows in modal coordinates instead (:func:`_modal_piece`) and needs only the
-    moving sliders' ``w = (d Phi) xi`` rows (``wphi``), ``S`` is built where physical rows ask for
-    it. Defective ones: ``B_y``, ``B_b`` for the exponential.
+    velocity block ``v`` and the displacement and stuck-``w`` blocks ``x``, ``w``), built on first
+    use (:meth:`general`). Classically damped ones (:attr:`~.propagator.ConfigData.shapes`): real
+    mode shapes instead, ``U = N Phi``, ``P = Phi^T Mr N^T`` (velocity to modal velocity) and ``S =
+    U^T K_c`` (displacement to modal force), so that a piece in physical rows costs four real
+    products with the ``n x m`` shapes instead of complex ones with the ``2m x 2m`` eigenvectors;
+    with ``N = I`` (``modal_rows``) the march carries the rows in modal coordinates instead
+    (:func:`_modal_piece`) and needs only the moving sliders' ``w = (d Phi) xi`` rows (``wphi``),
+    ``S`` is built where physical rows ask for it. General modes with ``N = I`` and no contacts
+    (``real``, :class:`_RealModes`): the march carries real modal rows (:func:`_real_piece`),
+    ``sj`` the stuck Jenkins sliders' ``dw`` as real rows of ``V^-1 [0, M^-1 sum k d]`` and
+    ``wphi`` the moving sliders' ``w = d . x`` from the ``2m`` rows. Defective ones: ``B_y``,
+    ``B_b`` for the exponential.
     """
 
-    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "u", "p", "s", "sj", "jcols", "modal_rows", "moving",
-                 "wphi")
+    __slots__ = ("n", "nz", "by", "bb", "wby", "wbb", "wsj", "u", "p", "s", "sj", "jcols", "modal_rows", "moving",
+                 "wphi", "real")
 
-    def __init__(self, system, itv):
+    def __init__(self, system, itv, real: _RealModes | None = None):
         cfg = itv.config
         pat = itv.pattern
         n = system.n_dof
@@ -75,7 +180,8 @@ class _ConfigSensitivity:
         m = cfg.m
         nb = cfg.N
         self.n, self.nz = n, nz
-        self.by = self.bb = self.wby = self.wbb = self.u = self.p = self.s = self.sj = self.wphi = None
+        self.by = self.bb = self.wby = self.wbb = self.wsj = self.u = self.p = self.s = self.sj = None
+        self.wphi = self.real = None
         self.jcols = 2 * n + np.flatnonzero(pat.jst) if pat.has_jst else None
         self.moving = np.flatnonzero(~pat.jst)
         self.modal_rows = bool(m) and cfg.shapes is not None and not cfg.rigid_stuck.size
@@ -93,22 +199,33 @@ class _ConfigSensitivity:
             self.u = u
             self.sj = u.T @ (pat.jst_dt * pat.jst_k) if pat.has_jst else None
             return
-        # the forcing rows of a variation: Mr^-1 N^T (-K_c dx + sum_stuck k d dw)
-        fx = -cfg.mr_inv_nt @ cfg.stiffness
-        fj = cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k) if pat.has_jst else None
-        if cfg.modal:
-            w2 = cfg.W[:, m:]
-            self.wby = w2 @ nb.T                       # acts on dv
-            self.wbb = w2 @ fx                         # acts on dx
-            self.sj = w2 @ fj if fj is not None else None  # acts on the stuck Jenkins sliders' dw
-        else:
+        if real is not None:  # general modes, N = I: real modal rows (_real_piece)
+            self.real = real
+            keep = real.keep
+            if pat.has_jst:
+                self.sj = real.rows(cfg.velocity_inverse()[keep] @ (cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k)))
+            self.wphi = real.cols(pat.w_dir[self.moving] @ cfg.V[:n, keep])
+        elif not cfg.modal:
             by = np.zeros((2 * m, nz))
             bb = np.zeros((2 * m, nz))
             by[m:, n:2 * n] = nb.T
-            bb[m:, :n] = fx
-            if fj is not None:
-                bb[m:, self.jcols] = fj
+            bb[m:, :n] = -cfg.mr_inv_nt @ cfg.stiffness
+            if pat.has_jst:
+                bb[m:, self.jcols] = cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k)
             self.by, self.bb = by, bb
+
+    def general(self, cfg, pat):
+        """``(W2 N^T, W2 Mr^-1 N^T (-K_c), W2 Mr^-1 N^T sum_stuck k d)`` with ``W2 = V^-1[:, m:]``
+        (the last None without stuck Jenkins sliders): the general modes' parts of a piece in
+        physical rows (:func:`apply_piece`), built on first use (the real modal rows do not
+        need them)."""
+        if self.wby is None:
+            w2 = cfg.velocity_inverse()
+            self.wby = w2 @ cfg.N.T                          # acts on dv
+            self.wbb = w2 @ (-cfg.mr_inv_nt @ cfg.stiffness)  # acts on dx
+            if pat.has_jst:                                   # acts on the stuck Jenkins sliders' dw
+                self.wsj = w2 @ (cfg.mr_inv_nt @ (pat.jst_dt * pat.jst_k))
+        return self.wby, self.wbb, self.wsj
 
 
 def _sensitivity(marcher, itv) -> _ConfigSensitivity:
@@ -116,7 +233,11 @@ def _sensitivity(marcher, itv) -> _ConfigSensitivity:
     key = itv.status.astype(np.int8, copy=False).tobytes()  # as the marcher's patterns (eviction)
     s = cache.get(key)
     if s is None:
-        s = cache[key] = _ConfigSensitivity(marcher.system, itv)
+        cfg = itv.config
+        real = None
+        if cfg.m and cfg.modal and cfg.shapes is None and not cfg.rigid_stuck.size and not marcher.system.n_contacts:
+            real = _real_modes(marcher, cfg)
+        s = cache[key] = _ConfigSensitivity(marcher.system, itv, real)
     return s
 
 
@@ -159,13 +280,14 @@ def apply_piece(marcher, itv, tau: float, jac: np.ndarray) -> np.ndarray:
         out[:n] = dx + sens.u @ (h1[:, None] * qd0 + h0[:, None] * f)
         out[n:2 * n] = sens.u @ (h1d[:, None] * qd0 + h1[:, None] * f)
     else:
-        if sens.wby is not None:
+        if cfg.modal:
+            wby, wbb, wsj = sens.general(cfg, itv.pattern)
             lt = cfg.lam * tau
             e = np.exp(lt)
             g = tau * _phi1(lt)
-            c = e[:, None] * (sens.wby @ dv) + g[:, None] * (sens.wbb @ dx)
-            if sens.sj is not None:
-                c += g[:, None] * (sens.sj @ jac[sens.jcols])
+            c = e[:, None] * (wby @ dv) + g[:, None] * (wbb @ dx)
+            if wsj is not None:
+                c += g[:, None] * (wsj @ jac[sens.jcols])
             y = (cfg.V @ c).real
         else:
             aug = np.zeros((4 * m, 4 * m))
@@ -247,13 +369,41 @@ def saltation(marcher, before, tau: float, row: int, after):
     return jump, grad / rate
 
 
+def _left(marcher, cfg) -> np.ndarray:
+    """``Q`` (2m, 2m): the modal rows of ``cfg`` from physical rows ``[dx, dv]``, ``r = Q dy``;
+    classical modes ``xi_i = (Phi^T M)_i dx``, ``eta_i = (Phi^T M)_i dv`` interleaved, general ones
+    the real rows of ``V^-1 dy`` (:class:`_RealModes`)."""
+    m = cfg.m
+    if cfg.shapes is not None:
+        q = np.zeros((2 * m, 2 * m))
+        q[0::2, :m] = cfg.shapes_mass
+        q[1::2, m:] = cfg.shapes_mass
+        return q
+    real = _real_modes(marcher, cfg)
+    return real.rows(cfg.W[real.keep])
+
+
+def _right(marcher, cfg) -> np.ndarray:
+    """``R`` (2m, 2m): physical rows ``dy = R r`` from the modal rows of ``cfg`` (``Q R = I``)."""
+    m = cfg.m
+    if cfg.shapes is not None:
+        r = np.zeros((2 * m, 2 * m))
+        r[:m, 0::2] = cfg.shapes
+        r[m:, 1::2] = cfg.shapes
+        return r
+    real = _real_modes(marcher, cfg)
+    return real.cols(cfg.V[:, real.keep])
+
+
 def _basis_change(marcher, old, new) -> np.ndarray:
-    """``T = Phi_new^T M Phi_old`` (n, n): the modal coordinates of configuration ``old`` taken to
-    those of ``new`` (``Phi^T M Phi = I``, so ``dx = Phi_old xi`` is ``Phi_new T xi``), cached on the
-    marcher: a march's configurations follow each other in the same pairs in every Jacobian of a
-    steady-state search. The cache holds :data:`BASIS_CACHE_BYTES` at most (the least recently
-    used pairs forgotten) and its keys are weak references: a configuration the marcher forgot
-    leaves its pairs unreachable, and a new one decomposed in its place gets its own."""
+    """The modal rows of configuration ``old`` taken to those of ``new``: between classical ones
+    ``T = Phi_new^T M Phi_old`` (n, n) (``Phi^T M Phi = I``, so ``dx = Phi_old xi`` is ``Phi_new T
+    xi``; the same for ``eta``), else ``Q_new R_old`` (2n, 2n) (:func:`_left`, :func:`_right`;
+    between general modes the real form of ``V_new^-1 V_old``), cached on the marcher: a march's
+    configurations follow each other in the same pairs in every Jacobian of a steady-state search.
+    The cache holds :data:`BASIS_CACHE_BYTES` at most (the least recently used pairs forgotten)
+    and its keys are weak references: a configuration the marcher forgot leaves its pairs
+    unreachable, and a new one decomposed in its place gets its own."""
     cache = marcher.__dict__.get("_basis_changes")
     if cache is None:
         cache = marcher.__dict__["_basis_changes"] = collections.OrderedDict()
@@ -262,7 +412,11 @@ def _basis_change(marcher, old, new) -> np.ndarray:
     if t is not None:
         cache.move_to_end(key)
         return t
-    t = cache[key] = new.shapes_mass @ old.shapes
+    if old.shapes is not None and new.shapes is not None:
+        t = new.shapes_mass @ old.shapes
+    else:
+        t = _left(marcher, new) @ _right(marcher, old)
+    cache[key] = t
     total = sum(a.nbytes for a in cache.values())
     for k in [k for k in cache if k[0]() is None or k[1]() is None]:  # forgotten configurations
         total -= cache.pop(k).nbytes
@@ -273,10 +427,11 @@ def _basis_change(marcher, old, new) -> np.ndarray:
 
 def _to_modal(marcher, jac, basis, cfg, stage) -> None:
     """Rows ``[x, v]`` of ``jac`` (physical where ``basis`` is None, else modal in ``basis``) as the
-    modal coordinates of ``cfg``, ``xi = Phi^T M dx`` and ``eta = Phi^T M dv``, into ``stage``
-    ``(n, 3, nZ)``: per mode its rows ``xi``, ``eta`` (the third is the piece's modal force,
-    :func:`_modal_piece`). The ``(n, 2 nZ)`` view of the rows ``[xi_i, eta_i]`` makes a change of
-    basis one product (as fast as one of half the size, for half the calls)."""
+    modal coordinates of the classically damped ``cfg``, ``xi = Phi^T M dx`` and ``eta = Phi^T M
+    dv``, into ``stage`` ``(n, 3, nZ)``: per mode its rows ``xi``, ``eta`` (the third is the
+    piece's modal force, :func:`_modal_piece`). The ``(n, 2 nZ)`` view of the rows ``[xi_i,
+    eta_i]`` makes a change of basis between classical configurations one product (as fast as one
+    of half the size, for half the calls)."""
     n = cfg.m
     nz = jac.shape[1]
     rows = stage[:, :2].reshape(n, 2 * nz)  # a view: the two rows of a mode are adjacent
@@ -284,19 +439,38 @@ def _to_modal(marcher, jac, basis, cfg, stage) -> None:
         np.matmul(cfg.shapes_mass, np.concatenate((jac[:n], jac[n:2 * n]), axis=1), out=rows)
     elif basis is cfg:
         stage[:, :2] = jac[:2 * n].reshape(n, 2, nz)
-    else:
+    elif basis.shapes is not None:
         np.matmul(_basis_change(marcher, basis, cfg), jac[:2 * n].reshape(n, 2 * nz), out=rows)
+    else:  # from general modes' real rows
+        stage[:, :2] = (_basis_change(marcher, basis, cfg) @ jac[:2 * n]).reshape(n, 2, nz)
 
 
-def _to_physical(jac, basis) -> np.ndarray:
-    """Modal rows of ``jac`` in ``basis`` (:func:`_modal_piece`: ``xi_i``, ``eta_i`` interleaved)
-    back to ``[x, v, w]``: ``dx = Phi xi``, ``dv = Phi eta``."""
+def _to_real(marcher, jac, basis, cfg, stage) -> None:
+    """Rows ``[x, v]`` of ``jac`` (physical where ``basis`` is None, else modal in ``basis``) as the
+    real modal rows of the general modes of ``cfg`` (:class:`_RealModes`) into ``stage`` ``(2n,
+    nZ)``: one real product."""
+    n = cfg.m
+    if basis is None:
+        np.matmul(_left(marcher, cfg), jac[:2 * n], out=stage)
+    elif basis is cfg:
+        stage[:] = jac[:2 * n]
+    else:
+        np.matmul(_basis_change(marcher, basis, cfg), jac[:2 * n], out=stage)
+
+
+def _to_physical(marcher, jac, basis) -> np.ndarray:
+    """Modal rows of ``jac`` in ``basis`` (:func:`_modal_piece`: ``xi_i``, ``eta_i`` interleaved;
+    :func:`_real_piece`: real rows of the general modes) back to ``[x, v, w]``: classical ``dx =
+    Phi xi``, ``dv = Phi eta``, general ``dy = R r`` (:func:`_right`)."""
     n = basis.m
     nz = jac.shape[1]
-    both = basis.shapes @ jac[:2 * n].reshape(n, 2 * nz)
     out = np.empty_like(jac)
-    out[:n] = both[:, :nz]
-    out[n:2 * n] = both[:, nz:]
+    if basis.shapes is not None:
+        both = basis.shapes @ jac[:2 * n].reshape(n, 2 * nz)
+        out[:n] = both[:, :nz]
+        out[n:2 * n] = both[:, nz:]
+    else:
+        np.matmul(_right(marcher, basis), jac[:2 * n], out=out[:2 * n])
     out[2 * n:] = jac[2 * n:]
     return out
 
@@ -330,17 +504,58 @@ def _modal_piece(sens, itv, tau: float, stage, jac) -> None:
         jac[2 * n + sens.moving] = sens.wphi @ jac[0:2 * n:2]
 
 
-def _modal_saltation(basis, jac, jump, dg) -> None:
+def _real_piece(sens, tau: float, stage, jac) -> None:
+    """:func:`apply_piece` on the real modal rows of general modes: the start rows in ``stage``
+    (:func:`_to_real`) carried to the piece's end in ``jac[:2n]`` (rows ``w`` stay). In complex
+    modal coordinates ``z' = e^{lam tau} z + tau phi1(lam tau) s`` with ``s`` the stuck Jenkins
+    sliders' ``V^-1 [0, M^-1 sum k d dw]``; on a pair's ``(Re z, Im z)`` the products with
+    ``e^{lam tau}`` and ``tau phi1(lam tau)`` are 2 x 2 real rotations-and-scalings, on a real
+    root scalings: ``O(n nZ)``. Moving sliders follow ``w = d . x`` (``sens.wphi`` on the rows)."""
+    real = sens.real
+    p = real.p
+    m2 = stage.shape[0]
+    lt = real.lam * tau
+    e = np.exp(lt)
+    er, ei = e[:p].real[:, None], e[:p].imag[:, None]
+    a, b = stage[0:2 * p:2], stage[1:2 * p:2]
+    out_a, out_b = jac[0:2 * p:2], jac[1:2 * p:2]
+    np.multiply(er, a, out=out_a)
+    out_a -= ei * b
+    np.multiply(ei, a, out=out_b)
+    out_b += er * b
+    np.multiply(e[p:].real[:, None], stage[2 * p:], out=jac[2 * p:m2])
+    if sens.sj is not None:
+        g = tau * _phi1(lt)
+        gr, gi = g[:p].real[:, None], g[:p].imag[:, None]
+        f = sens.sj @ jac[sens.jcols]
+        fa, fb = f[0:2 * p:2], f[1:2 * p:2]
+        out_a += gr * fa - gi * fb
+        out_b += gi * fa + gr * fb
+        jac[2 * p:m2] += g[p:].real[:, None] * f[2 * p:]
+    if sens.moving.size:
+        jac[m2 + sens.moving] = sens.wphi @ jac[:m2]
+
+
+def _modal_saltation(marcher, basis, jac, jump, dg) -> None:
     """The saltation ``S = I + e_[v,w] jump dg^T`` (:func:`saltation`) on modal rows of ``jac`` in
-    ``basis``, in place: ``dg^T [dx; dv] = (Phi^T dg_x)^T xi + (Phi^T dg_v)^T eta``, and the jump of
-    the velocities enters ``eta`` as ``Phi^T M jump_v`` (rank one, ``O(n^2 + n nZ)``)."""
+    ``basis``, in place: ``dg^T dy = (dg^T R) r`` and the jump of the velocities enters the rows as
+    ``Q [0, jump_v]`` (rank one, ``O(n^2 + n nZ)``). Classical modes: ``dg^T [dx; dv] = (Phi^T
+    dg_x)^T xi + (Phi^T dg_v)^T eta``, ``Q [0, jump_v]`` the rows ``eta`` of ``Phi^T M jump_v``;
+    general ones: ``dg^T R`` from ``dg^T V`` and ``Q [0, jump_v]`` from ``V^-1[:, n:] jump_v``
+    (:class:`_RealModes`)."""
     n = basis.m
     grad = np.empty(jac.shape[0])
-    grad[0:2 * n:2] = dg[:n] @ basis.shapes
-    grad[1:2 * n:2] = dg[n:2 * n] @ basis.shapes
     grad[2 * n:] = dg[2 * n:]
-    r = grad @ jac
-    jac[1:2 * n:2] += np.outer(basis.shapes_mass @ jump[:n], r)
+    if basis.shapes is not None:
+        grad[0:2 * n:2] = dg[:n] @ basis.shapes
+        grad[1:2 * n:2] = dg[n:2 * n] @ basis.shapes
+        r = grad @ jac
+        jac[1:2 * n:2] += np.outer(basis.shapes_mass @ jump[:n], r)
+    else:
+        real = _real_modes(marcher, basis)
+        grad[:2 * n] = real.cols((dg[:2 * n] @ basis.V)[real.keep])
+        r = grad @ jac
+        jac[:2 * n] += np.outer(real.rows((basis.velocity_inverse() @ jump[:n])[real.keep]), r)
     jac[2 * n:] += np.outer(jump[n:], r)
 
 
@@ -349,11 +564,13 @@ def march_jacobian(marcher, pieces) -> np.ndarray:
     full coordinates ``[x, v, w]``.
 
     The variations are carried as rows of ``[x, v, w]`` through the pieces (:func:`apply_piece`,
-    saltations between them). While consecutive pieces are classically damped without stuck rigid
-    sliders (``N = I``) the rows ``[x, v]`` are kept in the modal coordinates of the current
-    configuration instead: a piece is then a 2 x 2 matrix per mode (:func:`_modal_piece`) and a new
-    configuration a change of basis (:func:`_basis_change`), one product where physical rows take
-    four; other pieces and the end take physical rows. The same Jacobian to rounding.
+    saltations between them). While consecutive pieces are modal without stuck rigid sliders
+    (``N = I``) the rows ``[x, v]`` are kept in the modal coordinates of the current configuration
+    instead: a classically damped piece is then a 2 x 2 matrix per mode (:func:`_modal_piece`), a
+    non-classically damped one (without contacts) a 2 x 2 real matrix per conjugate pair of its
+    general modes (:func:`_real_piece`), and a new configuration a change of basis
+    (:func:`_basis_change`), one real product where physical rows take four real or three complex
+    ones; other pieces and the end take physical rows. The same Jacobian to rounding.
 
     Parameters
     ----------
@@ -368,8 +585,8 @@ def march_jacobian(marcher, pieces) -> np.ndarray:
 
 
 def _march_jacobian_rows(marcher, pieces) -> np.ndarray:
-    """:func:`march_jacobian` with physical rows through every piece (four products per
-    classical piece): the reference of the modal rows' test."""
+    """:func:`march_jacobian` with physical rows through every piece (four real products per
+    classical piece, three complex ones per general one): the reference of the modal rows' test."""
     return _march_rows(marcher, pieces, modal=False)
 
 
@@ -378,7 +595,7 @@ def _march_rows(marcher, pieces, modal: bool) -> np.ndarray:
     system = marcher.system
     n = system.n_dof
     nz = 2 * n + system.n_sliders
-    jac, stage = np.eye(nz), None
+    jac, stage, stage_real = np.eye(nz), None, None
     basis = None  # the configuration whose modal coordinates the rows [x, v] are in (None: physical)
     for k, (itv, tau) in enumerate(pieces):
         sens = _sensitivity(marcher, itv)
@@ -388,9 +605,15 @@ def _march_rows(marcher, pieces, modal: bool) -> np.ndarray:
             _to_modal(marcher, jac, basis, itv.config, stage)
             basis = itv.config
             _modal_piece(sens, itv, tau, stage, jac)
+        elif modal and sens.real is not None:
+            if stage_real is None:
+                stage_real = np.empty((2 * n, nz))
+            _to_real(marcher, jac, basis, itv.config, stage_real)
+            basis = itv.config
+            _real_piece(sens, tau, stage_real, jac)
         else:
             if basis is not None:
-                jac, basis = _to_physical(jac, basis), None
+                jac, basis = _to_physical(marcher, jac, basis), None
             jac = apply_piece(marcher, itv, tau, jac)
         row = getattr(itv, "end_row", None)
         if row is not None and k + 1 < len(pieces):
@@ -400,5 +623,5 @@ def _march_rows(marcher, pieces, modal: bool) -> np.ndarray:
                 if basis is None:
                     jac[n:] += np.outer(jump, dg @ jac)
                 else:
-                    _modal_saltation(basis, jac, jump, dg)
-    return jac if basis is None else _to_physical(jac, basis)
+                    _modal_saltation(marcher, basis, jac, jump, dg)
+    return jac if basis is None else _to_physical(marcher, jac, basis)
