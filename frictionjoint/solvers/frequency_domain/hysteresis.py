@@ -29,10 +29,11 @@ sliding has ``T = F sgn(u')``: its coefficients change only through the reversal
 Deep slip (``F/k`` a small fraction of the motion): the stuck pieces, found from ``u`` against
 ``u(theta_r) -+ 2 F/k``, lose ``eps |u| / (F/k)`` of ``F`` to rounding, and below the rounding of ``u``
 cannot be found at all; there the loop is Coulomb's plus the stuck pieces' excess expanded in
-``sqrt(F/k)`` (:func:`_deep_slip`), whose limit is the free slip. A flank whose band is below the
-rounding of ``s`` on a contact closed all period slides, ``mu N sgn(s')`` (:func:`_sliding_flank`);
-between that and moderate slip the flank kernel loses ``eps |s| / (mu N / k)`` of its force (no
-expansion yet), and a flank that lifts off is the kernel's at any friction coefficient.
+``sqrt(F/k)`` (:func:`.loop_kernels.deep_slip_kernel`), whose limit is the free slip. A flank whose
+band is below the rounding of ``s`` on a contact closed all period slides, ``mu N sgn(s')``
+(:func:`_sliding_flank`); between that and moderate slip the flank kernel loses ``eps |s| / (mu N /
+k)`` of its force (no expansion yet), and a flank that lifts off is the kernel's at any friction
+coefficient.
 
 Coefficients are normalised as the displacement's: ``T[0]`` the mean, ``T[2h-1], T[2h]`` the
 cosine and sine amplitudes.
@@ -44,20 +45,13 @@ import math
 import numpy as np
 
 from . import loop_kernels
+from .loop_kernels import DEEP_SLIP, UNRESOLVED_REACH  # noqa: F401 (the loops' thresholds, documented there)
 
-__all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "flank_loop", "coulomb_loop",
-           "derivative_matrix"]
+__all__ = ["n_samples", "evaluate", "segment_integrals", "jenkins_loop", "jenkins_loops", "flank_loop",
+           "coulomb_loop", "derivative_matrix"]
 
 
 _EPS = float(np.finfo(float).eps)
-#: a Jenkins loop whose slip reach ``F/k`` is at most this many times ``(2H + 1) eps sum |c|`` (the
-#: rounding of ``u``) is Coulomb's (:func:`jenkins_loop`): the kernel, which finds the stuck pieces
-#: from ``u`` against ``u(theta_r) -+ 2 F/k``, fails from about ``(2H + 1) eps / 3`` (it held the spring
-#: over the whole period)
-UNRESOLVED_REACH = 4.0
-#: the deep-slip form of a Jenkins loop (:func:`_deep_slip`) is tried where ``F/k`` is at most this
-#: fraction of ``sum_{h >= 1} |c_h|`` (its error and the kernel's cross near ``eps^0.4 = 5.6e-7``)
-DEEP_SLIP = 1e-5
 
 
 def n_samples(n_harmonics: int) -> int:
@@ -159,24 +153,39 @@ def jenkins_loop(c: np.ndarray, stiffness: float, slip_force: float, w_ref: floa
     """
     c = np.ascontiguousarray(c, dtype=float)
     cos_t, sin_t = _trig_tables((c.size - 1) // 2)
-    reach = float(slip_force) / float(stiffness)
-    size, motion = float(np.sum(np.abs(c))), float(np.sum(np.abs(c[1:])))
-    if reach <= DEEP_SLIP * motion:  # deep slip
-        unresolved = reach <= UNRESOLVED_REACH * c.size * _EPS * size
-        deep = _deep_slip(c, float(stiffness), float(slip_force), jacobian, unresolved)
-        if deep is not None:
-            return deep
-        if unresolved and float(np.ptp(c[0] + c[1::2] @ cos_t + c[2::2] @ sin_t)) > 2 * reach:
-            # the slip reach is below the rounding of u: the stuck pieces after the reversals (where
-            # u moves by 2 F/k) cannot be resolved, and the loop is its limit F/k -> 0, Coulomb's F
-            # sgn(u') (off by O(F sqrt(reach / |u|)), itself below the rounding of k u)
-            coef, jac = coulomb_loop(c, slip_force, jacobian)
-            return coef, jac, float(evaluate(c, 0.0)[0]), True
-    # one algorithm: the kernel of .loop_kernels (compiled where numba is; plain Python in an
-    # FMU's bundled copy, which never balances harmonics)
-    coef, jac, w0, slips = loop_kernels.jenkins_loop_kernel(c, float(stiffness), float(slip_force), float(w_ref),
-                                                            bool(jacobian), cos_t, sin_t)
+    # one algorithm: the kernels of .loop_kernels (compiled where numba is; plain Python in an FMU's
+    # bundled copy, which never balances harmonics), the path chosen there (deep slip, Coulomb's
+    # limit, the exact loop)
+    coef, jac, w0, slips = loop_kernels.jenkins_any(c, float(stiffness), float(slip_force), float(w_ref),
+                                                    bool(jacobian), cos_t, sin_t)
     return coef, (jac if jacobian else None), float(w0), bool(slips)
+
+
+def jenkins_loops(cs: np.ndarray, stiffness: np.ndarray, slip_force: np.ndarray, w_ref: np.ndarray,
+                  jacobian: bool = True):
+    """:func:`jenkins_loop` of ``m`` sliders at once (one compiled call).
+
+    Parameters
+    ----------
+    cs : (m, 2H+1) ndarray
+        Displacement coefficients [m], a row per slider.
+    stiffness, slip_force, w_ref : (m,) ndarray
+        ``k`` [N/m], ``F`` [N] (> 0) and the reference positions [m].
+    jacobian : bool
+        Also return ``dT/dc`` (else its rows are zeros).
+
+    Returns
+    -------
+    coefficients : (m, 2H+1) ndarray
+    jac : (m, 2H+1, 2H+1) ndarray
+    w0 : (m,) ndarray
+    slips : (m,) bool ndarray
+    """
+    cs = np.ascontiguousarray(cs, dtype=float)
+    cos_t, sin_t = _trig_tables((cs.shape[1] - 1) // 2)
+    return loop_kernels.jenkins_loops(cs, np.ascontiguousarray(stiffness, dtype=float),
+                                      np.ascontiguousarray(slip_force, dtype=float),
+                                      np.ascontiguousarray(w_ref, dtype=float), bool(jacobian), cos_t, sin_t)
 
 
 _DERIVATIVES: dict = {}
@@ -288,7 +297,7 @@ def _sliding_flank(cs: np.ndarray, cp: np.ndarray, mu: float, kn: float, n0: flo
     jtp = np.zeros((n, n))
     v = np.empty(n)
     pm = np.empty((n, n))
-    edges = roots + [roots[0] + 2 * math.pi]
+    edges = list(roots) + [roots[0] + 2 * math.pi]
     for a, b in zip(edges[:-1], edges[1:]):
         sgn = math.copysign(1.0, loop_kernels._value(cs, 0.5 * (a + b), 1)[0])
         loop_kernels._integrals(a, b, hh, v, pm, True)
@@ -306,18 +315,12 @@ def _sliding_flank(cs: np.ndarray, cp: np.ndarray, mu: float, kn: float, n0: flo
 
 
 def _reversals(c: np.ndarray):
-    """``(roots, du)``: the sorted phases in ``[0, 2 pi)`` where ``u'`` changes sign (the reversals,
-    refined as the Jenkins loop refines its transitions) and ``u'`` on the bracketing grid."""
-    hh = (c.size - 1) // 2
-    grid = np.linspace(0.0, 2 * math.pi, n_samples(hh) + 1)
-    du = evaluate(c, grid[:-1], 1)
-    # the grid is periodic (u'(2 pi) is u'(0): evaluated there, a root within rounding of 0 could
-    # fall between the two)
-    sign = np.sign(du)  # (signs: a product of values near 1e300 overflows)
-    roots = [loop_kernels._root(c, 1, 0.0, float(grid[k]), float(grid[k + 1]))
-             for k in np.flatnonzero(sign * np.roll(sign, -1) < 0)]
-    roots += [float(grid[k]) for k in np.flatnonzero(du == 0)]
-    return sorted(set(roots)), du
+    """``(roots, du)``: the sorted phases in ``[0, 2 pi]`` where ``u'`` changes sign (the reversals,
+    refined as the Jenkins loop refines its transitions: :func:`.loop_kernels.reversal_roots`) and
+    ``u'`` on the bracketing grid."""
+    cos_t, sin_t = _trig_tables((c.size - 1) // 2)
+    _, du = loop_kernels._grid_values(c, cos_t, sin_t)
+    return loop_kernels.reversal_roots(c, du, 2 * math.pi / du.size), du
 
 
 def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
@@ -330,72 +333,7 @@ def coulomb_loop(c: np.ndarray, slip_force: float, jacobian: bool = True):
     return _coulomb(c, float(slip_force), jacobian, *_reversals(c))
 
 
-def _coulomb(c: np.ndarray, f: float, jacobian: bool, roots: list, du: np.ndarray):
+def _coulomb(c: np.ndarray, f: float, jacobian: bool, roots: np.ndarray, du: np.ndarray):
     """:func:`coulomb_loop` from the reversals ``roots`` (:func:`_reversals`)."""
-    hh = (c.size - 1) // 2
-    nrm = _norm(hh)
-    n = c.size
-    coef = np.zeros(n)
-    jac = np.zeros((n, n)) if jacobian else None
-    if not roots:
-        coef[0] = f * math.copysign(1.0, du[0]) if du[0] != 0 else 0.0
-        return nrm * coef, (jac if jacobian else None)
-    edges = roots + [roots[0] + 2 * math.pi]
-    for a, b in zip(edges[:-1], edges[1:]):
-        sgn = math.copysign(1.0, loop_kernels._value(c, 0.5 * (a + b), 1)[0])
-        coef += sgn * f * segment_integrals(a, b, hh)
-    if jacobian:
-        for r in roots:
-            dd = loop_kernels._value(c, r, 2)[0]
-            if dd == 0.0:
-                continue
-            jump = -2 * f * math.copysign(1.0, dd)  # T(r-) - T(r+): -2F at a minimum of u, +2F at a maximum
-            psi = _basis(r, hh)[:, 0]
-            dphi = _basis(r, hh, 1)[:, 0]
-            jac += jump * np.outer(psi, -dphi / dd)
-    return nrm * coef, (nrm[:, None] * jac if jacobian else None)
-
-
-def _deep_slip(c: np.ndarray, k: float, f: float, jacobian: bool, unresolved: bool = False):
-    """The Jenkins loop in deep slip (:func:`jenkins_loop`): Coulomb's loop plus, after each
-    reversal ``theta_r`` (``sigma = -sgn u''(theta_r)`` the slip direction before it), the stuck
-    piece's excess over it, ``D(s) = 2 sigma F + k (u(theta_r + s) - u(theta_r))`` on ``[0, delta]``
-    (the spring runs from ``sigma F`` to ``-sigma F`` while ``u`` moves back by ``2 F/k``), expanded
-    in ``delta = sqrt(4 (F/k) / |u''|)``: with ``u - u_r = u'' s^2/2 + u''' s^3/6`` (the end's shift
-    enters at second order only, ``D(delta) = 0``),
-
-        int_0^delta D psi = sigma (4/3) F delta psi + (2/3) F (F/k) (u''' / u''^2) psi
-                            + sigma 2 F (F/k) / |u''| psi'     (at theta_r),
-
-    the last the dissipation's ``-4 F (F/k)`` per cycle (a single harmonic: ``b_1 = -(4 F/pi) (1 -
-    F/(k A))``, exact). Its error is ``O(F e^(3/2))``, ``e = 4 (F/k) sum_h h^3 |c_h| / u''^2`` at the
-    worst reversal, where the kernel's, which subtracts ``k w`` from ``k u``, is ``O(F eps sum |c| /
-    (F/k))``: it is used where the first is smaller. The Jacobian is Coulomb's (the correction's
-    derivative, ``O(F delta / A)``, is left out). None where the reversals are not all well apart
-    (``u`` moves by less than ``8 F/k`` between two: the slider may stick through them), some
-    ``u''`` vanishes, or (unless ``unresolved``: the kernel cannot resolve the loop) the kernel is
-    the more accurate."""
-    roots, du = _reversals(c)
-    reach = f / k
-    if len(roots) < 2:
-        return None
-    hh = (c.size - 1) // 2
-    u_r = np.array([loop_kernels._value(c, r, 0)[0] for r in roots])
-    d23 = np.array([loop_kernels._value(c, r, 2) for r in roots])  # u'', u''' at each reversal
-    if np.min(np.abs(np.diff(np.r_[u_r, u_r[0]]))) <= 8 * reach or np.any(d23[:, 0] == 0):
-        return None
-    h3 = float(np.sum(np.arange(1, hh + 1) ** 3 * (np.abs(c[1::2]) + np.abs(c[2::2]))))
-    d_min = float(np.min(np.abs(d23[:, 0])))
-    e = 4 * (reach / d_min) * (h3 / d_min)
-    if not unresolved and e ** 1.5 > _EPS * (float(np.sum(np.abs(c))) / reach):
-        return None
-    coef, jac = _coulomb(c, f, jacobian, roots, du)
-    corr = np.zeros(c.size)
-    for r, (d2, d3) in zip(roots, d23):
-        sigma = -math.copysign(1.0, d2)
-        corr += ((sigma * (4.0 / 3.0) * math.sqrt(4 * reach / abs(d2)) + (2.0 / 3.0) * (reach / d2) * (d3 / d2))
-                 * f * _basis(r, hh)[:, 0] + sigma * 2 * f * (reach / abs(d2)) * _basis(r, hh, 1)[:, 0])
-    du0 = float(evaluate(c, 0.0, 1)[0])
-    w0 = float(evaluate(c, 0.0)[0]) - math.copysign(reach, du0)
-    return coef + _norm(hh) * corr, jac, w0, True
-
+    coef, jac = loop_kernels.coulomb_kernel(c, f, bool(jacobian), roots, float(du[0]))
+    return coef, (jac if jacobian else None)

@@ -3,9 +3,12 @@ safeguarded Newton roots, closed-form piece integrals, the analytic Jacobian (th
 :mod:`.hysteresis`'s docstring), in plain loops without the overhead of some hundred small NumPy
 calls per loop.
 
-Harmonic balance evaluates one loop per slider per Newton iteration: ~70 us at 15 harmonics.
-Compiled where the event search is (:data:`..jit.ENABLED`); in an FMU's bundled copy, which
-never balances harmonics, the same functions run as plain Python.
+Harmonic balance evaluates one loop per slider per Newton iteration: ~70 us at 15 harmonics, all
+of a system's Jenkins sliders in one call (:func:`jenkins_loops`), each by the path
+:func:`jenkins_any` chooses (the exact loop, deep slip, the Coulomb limit). Besides the loops, the
+peak search of a balance's harmonics (:func:`peak_magnitudes`), which refines extrema as the loops
+refine their reversals. Compiled where the event search is (:data:`..jit.ENABLED`); in an FMU's
+bundled copy, which never balances harmonics, the same functions run as plain Python.
 """
 from __future__ import annotations
 
@@ -15,9 +18,18 @@ import numpy as np
 
 from ..jit import ENABLED, _jit, row_dot
 
-__all__ = ["jenkins_loop_kernel", "ENABLED"]
+__all__ = ["jenkins_loop_kernel", "jenkins_any", "jenkins_loops", "deep_slip_kernel", "coulomb_kernel",
+           "reversal_roots", "peak_magnitudes", "ENABLED", "DEEP_SLIP", "UNRESOLVED_REACH"]
 
 _EPS = 2.220446049250313e-16
+#: a Jenkins loop whose slip reach ``F/k`` is at most this many times ``(2H + 1) eps sum |c|`` (the
+#: rounding of ``u``) is Coulomb's (:func:`jenkins_any`): the kernel, which finds the stuck pieces
+#: from ``u`` against ``u(theta_r) -+ 2 F/k``, fails from about ``(2H + 1) eps / 3`` (it held the spring
+#: over the whole period)
+UNRESOLVED_REACH = 4.0
+#: the deep-slip form of a Jenkins loop (:func:`deep_slip_kernel`) is tried where ``F/k`` is at most
+#: this fraction of ``sum_{h >= 1} |c_h|`` (its error and the kernel's cross near ``eps^0.4 = 5.6e-7``)
+DEEP_SLIP = 1e-5
 
 
 @_jit
@@ -372,6 +384,184 @@ def jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table):
 
 
 @_jit
+def reversal_roots(c, du, dtheta):
+    """The sorted phases where ``u'`` changes sign (the reversals), ``du``: ``u'`` on the grid ``k
+    dtheta`` (periodic: ``u'(2 pi)`` is ``du[0]``, the last bracket ends at ``2 pi`` exactly); each
+    sign change refined by :func:`_root`, and every grid point where ``u'`` is exactly 0."""
+    ng = du.size
+    out = np.empty(2 * ng)
+    m = 0
+    for k in range(ng):
+        s0 = 1 if du[k] > 0 else (-1 if du[k] < 0 else 0)
+        d1 = du[(k + 1) % ng]
+        s1 = 1 if d1 > 0 else (-1 if d1 < 0 else 0)
+        if s0 * s1 < 0:
+            out[m] = _root(c, 1, 0.0, k * dtheta, (k + 1) * dtheta if k + 1 < ng else 2 * math.pi)
+            m += 1
+    for k in range(ng):
+        if du[k] == 0:
+            out[m] = k * dtheta
+            m += 1
+    r = np.sort(out[:m])
+    keep = 0
+    for i in range(m):  # distinct values only
+        if i == 0 or r[i] != r[keep - 1]:
+            r[keep] = r[i]
+            keep += 1
+    return r[:keep]
+
+
+@_jit(inline=True)
+def _dphi(theta, hh, out):
+    """The basis' derivative at ``theta``: ``0, -h sin h theta, h cos h theta``."""
+    out[0] = 0.0
+    for h in range(1, hh + 1):
+        out[2 * h - 1] = -h * math.sin(h * theta)
+        out[2 * h] = h * math.cos(h * theta)
+
+
+@_jit
+def coulomb_kernel(c, f, want_jac, roots, du0):
+    """The rigid slider's loop ``F sgn(u')`` between the reversals ``roots`` (:func:`reversal_roots`;
+    ``du0 = u'(0)`` gives the sign of a motion without any): ``(coef, jac)`` normalised, ``jac`` the
+    reversal times' part, ``T`` jumping by ``-+2 F`` at a minimum (maximum) of ``u``."""
+    n = c.size
+    hh = (n - 1) // 2
+    coef = np.zeros(n)
+    jac = np.zeros((n, n))
+    if roots.size == 0:
+        coef[0] = f * math.copysign(1.0, du0) if du0 != 0 else 0.0
+        _normalise(coef)
+        return coef, jac
+    v = np.empty(n)
+    dummy = np.empty((1, 1))
+    m = roots.size
+    for i in range(m):
+        a = roots[i]
+        b = roots[i + 1] if i + 1 < m else roots[0] + 2 * math.pi
+        sgn = math.copysign(1.0, _value(c, 0.5 * (a + b), 1)[0])
+        _integrals(a, b, hh, v, dummy, False)
+        for j in range(n):
+            coef[j] += sgn * f * v[j]
+    if want_jac:
+        psi = np.empty(n)
+        dphi = np.empty(n)
+        for r in roots:
+            dd = _value(c, r, 2)[0]
+            if dd == 0.0:
+                continue
+            jump = -2 * f * math.copysign(1.0, dd)  # T(r-) - T(r+): -2F at a minimum of u, +2F at a maximum
+            _phi(r, hh, psi)
+            _dphi(r, hh, dphi)
+            for i in range(n):
+                for j in range(n):
+                    jac[i, j] += jump * psi[i] * (-dphi[j] / dd)
+    _normalise(coef)
+    _normalise_rows(jac)
+    return coef, jac
+
+
+@_jit
+def deep_slip_kernel(c, k, f, want_jac, unresolved, roots):
+    """The Jenkins loop in deep slip (the expansion in ``sqrt(F/k)`` of :mod:`.hysteresis`'s
+    docstring) from the reversals ``roots``: ``(ok, coef, jac, w0)``, ``ok`` false where the
+    reversals are not all well apart (``u`` moves by less than ``8 F/k`` between two: the slider may
+    stick through them), some second derivative vanishes, or (unless ``unresolved``: the kernel
+    cannot resolve the loop) the kernel is the more accurate; the Jacobian is Coulomb's."""
+    n = c.size
+    hh = (n - 1) // 2
+    reach = f / k
+    m = roots.size
+    if m < 2:
+        return False, np.zeros(n), np.zeros((n, n)), 0.0
+    u_r = np.empty(m)
+    d2 = np.empty(m)  # the second and third derivatives at each reversal
+    d3 = np.empty(m)
+    for i in range(m):
+        u_r[i] = _value(c, roots[i], 0)[0]
+        d2[i], d3[i] = _value(c, roots[i], 2)
+    d_min = math.inf
+    gap = math.inf
+    for i in range(m):
+        gap = min(gap, abs(u_r[(i + 1) % m] - u_r[i]))
+        d_min = min(d_min, abs(d2[i]))
+    if gap <= 8 * reach or d_min == 0:
+        return False, np.zeros(n), np.zeros((n, n)), 0.0
+    h3 = 0.0
+    size = abs(c[0])
+    for h in range(1, hh + 1):
+        h3 += h ** 3 * (abs(c[2 * h - 1]) + abs(c[2 * h]))
+        size += abs(c[2 * h - 1]) + abs(c[2 * h])
+    e = 4 * (reach / d_min) * (h3 / d_min)
+    if not unresolved and e ** 1.5 > _EPS * (size / reach):
+        return False, np.zeros(n), np.zeros((n, n)), 0.0
+    coef, jac = coulomb_kernel(c, f, want_jac, roots, 0.0)
+    corr = np.zeros(n)
+    psi = np.empty(n)
+    dphi = np.empty(n)
+    for i in range(m):
+        sigma = -math.copysign(1.0, d2[i])
+        a = (sigma * (4.0 / 3.0) * math.sqrt(4 * reach / abs(d2[i]))
+             + (2.0 / 3.0) * (reach / d2[i]) * (d3[i] / d2[i])) * f
+        b = sigma * 2 * f * (reach / abs(d2[i]))
+        _phi(roots[i], hh, psi)
+        _dphi(roots[i], hh, dphi)
+        for j in range(n):
+            corr[j] += a * psi[j] + b * dphi[j]
+    _normalise(corr)
+    for j in range(n):
+        coef[j] += corr[j]
+    w0 = _value(c, 0.0, 0)[0] - math.copysign(reach, _value(c, 0.0, 1)[0])
+    return True, coef, jac, w0
+
+
+@_jit
+def jenkins_any(c, k, f, w_ref, want_jac, cos_table, sin_table):
+    """A Jenkins slider's loop by the path :func:`.hysteresis.jenkins_loop` chooses: deep slip
+    (:func:`deep_slip_kernel`) where ``F/k`` is at most :data:`DEEP_SLIP` of ``sum_{h >= 1} |c_h|``
+    and the expansion is the more accurate, Coulomb's loop (:func:`coulomb_kernel`) where ``F/k`` is
+    below the rounding of ``u`` (:data:`UNRESOLVED_REACH`) and the slider slips, else
+    :func:`jenkins_loop_kernel`. Returns ``(coef, jac, w0, slips)``."""
+    n = c.size
+    reach = f / k
+    motion = 0.0
+    for i in range(1, n):
+        motion += abs(c[i])
+    size = abs(c[0]) + motion
+    if reach <= DEEP_SLIP * motion:
+        unresolved = reach <= UNRESOLVED_REACH * n * _EPS * size
+        u, du = _grid_values(c, cos_table, sin_table)
+        roots = reversal_roots(c, du, 2 * math.pi / du.size)
+        ok, coef, jac, w0 = deep_slip_kernel(c, k, f, want_jac, unresolved, roots)
+        if ok:
+            return coef, jac, w0, True
+        if unresolved and np.max(u) - np.min(u) > 2 * reach:
+            # the slip reach is below the rounding of u: the stuck pieces after the reversals (where
+            # u moves by 2 F/k) cannot be resolved, and the loop is its limit F/k -> 0, Coulomb's F
+            # sgn(u') (off by O(F sqrt(reach / |u|)), itself below the rounding of k u)
+            coef, jac = coulomb_kernel(c, f, want_jac, roots, du[0])
+            return coef, jac, _value(c, 0.0, 0)[0], True
+    return jenkins_loop_kernel(c, k, f, w_ref, want_jac, cos_table, sin_table)
+
+
+@_jit
+def jenkins_loops(cs, k, f, w_ref, want_jac, cos_table, sin_table):
+    """:func:`jenkins_any` of ``m`` sliders at once, ``cs`` their ``(m, 2H+1)`` displacement
+    coefficients, ``k``, ``f``, ``w_ref`` ``(m,)``: ``(coef (m, 2H+1), jac (m, 2H+1, 2H+1), w0 (m,),
+    slips (m,))`` (one call from harmonic balance per Newton residual instead of one per slider)."""
+    m, n = cs.shape
+    coef = np.empty((m, n))
+    jac = np.empty((m, n, n))
+    w0 = np.empty(m)
+    slips = np.empty(m, dtype=np.bool_)
+    for i in range(m):
+        ci, ji, w0[i], slips[i] = jenkins_any(np.ascontiguousarray(cs[i]), k[i], f[i], w_ref[i], want_jac,
+                                              cos_table, sin_table)
+        coef[i] = ci
+        jac[i] = ji
+    return coef, jac, w0, slips
+
+@_jit
 def _first(x, y):
     """The earlier of two crossings (-1: none)."""
     if x < 0:
@@ -674,3 +864,42 @@ def flank_loop_kernel(cs, cp, k, mu, kn, cn, n0, omega, w_ref, want_jac, cos_tab
     for m in (jts, jtp, jnn, m_open):
         _normalise_rows(m)
     return coef, jts, jtp, rn, jnn, m_open, w0, True
+
+
+@_jit
+def peak_magnitudes(c, n_grid):
+    """``max |u|`` over the period of each row of ``c`` (``(m, 2H+1)`` coefficients): the largest of
+    ``n_grid`` equispaced samples, refined on ``u' = 0`` between its neighbours (:func:`_root`, to
+    rounding) where ``u'`` brackets the extremum there; NaN for a row with a non-finite coefficient
+    (the peaks of a balance, :func:`.hbm.harmonic_balance`)."""
+    m, n = c.shape
+    hh = (n - 1) // 2
+    step = 2 * math.pi / n_grid
+    cos_t = np.empty((hh, n_grid))
+    sin_t = np.empty((hh, n_grid))
+    for j in range(n_grid):
+        for h in range(1, hh + 1):
+            cos_t[h - 1, j] = math.cos(h * j * step)
+            sin_t[h - 1, j] = math.sin(h * j * step)
+    out = np.empty(m)
+    for i in range(m):
+        ci = np.ascontiguousarray(c[i])
+        if not np.all(np.isfinite(ci)):
+            out[i] = math.nan
+            continue
+        best = -1.0
+        kk = 0
+        xk = 0.0
+        for j in range(n_grid):
+            x = ci[0]
+            for h in range(1, hh + 1):
+                x += ci[2 * h - 1] * cos_t[h - 1, j] + ci[2 * h] * sin_t[h - 1, j]
+            if abs(x) > best:
+                best, kk, xk = abs(x), j, x
+        lo = (kk - 1) * step
+        hi = (kk + 1) * step
+        sgn = 1.0 if xk >= 0 else -1.0
+        if sgn * _value(ci, lo, 1)[0] >= 0 and sgn * _value(ci, hi, 1)[0] <= 0:
+            best = max(best, abs(_value(ci, _root(ci, 1, 0.0, lo, hi), 0)[0]))
+        out[i] = best
+    return out
