@@ -230,13 +230,33 @@ class Marcher:
         key = self.system.config_key(status)
         cfg = self._configs.get(key)
         if cfg is None:
-            cfg = self._configs[key] = ConfigData(self.system, status)
+            cfg = self._configs[key] = ConfigData(self.system, status, self._neighbour(status))
             self._config_bytes += cfg.nbytes
             if self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
                 self._evict()
         else:
             self._configs.move_to_end(key)
         return cfg
+
+    def _neighbour(self, status: np.ndarray) -> tuple | None:
+        """A decomposed configuration that differs from the one of ``status`` by one Jenkins
+        slider's spring, and that slider, ``(config, index)``; None where there is none or the
+        update does not apply (contacts, stuck rigid sliders): the new one's modes are the
+        neighbour's updated by a rank-one change (:meth:`.propagator.ConfigData._updated_modes`)
+        instead of decomposed from scratch. One dictionary look-up per slider."""
+        sysm = self.system
+        if sysm.n_contacts or not self._configs:
+            return None
+        mask = status == 0
+        if np.any(mask & sysm.rigid):
+            return None
+        for i in np.flatnonzero(~sysm.rigid):
+            mask[i] = not mask[i]
+            cfg = self._configs.get(mask.tobytes())
+            mask[i] = not mask[i]
+            if cfg is not None and cfg.modal:
+                return cfg, int(i)
+        return None
 
     def _evict(self) -> None:
         """Forget the least recently used configurations (and their patterns and Jacobian parts)

@@ -26,7 +26,7 @@ import math
 import numpy as np
 import scipy.linalg
 
-from . import piece_kernels
+from . import mode_update, piece_kernels
 
 __all__ = ["ConfigData", "Interval", "Observables"]
 
@@ -469,7 +469,7 @@ class ConfigData:
         ``K_c``: ``base_stiffness`` plus the stuck Jenkins springs.
     """
 
-    def __init__(self, system, status: np.ndarray):
+    def __init__(self, system, status: np.ndarray, neighbour: tuple | None = None):
         status = np.asarray(status)
         stuck = status == 0
         jen_stuck = stuck & ~system.rigid
@@ -484,7 +484,7 @@ class ConfigData:
         #: ``V^-1`` of classical modes in factored form ``(rows, left, right)`` (:func:`_half_modes`)
         self._inverse = None
         if self.m:
-            lam, v, w = self._modes(system, jen_stuck, mr, kr, cr)
+            lam, v, w = self._modes(system, jen_stuck, mr, kr, cr, neighbour)
         else:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
@@ -571,8 +571,9 @@ class ConfigData:
             self.L = np.zeros((0, n))
         return mr, kr, cr
 
-    def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr):
+    def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr, neighbour=None):
         """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
+        the neighbour's updated by the one spring they differ by (:meth:`_updated_modes`), else
         the first-order matrix's (:func:`_general_modes`), refined where a stuck spring is far
         stiffer than the structure (:func:`_refine_modes`); ``modal`` False where defective."""
         kt = system.slider_stiffness[jen_stuck]
@@ -593,11 +594,16 @@ class ConfigData:
                 lam, v, self._inverse, (self.shapes, self.shapes_mass, self.shapes_w2, lp, lm) = modes
                 self.pairs = (lp, lm)
                 return lam, v, None
+        if neighbour is not None and not refine and not system.n_contacts and not self.rigid_stuck.size:
+            modes = self._updated_modes(system, jen_stuck, *neighbour)
+            if modes is not None:
+                return modes
         lam, v, w = _general_modes(self.A)
         if v is None:
             self.modal = False
             return np.linalg.eigvals(self.A), None, None
         tsc, v = v
+        self._balance = tsc
         if refine:
             nb = self.N
             kb = nb.T @ self.base_stiffness @ nb
@@ -606,6 +612,47 @@ class ConfigData:
             if w is None:
                 w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
         return lam, v, w
+
+    def _updated_modes(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int):
+        """``(lam, V, V^-1)`` from the modes of ``old``, the configuration that differs from this one
+        by the Jenkins spring of ``slider`` only (both without stuck rigid sliders and contacts): the
+        rank-one update of its eigenvalues and shapes (:func:`.mode_update.rank_one_modes`), checked
+        (:func:`.mode_update.checked_modes`), and the inverse of the new eigenvectors, balanced as
+        ``old``'s were (:func:`_general_modes`) and under :data:`DEFECTIVE_COND` as there; None
+        where any of it does not hold (the caller decomposes from scratch)."""
+        if old.m != self.m or old.rigid_stuck.size or not old.modal:
+            return None
+        lam, v, w = old.full_modes()
+        if v is None or w is None:
+            return None
+        n = self.m
+        d = system.slider_direction[slider]
+        k = float(system.slider_stiffness[slider]) * (1.0 if jen_stuck[slider] else -1.0)
+        p = np.zeros(2 * n)
+        p[n:] = -(_mass_inverse(system) @ d) * k
+        r = np.zeros(2 * n)
+        r[:n] = d
+        got = mode_update.rank_one_modes(lam, v, w, p, r)
+        if got is None:
+            return None
+        mu, phi = got
+        v = mode_update.checked_modes(mu, phi, system.mass, self.damping, self.stiffness)
+        if v is None:
+            return None
+        tsc = getattr(old, "_balance", None)
+        if tsc is None:
+            tsc = np.ones(2 * n)
+        vb = v / tsc[:, None]
+        try:
+            wb = _real_inverse(mu, vb)
+        except np.linalg.LinAlgError:
+            return None
+        cond = np.linalg.norm(vb, 1) * np.linalg.norm(wb, 1)
+        if not np.isfinite(cond) or cond > DEFECTIVE_COND:
+            return None
+        self._balance = tsc
+        wb /= tsc[None, :]
+        return mu, v, wb
 
     @property
     def A(self) -> np.ndarray:
