@@ -36,7 +36,7 @@ import numpy as np
 
 from ..jit import ENABLED, _jit
 
-__all__ = ["rank_one_modes", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
+__all__ = ["rank_one_modes", "checked_modes", "conjugate_pairs", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
 
 #: Aberth sweeps at most (from the neighbour's eigenvalues the roots converge in 5 to 15 sweeps on
 #: the benchmark chains)
@@ -212,6 +212,37 @@ def _polish(lam, c, anchor, tau, real, steps):
 PAIR_TOL = 1e-10
 
 
+def conjugate_pairs(lam: np.ndarray, tol: float):
+    """The conjugate pairs of the roots ``lam`` of a real equation computed in complex arithmetic:
+    ``(upper, lower, real)``, the indices of each pair's roots (``lower[k]`` the conjugate of
+    ``upper[k]`` to ``tol`` of its size, pairs in order of real part and size of the imaginary one;
+    stable sorts keep the given order among equal roots) and a mask of the real roots (imaginary part
+    at most ``tol`` of the size), or None where the roots do not pair so.
+
+    Parameters
+    ----------
+    lam : (N,) complex ndarray
+        The roots.
+    tol : float
+        Relative tolerance of the pairing and of a real root's imaginary part.
+
+    Returns
+    -------
+    tuple of (p,) int ndarray, (p,) int ndarray, (N,) bool ndarray, or None
+    """
+    size = np.abs(lam)
+    real = np.abs(lam.imag) <= tol * size
+    upper = np.flatnonzero(~real & (lam.imag > 0))
+    lower = np.flatnonzero(~real & (lam.imag < 0))
+    if upper.size != lower.size:
+        return None
+    upper = upper[np.lexsort((lam[upper].imag, lam[upper].real))]
+    lower = lower[np.lexsort((-lam[lower].imag, lam[lower].real))]
+    if np.any(np.abs(lam[lower] - lam[upper].conj()) > tol * size[upper]):
+        return None
+    return upper, lower, real
+
+
 def _symmetric_roots(la, anchor, tau):
     """The roots made exactly real or exactly conjugate in pairs: ``(anchor, tau, keep, (upper,
     lower))`` with ``keep`` the indices of the roots kept (one of each pair, upper, and the real
@@ -219,16 +250,10 @@ def _symmetric_roots(la, anchor, tau):
     roots do not pair to :data:`PAIR_TOL`. A real root keeps its anchor if that pole is real (its
     offset made real), else is re-anchored at the nearest real pole."""
     mu = la[anchor] + tau
-    size = np.abs(mu)
-    real = np.abs(mu.imag) <= PAIR_TOL * size
-    upper = np.flatnonzero(~real & (mu.imag > 0))
-    lower = np.flatnonzero(~real & (mu.imag < 0))
-    if upper.size != lower.size:
+    pairs = conjugate_pairs(mu, PAIR_TOL)
+    if pairs is None:
         return None
-    ou = upper[np.lexsort((mu[upper].imag, mu[upper].real))]
-    ol = lower[np.lexsort((-mu[lower].imag, mu[lower].real))]
-    if np.any(np.abs(mu[ol] - mu[ou].conj()) > PAIR_TOL * size[ou]):
-        return None
+    ou, ol, real = pairs
     anchor, tau = anchor.copy(), tau.copy()
     partner = _partners(la)
     if partner is None:

@@ -52,6 +52,7 @@ import weakref
 import numpy as np
 import scipy.linalg
 
+from .mode_update import conjugate_pairs
 from .propagator import _phi1
 
 __all__ = ["march_jacobian"]
@@ -88,17 +89,11 @@ class _RealModes:
         """The real modal coordinates of ``cfg``'s modes, None where its roots or vectors do not
         come in conjugate pairs to :data:`PAIR_TOL` (the march takes physical rows there)."""
         lam, v = cfg.lam, cfg.V
-        scale = np.abs(lam)
-        cplx = np.abs(lam.imag) > PAIR_TOL * scale
-        up = np.flatnonzero(cplx & (lam.imag > 0))
-        down = np.flatnonzero(cplx & (lam.imag < 0))
-        if up.size != down.size:
+        pairs = conjugate_pairs(lam, PAIR_TOL)
+        if pairs is None:
             return None
-        # pairs in order of (Re, |Im|): stable sorts keep eig's order among equal roots
-        up = up[np.lexsort((lam[up].imag, lam[up].real))]
-        down = down[np.lexsort((-lam[down].imag, lam[down].real))]
-        if np.any(np.abs(lam[down] - lam[up].conj()) > PAIR_TOL * scale[up]):
-            return None
+        up, down, real_mask = pairs
+        cplx = ~real_mask
         vu = v[:, up]
         size = np.max(np.abs(vu), axis=0, initial=0.0)
         if np.any(np.max(np.abs(v[:, down] - vu.conj()), axis=0, initial=0.0) > PAIR_TOL * size):
