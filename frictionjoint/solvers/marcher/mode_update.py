@@ -58,12 +58,16 @@ _EPS4 = 4 * np.finfo(float).eps
 @_jit
 def _aberth(lam, c, anchor, tau, max_sweeps):
     """Aberth's iteration on ``1 + sum_i c_i / (lam_i - mu)`` for all its roots ``mu_k =
-    lam[anchor[k]] + tau[k]``, in place, in Gauss-Seidel order; after its step each root is
-    re-anchored at the pole nearest to it. A root is done when its step is below rounding of its
-    offset or ``|f|`` below rounding of its terms. Returns the sweeps taken, -1 where
-    ``max_sweeps`` did not suffice."""
+    lam[anchor[k]] + tau[k]``, in place, in Gauss-Seidel order. The pass over the poles that sums
+    ``f`` also finds the pole nearest to the root, at which it is anchored after its step. A root
+    whose step is below a hundredth of its distance to the nearest other root goes on by Newton's
+    steps (the other roots' repulsion changes the path, not the roots: ``f(mu) = 0`` is the fixed
+    point either way), one pass per step instead of two. A root is done when its step is below
+    rounding of its offset or ``|f|`` below rounding of its terms. Returns the sweeps taken, -1
+    where ``max_sweeps`` did not suffice."""
     n = lam.size
     done = np.zeros(n, np.bool_)
+    alone = np.zeros(n, np.bool_)
     for sweep in range(max_sweeps):
         moved = False
         for k in range(n):
@@ -76,20 +80,23 @@ def _aberth(lam, c, anchor, tau, max_sweeps):
             fp = 0j
             s1 = 0j
             size = 1.0
-            hit = False
+            jb = j
+            best = np.inf
             for i in range(n):
                 d = (lam[i] - lj) - t
                 m2 = d.real * d.real + d.imag * d.imag
+                if m2 < best:
+                    best = m2
+                    jb = i
                 if m2 == 0:
-                    hit = True
                     break
                 r = d.conjugate() * (1.0 / m2)
                 q = c[i] * r
                 f += q
                 fp += q * r
                 s1 += r
-                size += abs(q)
-            if hit:  # on a pole exactly: step off it by rounding of the pole
+                size += abs(q.real) + abs(q.imag)  # |q| within a factor sqrt(2), without a root
+            if best == 0:  # on a pole exactly: step off it by rounding of the pole
                 tau[k] = t + _EPS4 * (abs(lj) + 1e-300) * (1 + 1j)
                 moved = True
                 continue
@@ -97,23 +104,18 @@ def _aberth(lam, c, anchor, tau, max_sweeps):
                 done[k] = True
                 continue
             s2 = 0j
-            for l in range(n):
-                if l != k:
-                    e = (lj - lam[anchor[l]]) + (t - tau[l])
-                    s2 += e.conjugate() * (1.0 / (e.real * e.real + e.imag * e.imag))
+            near = np.inf
+            if not alone[k]:
+                for l in range(n):
+                    if l != k:
+                        e = (lj - lam[anchor[l]]) + (t - tau[l])
+                        e2 = e.real * e.real + e.imag * e.imag
+                        near = min(near, e2)
+                        s2 += e.conjugate() * (1.0 / e2)
             step = 1.0 / ((fp / f - s1) - s2)
-            t = t - step
-            mu = lj + t
-            best = t.real * t.real + t.imag * t.imag
-            jb = j
-            for i in range(n):
-                e = lam[i] - mu
-                a = e.real * e.real + e.imag * e.imag
-                if a < best:
-                    best = a
-                    jb = i
-            if jb != j:
-                t = mu - lam[jb]
+            if not alone[k] and (step.real * step.real + step.imag * step.imag) < 1e-4 * near:
+                alone[k] = True
+            t = (lj - lam[jb]) + (t - step)  # anchored at the pole nearest before the step
             anchor[k] = jb
             tau[k] = t
             if abs(step) <= _EPS4 * abs(t):
@@ -141,8 +143,10 @@ def _first_offsets(lam, c):
         for i in range(n):
             if i != k:
                 dd = lam[i] - lam[k]
-                g += c[i] / dd
-                near = min(near, abs(dd))
+                m2 = dd.real * dd.real + dd.imag * dd.imag
+                g += c[i] * dd.conjugate() * (1.0 / m2)
+                near = min(near, m2)
+        near = np.sqrt(near)
         t = -c[k] / g if g != 0 else 0j
         lim = 0.5 * near if near < np.inf else abs(t)
         if not abs(t) <= lim:
@@ -275,6 +279,31 @@ def _symmetric_roots(la, anchor, tau):
     return anchor, tau, np.sort(np.concatenate([ou, rl])), (ou, ol)
 
 
+@_jit
+def _vectors(lam, anchor, tau, a):
+    """``z_ik = a_i / (lam_i - mu_k)`` (poles, roots) with ``lam_i - mu_k = (lam_i - lam[anchor[k]])
+    - tau[k]``; a root on a pole (its weight below rounding of its offset) has that pole's mode,
+    the unit vector."""
+    n, m = lam.size, tau.size
+    z = np.empty((n, m), np.complex128)
+    for k in range(m):
+        lk = lam[anchor[k]]
+        t = tau[k]
+        hit = -1
+        for i in range(n):
+            d = (lam[i] - lk) - t
+            m2 = d.real * d.real + d.imag * d.imag
+            if m2 == 0:
+                hit = i
+                break
+            z[i, k] = a[i] * d.conjugate() * (1.0 / m2)
+        if hit >= 0:
+            for i in range(n):
+                z[i, k] = 0j
+            z[hit, k] = 1.0 + 0j
+    return z
+
+
 def _partners(lam: np.ndarray) -> np.ndarray | None:
     """``partner[i]``: the index of ``conj(lam_i)`` (itself for a real pole), or None where the poles
     are not exactly conjugate-closed."""
@@ -346,14 +375,7 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, p: np.ndarray,
     mu_rep = la[anchor] + tau
     real = tau.imag == 0
     real &= la[anchor].imag == 0
-    d = (la[:, None] - la[anchor][None, :]) - tau[None, :]  # lam_i - mu_k, (active poles, kept roots)
-    on_pole = d == 0  # a root on its pole (a weight below rounding of the offset): that pole's mode
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z = (chat / b[act])[:, None] / d
-    if on_pole.any():
-        rows, cols = np.nonzero(on_pole)
-        z[:, cols] = 0.0
-        z[rows, cols] = 1.0
+    z = _vectors(la, anchor, tau, chat / b[act])
     shapes = v[:n, act] @ z
     return _assembled(lam[kept], v[:n, kept], mu_rep, shapes, real)
 
@@ -398,11 +420,12 @@ def checked_modes(mu: np.ndarray, phi: np.ndarray, mass: np.ndarray, damping: np
     mats = (stiffness, damping, mass)
     res = np.zeros(n, complex)
     size = np.zeros(n)
+    aphi = np.abs(phi)
     for q, m in enumerate(mats):
         xq = x * mu ** q
         u = phi @ xq
         res += m @ u.real + 1j * (m @ u.imag)
-        size += np.abs(m) @ (np.abs(phi) @ np.abs(xq))
+        size += np.abs(m) @ (aphi @ np.abs(xq))
     if not np.all(np.abs(res) <= BACKWARD_ERROR * np.max(size)):
         return None
     v = np.empty((2 * n, mu.size), complex)
