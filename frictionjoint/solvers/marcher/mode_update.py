@@ -316,7 +316,7 @@ def _partners(lam: np.ndarray) -> np.ndarray | None:
     return partner
 
 
-def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, p: np.ndarray, r: np.ndarray):
+def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndarray, direction: np.ndarray):
     """Eigenvalues and mode shapes of ``A + p r^T`` from the modes ``(lam, V, W = V^-1)`` of the
     real first-order matrix ``A`` (``V = [Phi; Phi diag(lam)]``), or None where the update does not
     apply or did not converge (the caller decomposes from scratch); the checks of the result are
@@ -328,8 +328,9 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, p: np.ndarray,
         Eigenvalues of ``A`` (``N = 2 n``, both roots of every pair, exactly conjugate).
     v, w : (N, N) complex ndarray
         Its eigenvectors and their inverse.
-    p, r : (N,) ndarray
-        The rank-one change ``p r^T`` (``p = [0, -+ M^-1 d k]``, ``r = [d, 0]``), real.
+    force, direction : (n,) ndarray
+        The rank-one change ``p r^T`` by its nonzero halves, ``p = [0, force]``, ``r = [direction,
+        0]`` (a spring ``k`` along ``d`` added: ``force = -M^-1 d k``, ``direction = d``), real.
 
     Returns
     -------
@@ -343,8 +344,8 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, p: np.ndarray,
     partner = _partners(lam)
     if partner is None:
         return None
-    a = w @ p
-    b = v.T @ r
+    a = w[:, n:] @ force
+    b = direction @ v[:n]
     scale = float(np.max(np.abs(lam), initial=0.0)) + float(np.linalg.norm(a) * np.linalg.norm(b))
     # poles whose terms of a b^T are rounding of the matrix keep their eigenvalue and mode
     kept = np.abs(a) * np.linalg.norm(b) + np.linalg.norm(a) * np.abs(b) <= 8 * np.finfo(float).eps * scale
@@ -420,7 +421,7 @@ def checked_modes(mu: np.ndarray, phi: np.ndarray, mass: np.ndarray, damping: np
     mats = (stiffness, damping, mass)
     res = np.zeros(n, complex)
     size = np.zeros(n)
-    aphi = np.abs(phi)
+    aphi = np.abs(phi.real) + np.abs(phi.imag)  # |phi| within sqrt(2): a scale, no roots
     for q, m in enumerate(mats):
         xq = x * mu ** q
         u = phi @ xq
@@ -428,8 +429,10 @@ def checked_modes(mu: np.ndarray, phi: np.ndarray, mass: np.ndarray, damping: np
         size += np.abs(m) @ (aphi @ np.abs(xq))
     if not np.all(np.abs(res) <= BACKWARD_ERROR * np.max(size)):
         return None
+    # unit columns, as LAPACK's (the update's scale is arbitrary): |[phi; mu phi]|^2 = |phi|^2 (1 + |mu|^2)
+    sq = np.einsum("ij,ij->j", phi.real, phi.real) + np.einsum("ij,ij->j", phi.imag, phi.imag)
+    unit = 1.0 / np.sqrt(sq * (1.0 + mu.real ** 2 + mu.imag ** 2))
     v = np.empty((2 * n, mu.size), complex)
-    v[:n] = phi
-    np.multiply(phi, mu, out=v[n:])
-    v /= np.linalg.norm(v, axis=0)  # unit columns, as LAPACK's (the update's scale is arbitrary)
+    np.multiply(phi, unit, out=v[:n])
+    np.multiply(v[:n], mu, out=v[n:])
     return v
