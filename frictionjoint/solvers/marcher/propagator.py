@@ -432,9 +432,14 @@ def _real_inverse(lam, vb, exact: bool = False) -> np.ndarray:
     r = vb.real.copy()
     r[:, second] = vb[:, first].imag
     ri = np.linalg.inv(r)
-    w = ri.astype(complex)
-    w[first] = 0.5 * (ri[first] - 1j * ri[second])
-    w[second] = 0.5 * (ri[first] + 1j * ri[second])
+    w = np.empty(ri.shape, complex)  # written through its real and imaginary views: no temporaries
+    w.real[...] = ri
+    w.imag[...] = 0.0
+    half_im = 0.5 * ri[second]
+    w.real[first] *= 0.5
+    w.real[second] = w.real[first]
+    w.imag[first] = -half_im
+    w.imag[second] = half_im
     return w
 
 
