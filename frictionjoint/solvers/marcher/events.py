@@ -250,13 +250,18 @@ class Marcher:
         mask = status == 0
         if np.any(mask & sysm.rigid):
             return None
+        lazy = None
         for i in np.flatnonzero(~sysm.rigid):
             mask[i] = not mask[i]
             cfg = self._configs.get(mask.tobytes())
             mask[i] = not mask[i]
-            if cfg is not None and cfg.modal:
+            if cfg is None:
+                continue
+            if "_pending" in cfg.__dict__:  # its modes not decomposed yet: taken if none is
+                lazy = lazy or (cfg, int(i))
+            elif cfg.modal:
                 return cfg, int(i)
-        return None
+        return lazy
 
     def _evict(self) -> None:
         """Forget the least recently used configurations (and their patterns and Jacobian parts)

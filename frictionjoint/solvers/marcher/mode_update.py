@@ -36,7 +36,7 @@ import numpy as np
 
 from ..jit import ENABLED, _jit
 
-__all__ = ["rank_one_modes", "checked_modes", "conjugate_pairs", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
+__all__ = ["rank_one_modes", "rank_one_roots", "rank_one_shapes", "checked_modes", "conjugate_pairs", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
 
 #: Aberth sweeps at most (from the neighbour's eigenvalues the roots converge in 5 to 15 sweeps on
 #: the benchmark chains)
@@ -320,7 +320,7 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
     """Eigenvalues and mode shapes of ``A + p r^T`` from the modes ``(lam, V, W = V^-1)`` of the
     real first-order matrix ``A`` (``V = [Phi; Phi diag(lam)]``), or None where the update does not
     apply or did not converge (the caller decomposes from scratch); the checks of the result are
-    :func:`checked_modes`'.
+    :func:`checked_modes`'. :func:`rank_one_roots` then :func:`rank_one_shapes`.
 
     Parameters
     ----------
@@ -338,6 +338,26 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
         ``(mu, Phi)``: the new eigenvalues (conjugate pairs side by side, exactly conjugate) and
         mode shapes (displacement rows).
     """
+    roots = rank_one_roots(lam, v, w, force, direction)
+    return None if roots is None else rank_one_shapes(roots)
+
+
+def rank_one_roots(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndarray, direction: np.ndarray):
+    """The first half of :func:`rank_one_modes`: the new eigenvalues only, and what the shapes are
+    built from (:func:`rank_one_shapes`), or None. A configuration whose status is only tested for
+    consistency needs its fastest rate, not its modes.
+
+    Parameters
+    ----------
+    lam, v, w, force, direction :
+        As :func:`rank_one_modes`.
+
+    Returns
+    -------
+    tuple or None
+        ``(mu, parts)``: the new eigenvalues (N,) in the order of :func:`rank_one_shapes`' and the
+        parts of the shapes.
+    """
     if not ENABLED:
         return None  # an FMU's NumPy copy decomposes from scratch: the root finder is compiled
     n = v.shape[0] // 2
@@ -352,7 +372,7 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
     kept |= kept[partner]
     act = np.flatnonzero(~kept)
     if not act.size:
-        return lam.copy(), v[:n].copy()
+        return lam.copy(), (v[:n], act, kept, None)
     la = np.ascontiguousarray(lam[act])
     c = a[act] * b[act]
     anchor = np.arange(la.size, dtype=np.int64)
@@ -374,26 +394,40 @@ def rank_one_modes(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
         return None
     anchor, tau = anchor[keep], tau[keep]
     mu_rep = la[anchor] + tau
-    real = tau.imag == 0
-    real &= la[anchor].imag == 0
-    z = _vectors(la, anchor, tau, chat / b[act])
-    shapes = v[:n, act] @ z
-    return _assembled(lam[kept], v[:n, kept], mu_rep, shapes, real)
+    real = (tau.imag == 0) & (la[anchor].imag == 0)
+    mu = np.concatenate([lam[kept], _paired(mu_rep, real)])
+    return mu, (v[:n], act, kept, (la, anchor, tau, chat / b[act], real))
 
 
-def _assembled(kept_mu, kept_phi, mu_rep, shapes, real):
-    """The new modes: the kept poles' (pairs side by side as they were), then each root found and,
-    after a complex one, its conjugate (exactly: the same numbers with the sign of the imaginary
-    part flipped)."""
+def rank_one_shapes(roots) -> tuple:
+    """The second half of :func:`rank_one_modes`: ``(mu, Phi)`` from :func:`rank_one_roots`' result.
+
+    Parameters
+    ----------
+    roots : tuple
+        :func:`rank_one_roots`' result (not None).
+
+    Returns
+    -------
+    tuple of (N,) complex ndarray and (n, N) complex ndarray
+    """
+    mu, (v_top, act, kept, found) = roots
+    if found is None:
+        return mu, v_top.copy()
+    la, anchor, tau, a_hat, real = found
+    shapes = v_top[:, act] @ _vectors(la, anchor, tau, a_hat)
+    return mu, np.concatenate([v_top[:, kept], _paired(shapes, real)], axis=1)
+
+
+def _paired(x: np.ndarray, real: np.ndarray) -> np.ndarray:
+    """The roots found (or their shapes, columns of ``x``), each complex one followed by its
+    conjugate (exactly: the same numbers with the sign of the imaginary part flipped)."""
     cplx = ~real
-    both = np.empty(mu_rep.size + np.count_nonzero(cplx), complex)
-    cols = np.empty((shapes.shape[0], both.size), complex)
-    slot = np.arange(mu_rep.size) + np.concatenate(([0], np.cumsum(cplx)[:-1]))
-    both[slot] = mu_rep
-    cols[:, slot] = shapes
-    both[slot[cplx] + 1] = mu_rep[cplx].conj()
-    cols[:, slot[cplx] + 1] = shapes[:, cplx].conj()
-    return np.concatenate([kept_mu, both]), np.concatenate([kept_phi, cols], axis=1)
+    slot = np.arange(real.size) + np.concatenate(([0], np.cumsum(cplx)[:-1]))
+    out = np.empty(x.shape[:-1] + (real.size + np.count_nonzero(cplx),), complex)
+    out[..., slot] = x
+    out[..., slot[cplx] + 1] = x[..., cplx].conj()
+    return out
 
 
 def checked_modes(mu: np.ndarray, phi: np.ndarray, mass: np.ndarray, damping: np.ndarray,

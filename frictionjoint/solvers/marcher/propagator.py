@@ -459,6 +459,12 @@ def _first_order(mr_inv, kr, cr, diagonal: bool) -> np.ndarray:
     return a
 
 
+#: the attributes of a configuration's modes, decomposed on first use where they are a neighbour's
+#: updated (:meth:`ConfigData.__getattr__`)
+_MODAL = frozenset({"lam", "V", "_W", "modal", "max_rate", "shapes", "shapes_mass", "shapes_w2", "pairs",
+                    "_inverse", "_balance"})
+
+
 class ConfigData:
     """Decomposition of one stuck/slipping pattern, built once and cached.
 
@@ -488,24 +494,12 @@ class ConfigData:
         self._stiffness(system, status, jen_stuck)
         self.rigid_stuck = np.flatnonzero(stuck & system.rigid)
         mr, kr, cr = self._reduce(system)
-        self.modal = True
-        #: mass-normalised mode shapes ``Phi`` (reduced coordinates), ``Phi^T Mr``, ``w^2`` and the
-        #: roots ``(lam+, lam-)`` of each pair where the configuration is classically damped
-        #: (:func:`_classical_modes`), else None
-        self.shapes = self.shapes_mass = self.shapes_w2 = self.pairs = None
-        #: ``V^-1`` of classical modes in factored form ``(rows, left, right)`` (:func:`_half_modes`)
-        self._inverse = None
-        if self.m:
-            lam, v, w = self._modes(system, jen_stuck, mr, kr, cr, neighbour)
+        if self.m and neighbour is not None and self._updatable(system, jen_stuck):
+            # decomposed on first use of its modes (:meth:`__getattr__`): a status tested for
+            # consistency only needs the fastest rate, which the update's roots give
+            self._pending = (system, jen_stuck, mr, kr, cr, neighbour)
         else:
-            lam = np.zeros(0, complex)
-            v = np.zeros((0, 0), complex)
-            w = np.zeros((0, 0), complex)
-        self.lam = np.asarray(lam, dtype=complex)
-        self.V = v
-        self._W = w
-        rates = np.abs(self.lam)
-        self.max_rate = float(rates.max()) if rates.size else 0.0
+            self._decompose(system, jen_stuck, mr, kr, cr, neighbour)
         # forcing terms that depend on the configuration only (reused by every interval)
         zm = np.zeros(self.m)
         self.bc = np.concatenate([zm, self.mr_inv_nt @ system.force_cos])
@@ -516,6 +510,49 @@ class ConfigData:
         #: the consistency test's packed arrays of the configuration, shared by its statuses
         #: (:func:`.consistency.pack_config`), set by the first status packed
         self.kern = None
+
+    def _decompose(self, system, jen_stuck, mr, kr, cr, neighbour=None, roots=None) -> None:
+        """The modes: ``lam``, ``V``, ``V^-1``, ``max_rate`` and, classically damped, the shapes
+        (:meth:`_modes`)."""
+        self.modal = True
+        #: mass-normalised mode shapes ``Phi`` (reduced coordinates), ``Phi^T Mr``, ``w^2`` and the
+        #: roots ``(lam+, lam-)`` of each pair where the configuration is classically damped
+        #: (:func:`_classical_modes`), else None
+        self.shapes = self.shapes_mass = self.shapes_w2 = self.pairs = None
+        #: ``V^-1`` of classical modes in factored form ``(rows, left, right)`` (:func:`_half_modes`)
+        self._inverse = None
+        if self.m:
+            lam, v, w = self._modes(system, jen_stuck, mr, kr, cr, neighbour, roots)
+        else:
+            lam = np.zeros(0, complex)
+            v = np.zeros((0, 0), complex)
+            w = np.zeros((0, 0), complex)
+        self.lam = np.asarray(lam, dtype=complex)
+        self.V = v
+        self._W = w
+        rates = np.abs(self.lam)
+        self.max_rate = float(rates.max()) if rates.size else 0.0
+
+    def __getattr__(self, name: str):
+        """The modes of a configuration decomposed lazily (built with a neighbour whose modes are
+        updated, :meth:`_updated_modes`), on first use of one of :data:`_MODAL`: ``max_rate`` alone
+        from the update's roots (:func:`.mode_update.rank_one_roots`; the consistency test of a
+        status reads nothing else, and more than half the statuses tested are not kept), the rest
+        by finishing the update (or, where it fails, decomposing from scratch)."""
+        pending = self.__dict__.get("_pending")
+        if pending is None or name not in _MODAL:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        if name == "max_rate":
+            system, jen_stuck, _, _, _, (old, slider) = pending
+            roots = mode_update.rank_one_roots(*self._update_terms(system, jen_stuck, old, slider))
+            self._roots = roots
+            if roots is not None:
+                self.max_rate = float(np.max(np.abs(roots[0]), initial=0.0))
+                return self.max_rate
+        del self._pending
+        roots = self.__dict__.pop("_roots", None)
+        self._decompose(*pending, roots)
+        return self.__dict__[name]
 
     def _stiffness(self, system, status: np.ndarray, jen_stuck: np.ndarray) -> None:
         """``base_stiffness`` and ``damping`` (contacts: open ones' spring and dashpot off, slipping
@@ -583,11 +620,11 @@ class ConfigData:
             self.L = np.zeros((0, n))
         return mr, kr, cr
 
-    def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr, neighbour=None):
-        """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
-        the neighbour's updated by the one spring they differ by (:meth:`_updated_modes`), else
-        the first-order matrix's (:func:`_general_modes`), refined where a stuck spring is far
-        stiffer than the structure (:func:`_refine_modes`); ``modal`` False where defective."""
+    def _route(self, system, jen_stuck: np.ndarray):
+        """``(refine, alpha, pencil)``: whether the stuck springs are stiff enough for the modes to
+        be refined (:func:`_refine_modes`), and the classical damping rate(s) and modes where the
+        configuration is classically damped (:func:`_classical_modes`), else None: system-level
+        facts, cached on the system."""
         kt = system.slider_stiffness[jen_stuck]
         k_ref = float(np.max(np.abs(np.diag(system.stiffness))))
         # springs no stiffer than REFINE_RATIO x the structure lose at most ~ eps x ratio of
@@ -600,6 +637,24 @@ class ConfigData:
             own = _modally_damped(system)  # K_c = K: the structure's modes, if its damping is classical
             if own is not None:
                 alpha, pencil = own
+        return refine, alpha, pencil
+
+    def _updatable(self, system, jen_stuck: np.ndarray) -> bool:
+        """Whether :meth:`_modes` would update a neighbour's modes (not classical, no refinement,
+        contacts or stuck rigid sliders)."""
+        if system.n_contacts or self.rigid_stuck.size:
+            return False
+        refine, alpha, _ = self._route(system, jen_stuck)
+        return not refine and alpha is None
+
+    def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr, neighbour=None, roots=None):
+        """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
+        the neighbour's updated by the one spring they differ by (:meth:`_updated_modes`, from
+        ``roots`` where its first half was done), else the first-order matrix's
+        (:func:`_general_modes`), refined where a stuck spring is far stiffer than the structure
+        (:func:`_refine_modes`); ``modal`` False where defective."""
+        refine, alpha, pencil = self._route(system, jen_stuck)
+        kt = system.slider_stiffness[jen_stuck]
         if alpha is not None and not refine and not system.n_contacts:
             modes = _classical_modes(mr, kr, alpha, None if self.rigid_stuck.size else _mass_factor(system), pencil)
             if modes is not None:
@@ -607,7 +662,7 @@ class ConfigData:
                 self.pairs = (lp, lm)
                 return lam, v, None
         if neighbour is not None and not refine and not system.n_contacts and not self.rigid_stuck.size:
-            modes = self._updated_modes(system, jen_stuck, *neighbour)
+            modes = self._updated_modes(system, jen_stuck, *neighbour, roots)
             if modes is not None:
                 return modes
         lam, v, w = _general_modes(self.A)
@@ -625,25 +680,29 @@ class ConfigData:
                 w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
         return lam, v, w
 
-    def _updated_modes(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int):
+    def _update_terms(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int) -> tuple:
+        """The arguments of :func:`.mode_update.rank_one_roots` for the update from ``old``: its
+        modes (both roots of every pair) and the spring of ``slider`` as ``(-M^-1 d k, d)``."""
+        lam, v, w = old.full_modes()
+        d = system.slider_direction[slider]
+        k = float(system.slider_stiffness[slider]) * (1.0 if jen_stuck[slider] else -1.0)
+        return lam, v, w, -(_mass_inverse(system) @ d) * k, d
+
+    def _updated_modes(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int, roots=None):
         """``(lam, V, V^-1)`` from the modes of ``old``, the configuration that differs from this one
         by the Jenkins spring of ``slider`` only (both without stuck rigid sliders and contacts): the
         rank-one update of its eigenvalues and shapes (:func:`.mode_update.rank_one_modes`), checked
         (:func:`.mode_update.checked_modes`), and the inverse of the new eigenvectors, balanced as
         ``old``'s were (:func:`_general_modes`) and under :data:`DEFECTIVE_COND` as there; None
         where any of it does not hold (the caller decomposes from scratch)."""
-        if old.m != self.m or old.rigid_stuck.size or not old.modal:
-            return None
-        lam, v, w = old.full_modes()
-        if v is None or w is None:
-            return None
+        if roots is None:
+            if old.m != self.m or old.rigid_stuck.size or not old.modal or old.V is None or old.W is None:
+                return None
+            roots = mode_update.rank_one_roots(*self._update_terms(system, jen_stuck, old, slider))
+            if roots is None:
+                return None
         n = self.m
-        d = system.slider_direction[slider]
-        k = float(system.slider_stiffness[slider]) * (1.0 if jen_stuck[slider] else -1.0)
-        got = mode_update.rank_one_modes(lam, v, w, -(_mass_inverse(system) @ d) * k, d)
-        if got is None:
-            return None
-        mu, phi = got
+        mu, phi = mode_update.rank_one_shapes(roots)
         v = mode_update.checked_modes(mu, phi, system.mass, self.damping, self.stiffness)
         if v is None:
             return None
@@ -752,7 +811,8 @@ class ConfigData:
         arrays and those in its tuples, each once, not the views and not the system's arrays it
         refers to (stiffness, damping, ``M^-1``, the identity ``N``)."""
         seen = {id(a) for a in self._shared}
-        total = 0
+        # a configuration decomposed on first use counts its eigenvectors and their inverse to come
+        total = 2 * 16 * (2 * self.m) ** 2 if "_pending" in self.__dict__ else 0
         for value in vars(self).values():
             for a in value if isinstance(value, tuple) else (value,):
                 if isinstance(a, np.ndarray) and a.base is None and id(a) not in seen:
