@@ -34,7 +34,7 @@ import scipy.linalg
 import frictionjoint as fj
 from frictionjoint.solvers.marcher import monodromy
 from frictionjoint.solvers.marcher.events import EventLog
-from frictionjoint.solvers.marcher.steady import _PeriodMap
+from test_monodromy_modal import _kinds, _orbit, _rel  # (tests/ is on the path: tests/conftest.py)
 
 RTOL = 5e-11
 FD_STEP = 1e-5
@@ -81,27 +81,6 @@ SYSTEMS = {
     "a rigid slider's reversals (saltations between real rows)":
         (lambda: _chain(12, 3, coulomb=1e-3, coulomb_dof=7, coupled=True), "R"),
 }
-
-
-def _orbit(system):
-    """The period map at the system's steady state, its last call being the orbit's period."""
-    pr = fj.periodic_response(system)
-    assert pr.converged
-    pmap = _PeriodMap(system, fj.Marcher(system), pr.section_time)
-    pmap(pr.state)
-    return pmap
-
-
-def _kinds(marcher, pieces) -> str:
-    out = ""
-    for itv, _ in pieces:
-        sens = monodromy._sensitivity(marcher, itv)
-        out += "C" if sens.modal_rows else "R" if sens.real is not None else "P"
-    return out
-
-
-def _rel(a, b) -> float:
-    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
 def _central_differences(pmap, z0, steps):

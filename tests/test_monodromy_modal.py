@@ -74,12 +74,19 @@ SYSTEMS = {
 }
 
 
-def _orbit_pieces(system):
-    """The marcher and the closed-form pieces of one period from the system's steady state."""
+def _orbit(system):
+    """The period map at the system's steady state, its last call being the orbit's period (also
+    tests/test_monodromy_general.py's)."""
     pr = fj.periodic_response(system)
     assert pr.converged
     pmap = _PeriodMap(system, fj.Marcher(system), pr.section_time)
     pmap(pr.state)
+    return pmap
+
+
+def _orbit_pieces(system):
+    """The marcher and the closed-form pieces of one period from the system's steady state."""
+    pmap = _orbit(system)
     return pmap.m, pmap.last[2]
 
 
