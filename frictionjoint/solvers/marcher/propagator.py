@@ -494,7 +494,7 @@ class ConfigData:
         self._stiffness(system, status, jen_stuck)
         self.rigid_stuck = np.flatnonzero(stuck & system.rigid)
         mr, kr, cr = self._reduce(system)
-        if self.m and neighbour is not None and self._updatable(system, jen_stuck):
+        if self.m and neighbour is not None and self._updatable(system, *self._route(system, jen_stuck)[:2]):
             # decomposed on first use of its modes (:meth:`__getattr__`): a status tested for
             # consistency only needs the fastest rate, which the update's roots give
             self._pending = (system, jen_stuck, mr, kr, cr, neighbour)
@@ -542,15 +542,19 @@ class ConfigData:
         pending = self.__dict__.get("_pending")
         if pending is None or name not in _MODAL:
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        if name == "max_rate":
+        if name == "max_rate" and "_roots" not in self.__dict__:
             system, jen_stuck, _, _, _, (old, slider) = pending
-            roots = mode_update.rank_one_roots(*self._update_terms(system, jen_stuck, old, slider))
-            self._roots = roots
-            if roots is not None:
-                self.max_rate = float(np.max(np.abs(roots[0]), initial=0.0))
+            self._roots = self._update_roots(system, jen_stuck, old, slider)
+            if self._roots is not None:
+                self.max_rate = float(np.max(np.abs(self._roots[0]), initial=0.0))
                 return self.max_rate
         del self._pending
-        roots = self.__dict__.pop("_roots", None)
+        if "_roots" in self.__dict__:
+            roots = self.__dict__.pop("_roots")
+            if roots is None:  # the update was tried and failed: from scratch, not a second time
+                pending = pending[:5] + (None,)
+        else:
+            roots = None
         self._decompose(*pending, roots)
         return self.__dict__[name]
 
@@ -639,13 +643,11 @@ class ConfigData:
                 alpha, pencil = own
         return refine, alpha, pencil
 
-    def _updatable(self, system, jen_stuck: np.ndarray) -> bool:
-        """Whether :meth:`_modes` would update a neighbour's modes (not classical, no refinement,
-        contacts or stuck rigid sliders)."""
-        if system.n_contacts or self.rigid_stuck.size:
-            return False
-        refine, alpha, _ = self._route(system, jen_stuck)
-        return not refine and alpha is None
+    def _updatable(self, system, refine: bool, alpha=None) -> bool:
+        """Whether a neighbour's modes may be updated into this configuration's: no refinement
+        (:meth:`_route`), no contacts, no stuck rigid sliders, and not classically damped
+        (``alpha``, :meth:`_route`'s, None)."""
+        return not refine and alpha is None and not system.n_contacts and not self.rigid_stuck.size
 
     def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr, neighbour=None, roots=None):
         """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
@@ -661,7 +663,7 @@ class ConfigData:
                 lam, v, self._inverse, (self.shapes, self.shapes_mass, self.shapes_w2, lp, lm) = modes
                 self.pairs = (lp, lm)
                 return lam, v, None
-        if neighbour is not None and not refine and not system.n_contacts and not self.rigid_stuck.size:
+        if neighbour is not None and self._updatable(system, refine):  # also where classical failed
             modes = self._updated_modes(system, jen_stuck, *neighbour, roots)
             if modes is not None:
                 return modes
@@ -680,13 +682,16 @@ class ConfigData:
                 w = np.linalg.inv(v / tsc[:, None]) / tsc[None, :]  # V^-1 = V_B^-1 T^-1
         return lam, v, w
 
-    def _update_terms(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int) -> tuple:
-        """The arguments of :func:`.mode_update.rank_one_roots` for the update from ``old``: its
-        modes (both roots of every pair) and the spring of ``slider`` as ``(-M^-1 d k, d)``."""
+    def _update_roots(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int):
+        """:func:`.mode_update.rank_one_roots` of the update from ``old`` (its modes, both roots of
+        every pair, and the spring of ``slider`` as ``(-M^-1 d k, d)``), or None where ``old`` has
+        no modes to update (defective, or with stuck rigid sliders) or the roots were not found."""
+        if old.rigid_stuck.size or old.m != self.m or not old.modal or old.V is None:
+            return None
         lam, v, w = old.full_modes()
         d = system.slider_direction[slider]
         k = float(system.slider_stiffness[slider]) * (1.0 if jen_stuck[slider] else -1.0)
-        return lam, v, w, -(_mass_inverse(system) @ d) * k, d
+        return mode_update.rank_one_roots(lam, v, w, -(_mass_inverse(system) @ d) * k, d)
 
     def _updated_modes(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int, roots=None):
         """``(lam, V, V^-1)`` from the modes of ``old``, the configuration that differs from this one
@@ -696,9 +701,7 @@ class ConfigData:
         ``old``'s were (:func:`_general_modes`) and under :data:`DEFECTIVE_COND` as there; None
         where any of it does not hold (the caller decomposes from scratch)."""
         if roots is None:
-            if old.m != self.m or old.rigid_stuck.size or not old.modal or old.V is None or old.W is None:
-                return None
-            roots = mode_update.rank_one_roots(*self._update_terms(system, jen_stuck, old, slider))
+            roots = self._update_roots(system, jen_stuck, old, slider)
             if roots is None:
                 return None
         n = self.m
