@@ -32,7 +32,7 @@ import pytest
 import scipy.linalg
 
 import frictionjoint as fj
-from frictionjoint.solvers.marcher import monodromy
+from frictionjoint.solvers.marcher import monodromy, propagator
 from frictionjoint.solvers.marcher.events import EventLog
 from test_monodromy_modal import _kinds, _orbit, _rel  # (tests/ is on the path: tests/conftest.py)
 
@@ -158,15 +158,29 @@ def _fake_config(seed):
         pass
     cfg = Config()
     cfg.lam, cfg.V, cfg.W, cfg.A = lam, v, np.linalg.inv(v), a
+    cfg.n_pairs = None
     return cfg
 
 
-@pytest.mark.parametrize("seed", range(4))
-def test_real_rows_carry_the_exponential(seed):
-    """``R diag(real blocks of e^{lam tau}) Q = e^{A tau}`` and ``Q R = I`` for roots in any order
-    and vectors with any complex factors (real roots' vectors not real): the real form is the
-    complex one. To rounding of ``eig`` and ``inv`` on a 6 x 6 (1e-13, 1000 eps)."""
+def _halved_config(seed):
+    """:func:`_fake_config`'s modes as ``eig`` gives them (pairs side by side, exact conjugates),
+    halved as a configuration keeps them (:func:`.propagator._halved_modes`)."""
     cfg = _fake_config(seed)
+    lam, v = np.linalg.eig(cfg.A)
+    halved = propagator._halved_modes(lam, v, propagator._real_inverse(lam, v))
+    assert halved is not None
+    cfg.lam, cfg.V, cfg.W, cfg.n_pairs = halved
+    return cfg
+
+
+@pytest.mark.parametrize("halved", [False, True])
+@pytest.mark.parametrize("seed", range(4))
+def test_real_rows_carry_the_exponential(seed, halved):
+    """``R diag(real blocks of e^{lam tau}) Q = e^{A tau}`` and ``Q R = I`` for roots in any order
+    and vectors with any complex factors (real roots' vectors not real), and for halved modes (a
+    pair's first root, its vector times 2): the real form is the complex one. To rounding of
+    ``eig`` and ``inv`` on a 6 x 6 (1e-13, 1000 eps)."""
+    cfg = _halved_config(seed) if halved else _fake_config(seed)
     real = monodromy._RealModes.of(cfg)
     assert real is not None and real.p == 2 and real.phase.size == 2
     right = real.cols(cfg.V[:, real.keep])

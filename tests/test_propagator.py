@@ -156,3 +156,48 @@ def test_real_inverse_of_conjugate_eigenvectors():
         w = propagator._real_inverse(lam, v)
         ref = np.linalg.inv(v.astype(complex))
         assert np.max(np.abs(w - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+def test_halved_general_modes_give_the_whole_ones_back():
+    """propagator._halved_modes keeps a pair's first root (its vector times 2) and the real roots;
+    _unhalved_modes gives the same numbers back, exactly (a factor 2 and a conjugate: no rounding).
+    Pairs that are not exact conjugates are kept whole (None)."""
+    rng = np.random.default_rng(1)
+    a = rng.standard_normal((10, 10))
+    lam, v = np.linalg.eig(a)
+    w = propagator._real_inverse(lam, v)
+    lam_h, v_h, w_h, p = propagator._halved_modes(lam, v, w)
+    assert p == np.count_nonzero(lam.imag > 0) and lam_h.size == lam.size - p
+    back = propagator._unhalved_modes(lam_h, v_h, w_h, p)
+    # the same set of (root, vector, row) triples, exactly
+    i, j = np.lexsort((lam.imag, lam.real)), np.lexsort((back[0].imag, back[0].real))
+    assert np.array_equal(lam[i], back[0][j])
+    assert np.array_equal(v.astype(complex)[:, i], back[1][:, j])
+    assert np.array_equal(w[i], back[2][j])
+    v_bad = v.astype(complex)
+    k = int(np.flatnonzero(lam.imag > 0)[0])
+    v_bad[:, k + 1] *= 1 + 1e-15
+    assert propagator._halved_modes(lam, v_bad, w) is None
+
+
+def test_halved_general_modes_march_the_same_orbit(monkeypatch):
+    """A stiffness-damped chain's stuck configurations have general modes, kept halved; its steady
+    state equals the one with the modes kept whole (monkeypatched off) to rounding: the real-part
+    rule sums a pair's two conjugate terms as twice the real part of one. 1e-12 of the largest
+    amplitude is ~100x above the 8.7e-15 measured (two Newton solves' rounding)."""
+    n = 12
+    base = fj.LinearStructure.chain(n)
+    sysm = fj.FrictionSystem(fj.LinearStructure(base.mass, base.stiffness, 0.02 * base.stiffness),
+                             [fj.Jenkins(1.0, 0.004, dof=n - 1), fj.Jenkins(1.0, 0.003, dof=n // 2)],
+                             omega=0.12, excitation=[fj.HarmonicForce(n - 1, 0.01)])
+    m = Marcher(sysm)
+    got = fj.periodic_response(sysm, marcher=m)
+    assert got.converged
+    halved = [c for c in m._configs.values() if "_pending" not in c.__dict__ and c.n_pairs is not None]
+    assert halved
+    for c in halved:  # the whole modes back: V V^-1 = I to rounding of the inverse
+        lam, v, w = c.full_modes()
+        assert lam.size == 2 * n and np.max(np.abs(v @ w - np.eye(2 * n))) <= 1e-10
+    monkeypatch.setattr(propagator, "_halved_modes", lambda lam, v, w: None)
+    ref = fj.periodic_response(sysm, marcher=Marcher(sysm))
+    assert np.max(np.abs(got.amplitude - ref.amplitude)) <= 1e-12 * np.max(ref.amplitude)

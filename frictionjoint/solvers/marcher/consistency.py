@@ -76,19 +76,40 @@ def _flat(floats) -> tuple:
     return buf, hdr
 
 
-def pack_config(floats) -> tuple:
+def pack_config(floats, shared=None) -> tuple:
     """The configuration's arrays :data:`CONFIG_FLOATS` packed once for all its statuses:
-    ``(buffer, header)``, for :func:`pack`. Each status packed them again before: four ``m x m``
-    and ``n x n`` matrices, 1.3 MB at n = 200, per status."""
+    ``(buffer, header, shared buffer)``, for :func:`pack`. Each status packed them again before:
+    four ``m x m`` and ``n x n`` matrices, 1.3 MB at n = 200, per status.
+
+    ``shared``: ``{index: array}`` of arrays that are the same for every configuration of a
+    system (``K`` and ``A22`` without contacts and stuck rigid sliders), packed once per system
+    (:func:`pack_shared`) instead of once per configuration: their header entries point into the
+    shared buffer (offset ``-1 - offset``)."""
     if len(floats) != _N_CONFIG:
         raise ValueError(f"pack_config takes {_N_CONFIG} float arrays")
-    return _flat(floats)
+    if not shared:
+        buf, hdr = _flat(floats)
+        return buf, hdr, np.zeros(0)
+    fs, hs = shared
+    own = [np.zeros(0) if i in hs else a for i, a in enumerate(floats)]
+    buf, hdr = _flat(own)
+    for i, (off, r, c) in hs.items():
+        hdr[3 * i:3 * i + 3] = [-1 - off, r, c]
+    return buf, hdr, fs
+
+
+def pack_shared(arrays: dict) -> tuple:
+    """``(buffer, {index: (offset, rows, cols)})`` of :func:`pack_config`'s arrays shared by the
+    configurations of a system, ``arrays`` ``{index: array}``."""
+    idx = sorted(arrays)
+    buf, hdr = _flat([arrays[i] for i in idx])
+    return buf, {i: tuple(hdr[3 * k:3 * k + 3]) for k, i in enumerate(idx)}
 
 
 def pack(config, floats, ints) -> tuple:
-    """The status's constant arrays as ``((fc, fk), ik)`` for :func:`check`: the configuration's
+    """The status's constant arrays as ``((fc, fk, fs), ik)`` for :func:`check`: the configuration's
     buffer ``fc`` (:func:`pack_config`, shared), the status's own floats ``fk`` (the rest of
-    :data:`FLOATS`) and the ints.
+    :data:`FLOATS`), the system's shared buffer ``fs`` (:func:`pack_shared`) and the ints.
 
     Numba checks the type of every argument at every call: a tuple of 27 arrays cost ~4.5 us per
     call (two calls per event), two arrays ~0.2 us. ``ik`` starts with a header: for each float
@@ -98,7 +119,7 @@ def pack(config, floats, ints) -> tuple:
     """
     if len(floats) != len(FLOATS) - _N_CONFIG or len(ints) != len(INTS):
         raise ValueError(f"pack takes {len(FLOATS) - _N_CONFIG} float and {len(INTS)} int arrays")
-    fc, hc = config
+    fc, hc, fs = config
     fk, hk = _flat(floats)
     ints = [np.asarray(a, dtype=np.intp).ravel() for a in ints]
     hdr = hc + hk
@@ -107,21 +128,25 @@ def pack(config, floats, ints) -> tuple:
         hdr += [ioff, a.size]
         ioff += a.size
     ik = np.concatenate([np.array(hdr, np.intp)] + ints)
-    return (fc, fk), ik
-
-
-@_jit
-def _f2(fk, ik, i):
-    off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
-    buf = fk[0] if i < _N_CONFIG else fk[1]
-    return buf[off:off + r * c].reshape((r, c))
+    return (fc, fk, fs), ik
 
 
 @_jit
 def _f1(fk, ik, i):
     off, r, c = ik[3 * i], ik[3 * i + 1], ik[3 * i + 2]
-    buf = fk[0] if i < _N_CONFIG else fk[1]
+    if i >= _N_CONFIG:
+        buf = fk[1]
+    elif off < 0:  # in the system's shared buffer (pack_config)
+        buf = fk[2]
+        off = -1 - off
+    else:
+        buf = fk[0]
     return buf[off:off + r * c]
+
+
+@_jit
+def _f2(fk, ik, i):
+    return _f1(fk, ik, i).reshape((ik[3 * i + 1], ik[3 * i + 2]))
 
 
 @_jit

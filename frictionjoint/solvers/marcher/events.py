@@ -117,12 +117,15 @@ def _nbytes(obj) -> int:
     """Memory held by the arrays of a slotted object (a :class:`StatusPattern`) [bytes], in its
     slots and their (nested) tuples, without its configuration's packed arrays (``cfg.kern``,
     shared by the configuration's statuses and counted with it)."""
-    shared = getattr(getattr(obj, "cfg", None), "kern", None)
+    kern = getattr(getattr(obj, "cfg", None), "kern", None)
+    # (buffer, header, system buffer): every status's packed arrays hold the configuration's buffer
+    # (counted with it) and the system's (counted with neither)
+    shared = {id(kern[0]), id(kern[2])} if kern is not None else set()
 
     def size(a) -> int:
         if isinstance(a, tuple):
             return sum(size(b) for b in a)
-        return a.nbytes if isinstance(a, np.ndarray) and a.base is None and a is not shared else 0
+        return a.nbytes if isinstance(a, np.ndarray) and a.base is None and id(a) not in shared else 0
     return sum(size(getattr(obj, name, None)) for name in type(obj).__slots__)
 
 

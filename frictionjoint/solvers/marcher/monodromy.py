@@ -79,16 +79,21 @@ class _RealModes:
     rows of a variation are ``(Re z, Im z)`` of each kept pair's root, interleaved, then ``z`` of
     each real root (times its phase's inverse): ``2m`` real rows."""
 
-    __slots__ = ("p", "keep", "lam", "phase")
+    __slots__ = ("p", "keep", "lam", "phase", "pair_weight")
 
-    def __init__(self, p, keep, lam, phase):
+    def __init__(self, p, keep, lam, phase, pair_weight=2.0):
         self.p, self.keep, self.lam, self.phase = p, keep, lam, phase
+        #: the factor of a pair's columns in :meth:`cols`: 2, or 1 where the configuration's
+        #: modes are halved (:func:`.propagator._halved_modes`: the vectors carry the 2)
+        self.pair_weight = pair_weight
 
     @classmethod
     def of(cls, cfg) -> _RealModes | None:
         """The real modal coordinates of ``cfg``'s modes, None where its roots or vectors do not
         come in conjugate pairs to :data:`PAIR_TOL` (the march takes physical rows there)."""
         lam, v = cfg.lam, cfg.V
+        if cfg.n_pairs is not None:  # halved: the pairs' first roots, then the real ones
+            return cls._halved(cfg.n_pairs, lam, v)
         pairs = conjugate_pairs(lam, PAIR_TOL)
         if pairs is None:
             return None
@@ -111,6 +116,23 @@ class _RealModes:
         lam_k[up.size:] = lam_k[up.size:].real
         return cls(up.size, keep, lam_k, phase)
 
+    @classmethod
+    def _halved(cls, p: int, lam, v) -> _RealModes | None:
+        """Of halved modes (``p`` pairs' first roots, then the real roots): the phases of the real
+        roots' vectors as in :meth:`of`."""
+        vr = v[:, p:]
+        phase = np.ones(vr.shape[1], complex)
+        if vr.shape[1]:
+            big = vr[np.argmax(np.abs(vr), axis=0), np.arange(vr.shape[1])]
+            if np.any(big == 0):
+                return None
+            phase = big.conj() / np.abs(big)
+            if np.any(np.max(np.abs((vr * phase).imag), axis=0) > PAIR_TOL * np.abs(big)):
+                return None
+        lam_k = lam.copy()
+        lam_k[p:] = lam_k[p:].real
+        return cls(p, np.arange(lam.size), lam_k, phase, pair_weight=1.0)
+
     def rows(self, z: np.ndarray) -> np.ndarray:
         """Real rows ``(2m, ...)`` of complex modal coordinates ``z`` of the kept roots (rows in
         :attr:`keep`'s order): a pair's ``Re z``, ``Im z``, a real root's ``z / phase``."""
@@ -128,8 +150,8 @@ class _RealModes:
         c``, a real root's ``c phase``."""
         p = self.p
         out = np.empty(c.shape[:-1] + (2 * p + self.phase.size,))
-        out[..., 0:2 * p:2] = 2.0 * c[..., :p].real
-        out[..., 1:2 * p:2] = -2.0 * c[..., :p].imag
+        out[..., 0:2 * p:2] = self.pair_weight * c[..., :p].real
+        out[..., 1:2 * p:2] = -self.pair_weight * c[..., :p].imag
         out[..., 2 * p:] = (c[..., p:] * self.phase).real
         return out
 

@@ -406,6 +406,43 @@ def _general_modes(a):
     return lam, (tsc, vb), wb
 
 
+def _halved_modes(lam, v, w):
+    """General modes halved as classical ones are (:func:`_half_modes`): ``(lam, V, V^-1, p)`` with
+    the first root of each of the ``p`` conjugate pairs (``Im lam > 0``, its vector times 2) then
+    the real roots, and their rows of ``V^-1``; a real state is ``Re(V e^{lam t} V^-1 z)``, the
+    march's real-part rule. Half the memory of a configuration's modes (10 of the 25 MB a
+    configuration held at 400 DOFs) and half the work of every product with them. Only where the
+    pairs lie side by side as exact conjugates, roots, vectors and rows (``eig`` of a real matrix,
+    :func:`_real_inverse`, the rank-one updates build them so): else None (kept whole).
+    :func:`_unhalved_modes` gives the same numbers back."""
+    first = np.flatnonzero(lam.imag > 0)
+    second = first + 1
+    if not first.size or second[-1] >= lam.size or 2 * first.size != np.count_nonzero(lam.imag) \
+            or not (np.array_equal(lam[second], lam[first].conj()) and np.array_equal(v[:, second], v[:, first].conj())
+                    and np.array_equal(w[second], w[first].conj())):
+        return None
+    keep = np.concatenate([first, np.flatnonzero(lam.imag == 0)])
+    vh = v[:, keep]
+    vh[:, :first.size] *= 2.0  # a power of 2: exact
+    return lam[keep], vh, w[keep], int(first.size)
+
+
+def _unhalved_modes(lam, v, w, p: int):
+    """``(lam, V, V^-1)`` whole from :func:`_halved_modes`' (``p`` pairs): each pair's roots side by
+    side, then the real roots; the same numbers as before halving."""
+    size = lam.size + p
+    first = np.arange(0, 2 * p, 2)
+    lam_f = np.empty(size, complex)
+    v_f = np.empty((v.shape[0], size), complex)
+    w_f = np.empty((size, w.shape[1]), complex)
+    lam_f[first], lam_f[first + 1], lam_f[2 * p:] = lam[:p], lam[:p].conj(), lam[p:]
+    v_f[:, first] = 0.5 * v[:, :p]
+    v_f[:, first + 1] = v_f[:, first].conj()
+    v_f[:, 2 * p:] = v[:, p:]
+    w_f[first], w_f[first + 1], w_f[2 * p:] = w[:p], w[:p].conj(), w[p:]
+    return lam_f, v_f, w_f
+
+
 def _norm1(a: np.ndarray) -> float:
     """The 1-norm of a complex matrix to within a factor ``sqrt(2)`` (from above): the largest column
     sum of ``|Re| + |Im|``."""
@@ -462,7 +499,7 @@ def _first_order(mr_inv, kr, cr, diagonal: bool) -> np.ndarray:
 #: the attributes of a configuration's modes, decomposed on first use where they are a neighbour's
 #: updated (:meth:`ConfigData.__getattr__`)
 _MODAL = frozenset({"lam", "V", "_W", "modal", "max_rate", "shapes", "shapes_mass", "shapes_w2", "pairs",
-                    "_inverse", "_balance"})
+                    "_inverse", "_balance", "n_pairs"})
 
 
 class ConfigData:
@@ -527,7 +564,15 @@ class ConfigData:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
             w = np.zeros((0, 0), complex)
-        self.lam = np.asarray(lam, dtype=complex)
+        lam = np.asarray(lam, dtype=complex)
+        #: general modes kept halved (:func:`_halved_modes`): the number of conjugate pairs (their
+        #: first roots lead ``lam``), else None (classical, defective or not paired exactly)
+        self.n_pairs = None
+        if v is not None and self.pairs is None:
+            halved = _halved_modes(lam, v, w)
+            if halved is not None:
+                lam, v, w, self.n_pairs = halved
+        self.lam = lam
         self.V = v
         self._W = w
         rates = np.abs(self.lam)
@@ -544,9 +589,13 @@ class ConfigData:
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
         if name == "max_rate" and "_roots" not in self.__dict__:
             system, jen_stuck, _, _, _, (old, slider) = pending
-            self._roots = self._update_roots(system, jen_stuck, old, slider)
-            if self._roots is not None:
-                self.max_rate = float(np.max(np.abs(self._roots[0]), initial=0.0))
+            roots = self._roots = self._update_roots(system, jen_stuck, old, slider)
+            if roots is not None:
+                # without the neighbour's eigenvectors (a view of its whole modes, built for the
+                # update where they are kept halved or factored: 2m x 2m held for nothing while
+                # the configuration waits); :meth:`_updated_modes` takes them again
+                self._roots = (roots[0], (None,) + roots[1][1:])
+                self.max_rate = float(np.max(np.abs(roots[0]), initial=0.0))
                 return self.max_rate
         del self._pending
         if "_roots" in self.__dict__:
@@ -704,6 +753,8 @@ class ConfigData:
             roots = self._update_roots(system, jen_stuck, old, slider)
             if roots is None:
                 return None
+        elif roots[1][0] is None:  # the eigenvectors the roots were found with, again
+            roots = (roots[0], (old.full_modes()[1][:old.m],) + roots[1][1:])
         n = self.m
         mu, phi = mode_update.rank_one_shapes(roots)
         v = mode_update.checked_modes(mu, phi, system.mass, self.damping, self.stiffness)
@@ -785,6 +836,8 @@ class ConfigData:
         """``(lam, V, V^-1)`` with both roots of every conjugate pair (square ``V``): for a
         complex response (the stuck orbit's harmonic solve), where the halved modes' real-part
         rule does not apply."""
+        if self.n_pairs is not None:
+            return _unhalved_modes(self.lam, self.V, self._W, self.n_pairs)
         if self.pairs is None:
             return self.lam, self.V, self.W
         return _full_modes(self.shapes, self.shapes_mass, *self.pairs)
@@ -815,7 +868,8 @@ class ConfigData:
         refers to (stiffness, damping, ``M^-1``, the identity ``N``)."""
         seen = {id(a) for a in self._shared}
         # a configuration decomposed on first use counts its eigenvectors and their inverse to come
-        total = 2 * 16 * (2 * self.m) ** 2 if "_pending" in self.__dict__ else 0
+        # (halved: 2m x m complex each, :func:`_halved_modes`)
+        total = 16 * (2 * self.m) ** 2 if "_pending" in self.__dict__ else 0
         for value in vars(self).values():
             for a in value if isinstance(value, tuple) else (value,):
                 if isinstance(a, np.ndarray) and a.base is None and id(a) not in seen:
