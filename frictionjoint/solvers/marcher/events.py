@@ -297,6 +297,23 @@ class Marcher:
                 self._evict()
         return pat
 
+    def forget(self) -> int:
+        """Forget every cached configuration, status pattern and Jacobian part (they are built
+        again on the next visit); returns the bytes the cache counted.
+
+        Returns
+        -------
+        int
+            Memory the cache held [bytes], as counted (:data:`CONFIG_CACHE_BYTES`).
+        """
+        held = self._config_bytes
+        self._configs.clear()
+        self._patterns.clear()
+        for name in ("_sensitivities", "_basis_changes", "_real_modes"):
+            self.__dict__.pop(name, None)
+        self._config_bytes = 0
+        return held
+
     @property
     def n_configurations(self) -> int:
         """Number of configurations decomposed so far."""
