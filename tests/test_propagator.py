@@ -195,9 +195,14 @@ def test_halved_general_modes_march_the_same_orbit(monkeypatch):
     assert got.converged
     halved = [c for c in m._configs.values() if "_pending" not in c.__dict__ and c.n_pairs is not None]
     assert halved
+    f = np.linspace(-1.0, 1.0, n)
     for c in halved:  # the whole modes back: V V^-1 = I to rounding of the inverse
         lam, v, w = c.full_modes()
         assert lam.size == 2 * n and np.max(np.abs(v @ w - np.eye(2 * n))) <= 1e-10
+        # what an update reads, without the whole modes: the same numbers (a conjugate commutes
+        # with sums and products by reals)
+        lam_u, top, a = c.update_basis(f)
+        assert np.array_equal(lam_u, lam) and np.array_equal(top, v[:n]) and np.array_equal(a, w[:, n:] @ f)
     monkeypatch.setattr(propagator, "_halved_modes", lambda lam, v, w: None)
     ref = fj.periodic_response(sysm, marcher=Marcher(sysm))
     assert np.max(np.abs(got.amplitude - ref.amplitude)) <= 1e-12 * np.max(ref.amplitude)

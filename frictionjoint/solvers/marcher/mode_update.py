@@ -36,7 +36,7 @@ import numpy as np
 
 from ..jit import ENABLED, _jit
 
-__all__ = ["rank_one_modes", "rank_one_roots", "rank_one_shapes", "checked_modes", "conjugate_pairs", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
+__all__ = ["rank_one_modes", "rank_one_roots", "rank_one_roots_top", "rank_one_shapes", "checked_modes", "conjugate_pairs", "MAX_SWEEPS", "BACKWARD_ERROR", "WEIGHTS_CHECK"]
 
 #: Aberth sweeps at most (from the neighbour's eigenvalues the roots converge in 5 to 15 sweeps on
 #: the benchmark chains)
@@ -361,18 +361,43 @@ def rank_one_roots(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
     if not ENABLED:
         return None  # an FMU's NumPy copy decomposes from scratch: the root finder is compiled
     n = v.shape[0] // 2
+    return rank_one_roots_top(lam, v[:n], w[:, n:] @ force, direction)
+
+
+def rank_one_roots_top(lam: np.ndarray, v_top: np.ndarray, a: np.ndarray, direction: np.ndarray):
+    """:func:`rank_one_roots` from the displacement rows of the eigenvectors and the modal force:
+    what the update reads of the modes (a configuration that keeps its modes halved gives these
+    without building its whole ``V`` and ``V^-1``).
+
+    Parameters
+    ----------
+    lam : (N,) complex ndarray
+        Eigenvalues, both roots of every conjugate pair.
+    v_top : (n, N) complex ndarray
+        The eigenvectors' displacement rows ``V[:n]``.
+    a : (N,) complex ndarray
+        ``V^-1[:, n:] force``.
+    direction : (n,) ndarray
+        As :func:`rank_one_modes`.
+
+    Returns
+    -------
+    tuple or None
+        As :func:`rank_one_roots`.
+    """
+    if not ENABLED:
+        return None
     partner = _partners(lam)
     if partner is None:
         return None
-    a = w[:, n:] @ force
-    b = direction @ v[:n]
+    b = direction @ v_top
     scale = float(np.max(np.abs(lam), initial=0.0)) + float(np.linalg.norm(a) * np.linalg.norm(b))
     # poles whose terms of a b^T are rounding of the matrix keep their eigenvalue and mode
     kept = np.abs(a) * np.linalg.norm(b) + np.linalg.norm(a) * np.abs(b) <= 8 * np.finfo(float).eps * scale
     kept |= kept[partner]
     act = np.flatnonzero(~kept)
     if not act.size:
-        return lam.copy(), (v[:n], act, kept, None)
+        return lam.copy(), (v_top, act, kept, None)
     la = np.ascontiguousarray(lam[act])
     c = a[act] * b[act]
     anchor = np.arange(la.size, dtype=np.int64)
@@ -396,7 +421,7 @@ def rank_one_roots(lam: np.ndarray, v: np.ndarray, w: np.ndarray, force: np.ndar
     mu_rep = la[anchor] + tau
     real = (tau.imag == 0) & (la[anchor].imag == 0)
     mu = np.concatenate([lam[kept], _paired(mu_rep, real)])
-    return mu, (v[:n], act, kept, (la, anchor, tau, chat / b[act], real))
+    return mu, (v_top, act, kept, (la, anchor, tau, chat / b[act], real))
 
 
 def rank_one_shapes(roots) -> tuple:

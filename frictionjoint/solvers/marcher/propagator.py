@@ -740,10 +740,10 @@ class ConfigData:
         no modes to update (defective, or with stuck rigid sliders) or the roots were not found."""
         if old.rigid_stuck.size or old.m != self.m or not old.modal or old.V is None:
             return None
-        lam, v, w = old.full_modes()
         d = system.slider_direction[slider]
         k = float(system.slider_stiffness[slider]) * (1.0 if jen_stuck[slider] else -1.0)
-        return mode_update.rank_one_roots(lam, v, w, -(_mass_inverse(system) @ d) * k, d)
+        lam, v_top, a = old.update_basis(-(_mass_inverse(system) @ d) * k)
+        return mode_update.rank_one_roots_top(lam, v_top, a, d)
 
     def _updated_modes(self, system, jen_stuck: np.ndarray, old: "ConfigData", slider: int, roots=None):
         """``(lam, V, V^-1)`` from the modes of ``old``, the configuration that differs from this one
@@ -757,7 +757,7 @@ class ConfigData:
             if roots is None:
                 return None
         elif roots[1][0] is None:  # the eigenvectors the roots were found with, again
-            roots = (roots[0], (old.full_modes()[1][:old.m],) + roots[1][1:])
+            roots = (roots[0], (old.update_basis()[1],) + roots[1][1:])
         n = self.m
         mu, phi = mode_update.rank_one_shapes(roots)
         v = mode_update.checked_modes(mu, phi, system.mass, self.damping, self.stiffness)
@@ -844,6 +844,31 @@ class ConfigData:
         if self.pairs is None:
             return self.lam, self.V, self.W
         return _full_modes(self.shapes, self.shapes_mass, *self.pairs)
+
+    def update_basis(self, force: np.ndarray | None = None):
+        """What a rank-one update from this configuration reads of its modes
+        (:func:`.mode_update.rank_one_roots_top`): ``(lam, V[:m], V^-1[:, m:] force)`` with both
+        roots of every pair (the last None without ``force``). Halved modes give them without
+        their whole ``V`` and ``V^-1`` (:func:`_unhalved_modes`: the same numbers)."""
+        p = self.n_pairs
+        if p is None:
+            lam, v, w = self.full_modes()
+            return lam, v[:self.m], None if force is None else w[:, self.m:] @ force
+        first = np.arange(0, 2 * p, 2)
+        size = self.lam.size + p
+        lam = np.empty(size, complex)
+        lam[first], lam[first + 1], lam[2 * p:] = self.lam[:p], self.lam[:p].conj(), self.lam[p:]
+        top = self.V[:self.m]
+        v = np.empty((self.m, size), complex)
+        v[:, first] = 0.5 * top[:, :p]
+        v[:, first + 1] = v[:, first].conj()
+        v[:, 2 * p:] = top[:, p:]
+        if force is None:
+            return lam, v, None
+        ah = self._W[:, self.m:] @ force
+        a = np.empty(size, complex)
+        a[first], a[first + 1], a[2 * p:] = ah[:p], ah[:p].conj(), ah[p:]
+        return lam, v, a
 
     def modal_rows(self, rows: np.ndarray) -> np.ndarray:
         """``rows @ V`` for real ``rows`` on the reduced state ``[q, q']`` (``2m`` columns), e.g. the
