@@ -81,10 +81,11 @@ def pack_config(floats, shared=None) -> tuple:
     ``(buffer, header, shared buffer)``, for :func:`pack`. Each status packed them again before:
     four ``m x m`` and ``n x n`` matrices, 1.3 MB at n = 200, per status.
 
-    ``shared``: ``{index: array}`` of arrays that are the same for every configuration of a
-    system (``K`` and ``A22`` without contacts and stuck rigid sliders), packed once per system
-    (:func:`pack_shared`) instead of once per configuration: their header entries point into the
-    shared buffer (offset ``-1 - offset``)."""
+    ``shared``: :func:`pack_shared`'s ``(buffer, {index: (offset, rows, cols)})`` of the arrays
+    that are the same for every configuration of a system (``K`` and ``A22`` without contacts and
+    stuck rigid sliders), packed once per system instead of once per configuration: their header
+    entries point into the shared buffer (offset ``-1 - offset``; their entries in ``floats`` are
+    not read)."""
     if len(floats) != _N_CONFIG:
         raise ValueError(f"pack_config takes {_N_CONFIG} float arrays")
     if not shared:
