@@ -216,3 +216,36 @@ def test_forgotten_cache_and_memory_given_back():
     again = fj.periodic_response(system, marcher=marcher)
     assert np.array_equal(first.amplitude, again.amplitude)
     assert release_freed_memory() == (platform.libc_ver()[0] == "glibc")
+
+
+@pytest.mark.parametrize("budget", [5_000_000, None])
+def test_the_count_follows_the_cache_through_evictions(budget, monkeypatch):
+    """What eviction takes off is what was put on (Marcher._charge): with a budget of a dozen
+    configurations, two steady states on one marcher keep a dozen cached, and the count is the
+    cached configurations' and statuses' own sizes, less at most the first-order matrices built
+    after they were counted (ConfigData.A on a rare first use). A halved V that was a view (not
+    counted) and a waiting configuration counted at its expected modes but taken off at its actual
+    size made the count drift up by each eviction until one configuration was cached (13.6 MB
+    counted for 0.3 MB held at this budget)."""
+    from frictionjoint.solvers.marcher.events import _nbytes
+    if budget is not None:
+        monkeypatch.setattr(events, "CONFIG_CACHE_BYTES", budget)
+    n, joints = 60, 8
+    w1 = 2 * math.sin(math.pi / (2 * (2 * n + 1)))
+    base = fj.LinearStructure.chain(n)
+    structure = fj.LinearStructure(base.mass, base.stiffness, 0.02 * w1 * base.mass + 0.05 * base.stiffness)
+    dofs = sorted({int(d) for d in np.linspace(n - 1, n // 2, joints).round()})
+    system = fj.FrictionSystem(structure, [fj.Jenkins(0.5 * w1 ** 2, 2e-4, dof=d) for d in dofs],
+                               omega=0.9 * w1, excitation=[fj.HarmonicForce(n - 1, 0.01)])
+    marcher = fj.Marcher(system)
+    for _ in range(2):
+        assert fj.periodic_response(system, marcher=marcher).converged
+        configs = list(marcher._configs.values())
+        own = sum(c.nbytes for c in configs) + sum(_nbytes(p) for p in marcher._patterns.values())
+        late = sum(c._A.nbytes for c in configs if "_pending" not in c.__dict__ and c._A is not None)
+        assert own - late <= marcher._config_bytes <= own
+        # the modes own their arrays (nbytes counts no view: a halved V was one, uncounted)
+        general = [c for c in configs if "_pending" not in c.__dict__ and c.n_pairs is not None]
+        assert general and all(c.V.base is None and c._W.base is None for c in general)
+        if budget is not None:
+            assert len(configs) >= 10 and marcher._config_bytes <= budget

@@ -206,3 +206,18 @@ def test_halved_general_modes_march_the_same_orbit(monkeypatch):
     monkeypatch.setattr(propagator, "_halved_modes", lambda lam, v, w: None)
     ref = fj.periodic_response(sysm, marcher=Marcher(sysm))
     assert np.max(np.abs(got.amplitude - ref.amplitude)) <= 1e-12 * np.max(ref.amplitude)
+
+
+def test_real_inverse_of_a_singular_matrix_raises_and_does_not_warn():
+    """propagator._real_inverse (LAPACK getrf + getri called directly): a singular matrix of the
+    pairs' real and imaginary parts raises LinAlgError (SciPy 1.17's inv crashed on this symmetric
+    one), and an ill-conditioned one returns without a warning (the caller's condition test sends
+    a defective configuration to the exponential)."""
+    import warnings
+    v = np.array([1 + 1j, 1 + 1j])
+    with pytest.raises(np.linalg.LinAlgError):
+        propagator._real_inverse(np.array([1j, -1j]), np.stack([v, v.conj()], axis=1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lam, vb, w = propagator._general_modes(np.array([[0.0, 1.0], [0.0, 0.0]]))
+    assert vb is None and w is None

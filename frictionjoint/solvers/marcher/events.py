@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import collections
 import math
+import weakref
 from collections.abc import Callable
 
 import numpy as np
@@ -185,6 +186,9 @@ class Marcher:
         self.system = check_system("system", system, FrictionSystem)
         self._configs: collections.OrderedDict[bytes, ConfigData] = collections.OrderedDict()
         self._config_bytes = 0
+        #: what each cached configuration (``("c", key)``) and status pattern (``("p", key)``) was
+        #: last counted at (:meth:`_charge`): eviction takes off what was put on
+        self._charges: dict[tuple[str, bytes], int] = {}
         self._patterns: dict[bytes, StatusPattern] = {}
         self.v_scale = 0.0
         self._breaks = system.external_breaks()
@@ -237,12 +241,38 @@ class Marcher:
         cfg = self._configs.get(key)
         if cfg is None:
             cfg = self._configs[key] = ConfigData(self.system, status, self._neighbour(status))
-            self._config_bytes += cfg.nbytes
+            if "_pending" in cfg.__dict__:  # counted again once its modes are decomposed
+                cfg._cache_key = key
+                cfg._on_decomposed = weakref.WeakMethod(self._recount_config)
+            self._charge(("c", key), cfg)
             if self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
                 self._evict()
         else:
             self._configs.move_to_end(key)
         return cfg
+
+    def _charge(self, key: tuple, obj) -> None:
+        """Count the cached ``obj`` (a configuration, ``key = ("c", config key)``, or a status
+        pattern, ``("p", status)``) at its present size, in place of what it was counted at."""
+        size = obj.nbytes if key[0] == "c" else _nbytes(obj)
+        self._config_bytes += size - self._charges.get(key, 0)
+        self._charges[key] = size
+
+    def _recount_config(self, cfg: ConfigData) -> None:
+        """A cached configuration's modes were decomposed on first use: counted at its new size."""
+        key = cfg.__dict__.get("_cache_key")
+        if key is not None and self._configs.get(key) is cfg:
+            self._charge(("c", key), cfg)
+
+    def _recount(self, pat: StatusPattern, status: np.ndarray) -> None:
+        """A status pattern packed or given its modal coefficients (and its configuration, which
+        that may have decomposed), counted again where they are cached."""
+        key = status.astype(np.int8, copy=False).tobytes()
+        if self._patterns.get(key) is pat:
+            self._charge(("p", key), pat)
+        ckey = self.system.config_key(status)
+        if self._configs.get(ckey) is pat.cfg:
+            self._charge(("c", ckey), pat.cfg)
 
     def _neighbour(self, status: np.ndarray) -> tuple | None:
         """A decomposed configuration that differs from the one of ``status`` by one Jenkins
@@ -278,9 +308,10 @@ class Marcher:
         key_of = self.system.config_key
         while self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
             key, cfg = self._configs.popitem(last=False)
-            self._config_bytes -= cfg.nbytes
+            self._config_bytes -= self._charges.pop(("c", key), 0)
             for k in [k for k in self._patterns if key_of(np.frombuffer(k, np.int8)) == key]:
-                self._config_bytes -= _nbytes(self._patterns.pop(k))
+                del self._patterns[k]
+                self._config_bytes -= self._charges.pop(("p", k), 0)
             for k in [k for k in sens if key_of(np.frombuffer(k, np.int8)) == key]:
                 del sens[k]
 
@@ -292,7 +323,7 @@ class Marcher:
         if pat is None:
             status = status.copy()
             pat = self._patterns[key] = StatusPattern(self.system, status, self.config(status))
-            self._config_bytes += _nbytes(pat)
+            self._charge(("p", key), pat)
             if self._config_bytes > CONFIG_CACHE_BYTES:
                 self._evict()
         return pat
@@ -309,6 +340,7 @@ class Marcher:
         held = self._config_bytes
         self._configs.clear()
         self._patterns.clear()
+        self._charges.clear()
         for name in ("_sensitivities", "_basis_changes", "_real_modes"):
             self.__dict__.pop(name, None)
         self._config_bytes = 0
@@ -642,9 +674,8 @@ class Marcher:
                 cfg = pat.cfg       # the slider positions in check
                 state.v = cfg.N @ (cfg.N.T @ state.v)
             if pat.kern is None:  # packed on first use: counted in the cache then
-                before = _nbytes(pat) + pat.cfg.nbytes
                 pat.pack(self._fscale_fixed, self._mass_scale)
-                self._config_bytes += _nbytes(pat) + pat.cfg.nbytes - before
+                self._recount(pat, state.status)
             fk, ik = pat.kern
             # the event's row (in the status of the piece it ended: the first test only) and the
             # rows that vanish with it
@@ -730,8 +761,7 @@ class Marcher:
             if pat.modal_p is None:
                 pat.modal_p = cfg.modal_rows(cy)
                 pat.modal_abs_p = search.magnitudes(pat.modal_p)
-                if self._patterns.get(itv.status.astype(np.int8, copy=False).tobytes()) is pat:  # cached
-                    self._config_bytes += pat.modal_p.nbytes + pat.modal_abs_p.nbytes
+                self._recount(pat, itv.status)
             b0, bp, bm = itv._b
             found, tau, row, vmax = search.first_event(pat.modal_p, pat.modal_abs_p, itv._a, b0, bp, bm, c0,
                                                        cfg.lam, cc, cs, self.system.omega, itv.t0,

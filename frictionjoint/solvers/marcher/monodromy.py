@@ -73,7 +73,8 @@ PAIR_TOL = 1e-10
 
 class _RealModes:
     """The real modal coordinates of a configuration's general modes (``N = I``, ``V`` and ``V^-1``
-    of the first-order matrix, both roots of every conjugate pair): ``keep`` the root kept of each
+    of the first-order matrix, both roots of every conjugate pair, or halved: the first root of
+    each pair, its vector times 2, :func:`.propagator._halved_modes`): ``keep`` the root kept of each
     pair (``Im lam > 0``, the first ``p``) then the real roots, ``lam`` theirs (real roots with
     imaginary part 0), ``phase`` the unit factors that make the real roots' vectors real. The
     rows of a variation are ``(Re z, Im z)`` of each kept pair's root, interleaved, then ``z`` of

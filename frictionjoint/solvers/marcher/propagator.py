@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 import scipy.linalg
+import scipy.linalg.lapack
 
 from . import mode_update, piece_kernels
 
@@ -422,7 +423,7 @@ def _halved_modes(lam, v, w):
                     and np.array_equal(w[second], w[first].conj())):
         return None
     keep = np.concatenate([first, np.flatnonzero(lam.imag == 0)])
-    vh = v[:, keep]
+    vh = np.take(v, keep, axis=1)  # its own array (v[:, keep] is a view of a transposed copy)
     vh[:, :first.size] *= 2.0  # a power of 2: exact
     return lam[keep], vh, w[keep], int(first.size)
 
@@ -449,6 +450,22 @@ def _norm1(a: np.ndarray) -> float:
     return float(np.max(np.abs(a.real).sum(axis=0) + np.abs(a.imag).sum(axis=0), initial=0.0))
 
 
+def _inverse_real(r: np.ndarray) -> np.ndarray:
+    """The inverse of the real square matrix ``r`` by LAPACK's ``dgetrf`` and ``dgetri`` (in place
+    where ``r`` is Fortran-ordered and may be overwritten): a third fewer flops than NumPy's
+    ``inv`` (``getrf`` then ``getrs`` against the identity; 5.9 against 8.4 ms at 400 x 400 on one
+    thread). Called directly: SciPy's ``inv`` (1.17) also tests the matrix's structure and
+    condition, warns where it is ill-conditioned (a defective configuration goes to the
+    exponential without a warning) and crashed on a singular symmetric one. Raises
+    ``LinAlgError`` where ``r`` is singular."""
+    lu, piv, info = scipy.linalg.lapack.dgetrf(r, overwrite_a=True)
+    if info == 0:
+        inv, info = scipy.linalg.lapack.dgetri(lu, piv, overwrite_lu=True)
+    if info != 0:
+        raise np.linalg.LinAlgError("singular matrix" if info > 0 else f"LAPACK argument {-info} invalid")
+    return inv
+
+
 def _real_inverse(lam, vb, exact: bool = False) -> np.ndarray:
     """``V^-1`` (complex) of the eigenvectors of a real matrix from the inverse of the real matrix
     ``R`` of their real and imaginary parts: a complex pair ``v, conj(v)`` (``eig`` of a real matrix
@@ -459,7 +476,7 @@ def _real_inverse(lam, vb, exact: bool = False) -> np.ndarray:
     pairs are not laid out so; ``exact``: the vectors of the pairs are known to be exact conjugates
     (built so), only the roots' layout is checked. Raises ``LinAlgError`` where ``V`` is singular."""
     if not np.iscomplexobj(vb):  # every eigenvalue real
-        return scipy.linalg.inv(vb, check_finite=False).astype(complex)
+        return _inverse_real(np.array(vb, order="F")).astype(complex)
     first = np.flatnonzero(lam.imag > 0)
     second = first + 1
     if (second.size and second[-1] >= lam.size) or 2 * first.size != np.count_nonzero(lam.imag) \
@@ -469,9 +486,7 @@ def _real_inverse(lam, vb, exact: bool = False) -> np.ndarray:
     r = np.empty(vb.shape, order="F")  # LAPACK's layout: getrf and getri work on it in place
     r[...] = vb.real
     r[:, second] = vb[:, first].imag
-    # getrf + getri (SciPy), not NumPy's getrf + getrs against the identity: a third fewer flops
-    # (5.9 against 8.4 ms at 400 x 400 on one thread)
-    ri = scipy.linalg.inv(r, overwrite_a=True, check_finite=False)
+    ri = _inverse_real(r)
     w = np.empty(ri.shape, complex)  # written through its real and imaginary views: no temporaries
     w.real[...] = ri
     w.imag[...] = 0.0
@@ -608,6 +623,9 @@ class ConfigData:
         else:
             roots = None
         self._decompose(*pending, roots)
+        hook = self.__dict__.pop("_on_decomposed", None)  # the cache that counts it (weak)
+        if hook is not None and hook() is not None:
+            hook()(self)
         return self.__dict__[name]
 
     def _stiffness(self, system, status: np.ndarray, jen_stuck: np.ndarray) -> None:
@@ -664,7 +682,7 @@ class ConfigData:
                 factor = _mass_factor(system)
                 # N = I: M^-1, K_c and C are held anyway (A: 4 m^2 more, read by rare paths only)
                 self._a_parts = (mr_inv, kr, cr, factor is not None and factor.ndim == 1)
-                self._shared += (nb, mr_inv)
+                self._shared += (nb, mr_inv, mass)  # Mr = M: the system's (a waiting configuration holds it)
         else:
             self.mr_inv_nt = np.zeros((0, n))
             self._A = np.zeros((0, 0))
@@ -896,7 +914,8 @@ class ConfigData:
         refers to (stiffness, damping, ``M^-1``, the identity ``N``)."""
         seen = {id(a) for a in self._shared}
         # a configuration decomposed on first use counts its eigenvectors and their inverse to come
-        # (halved: 2m x m complex each, :func:`_halved_modes`)
+        # (halved, :func:`_halved_modes`: 2m x m complex each where every mode is under-damped, up
+        # to 2m x 2m where all are over-damped; counted at their size once decomposed)
         total = 16 * (2 * self.m) ** 2 if "_pending" in self.__dict__ else 0
         for value in vars(self).values():
             for a in value if isinstance(value, tuple) else (value,):
