@@ -15,7 +15,6 @@ read (Windows), nothing is refused.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import functools
 import os
 
@@ -107,10 +106,9 @@ def check_fits(estimate: float, parameter: str, what: str, available: int | None
 @functools.lru_cache(maxsize=None)
 def _malloc_trim():
     """glibc's ``malloc_trim`` (None elsewhere: musl, macOS, Windows)."""
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
-        trim = libc.malloc_trim
-    except (OSError, AttributeError, TypeError):
+    try:  # glibc's soname (find_library would run ldconfig in a subprocess to learn it)
+        trim = ctypes.CDLL("libc.so.6").malloc_trim
+    except (OSError, AttributeError):
         return None
     trim.argtypes = [ctypes.c_size_t]
     trim.restype = ctypes.c_int

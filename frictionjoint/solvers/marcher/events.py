@@ -43,9 +43,10 @@ __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 #: forgotten (:meth:`Marcher._evict`). A quarter of the machine's memory, at least 2 GiB: a
 #: period's configurations must fit, or least-recently-used eviction forgets each one before the
 #: march comes back to it. The stiffness-damped chain of 400 DOFs and 80 joints (issue 40) meets
-#: 160 configurations and 395 statuses in a period on its orbit, 3.2 GB as counted, and 5.2 GB
-#: over its whole steady-state search: with a 5.9 GB cache it evicts nothing (84 s), with 3.5 GB
-#: it evicts 527 times (122 s), the least recently used being the next period's first. At 200
+#: 160 configurations and 395 statuses in a period on its orbit, 3.7 GB as counted, and a little
+#: more than 5.9 GB over its whole steady-state search: with a 5.9 GB cache it evicts once (84 s,
+#: 7.4 GB resident at the peak); a 3.5 GB cache evicted 527 times (122 s), the least recently
+#: used being the next period's first. At 200
 #: DOFs a configuration of that family holds about 4.1 MB of modes (halved, but stiffness damping
 #: overdamps 122 of the 200 modes, whose two real roots are both kept) and 0.6 MB packed for the
 #: consistency test, a status pattern about 0.8 MB
