@@ -168,6 +168,8 @@ def _held(marcher) -> tuple[int, int]:
         if isinstance(a, (tuple, list)):
             for b in a:
                 visit(b, count_big)
+        elif isinstance(a, propagator.Observables):  # a status's event rows
+            visit((a.ax, a.av, a.af, a.a0))
         elif isinstance(a, np.ndarray):
             base = a if a.base is None else a.base
             if isinstance(base, np.ndarray) and id(base) not in seen and id(base) not in shared:

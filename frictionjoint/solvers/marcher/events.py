@@ -43,10 +43,10 @@ __all__ = ["MarchState", "Marcher", "EventLog", "EVENT_KINDS"]
 #: forgotten (:meth:`Marcher._evict`). A quarter of the machine's memory, at least 2 GiB: a
 #: period's configurations must fit, or least-recently-used eviction forgets each one before the
 #: march comes back to it. The stiffness-damped chain of 400 DOFs and 80 joints (issue 40) meets
-#: 160 configurations and 395 statuses in a period on its orbit, 3.7 GB as counted, and a little
-#: more than 5.9 GB over its whole steady-state search: with a 5.9 GB cache it evicts once (84 s,
-#: 7.4 GB resident at the peak); a 3.5 GB cache evicted 527 times (122 s), the least recently
-#: used being the next period's first. At 200
+#: 160 configurations and 395 statuses in a period on its orbit, 3.7 GB as counted (without their
+#: event rows), and more than 5.9 GB over its whole steady-state search: with a 5.9 GB cache it
+#: evicts 18 times (85 s, 7.0 GB resident at the peak); a 3.5 GB cache evicted 527 times (122 s),
+#: the least recently used being the next period's first. At 200
 #: DOFs a configuration of that family holds about 4.1 MB of modes (halved, but stiffness damping
 #: overdamps 122 of the 200 modes, whose two real roots are both kept) and 0.6 MB packed for the
 #: consistency test, a status pattern about 0.8 MB
@@ -120,8 +120,9 @@ def _change_status(status: np.ndarray, row: tuple, in_band: bool, visited: set, 
 
 def _nbytes(obj) -> int:
     """Memory held by the arrays of a slotted object (a :class:`StatusPattern`) [bytes], in its
-    slots and their (nested) tuples, without its configuration's packed arrays (``cfg.kern``,
-    shared by the configuration's statuses and counted with it)."""
+    slots, their (nested) tuples and its event rows (:class:`.propagator.Observables`), each array
+    once, without its configuration's packed arrays (``cfg.kern``, shared by the configuration's
+    statuses and counted with it)."""
     kern = getattr(getattr(obj, "cfg", None), "kern", None)
     # (buffer, header, system buffer): every status's packed arrays hold the configuration's buffer
     # (counted with it) and the system's (counted with neither)
@@ -130,7 +131,12 @@ def _nbytes(obj) -> int:
     def size(a) -> int:
         if isinstance(a, tuple):
             return sum(size(b) for b in a)
-        return a.nbytes if isinstance(a, np.ndarray) and a.base is None and id(a) not in shared else 0
+        if isinstance(a, Observables):  # the status's event rows (ax, av, af: rows x n each)
+            return size((a.ax, a.av, a.af, a.a0))
+        if isinstance(a, np.ndarray) and a.base is None and id(a) not in shared:
+            shared.add(id(a))  # each array once
+            return a.nbytes
+        return 0
     return sum(size(getattr(obj, name, None)) for name in type(obj).__slots__)
 
 
