@@ -196,16 +196,8 @@ def _config_kern(sysm, cfg: ConfigData, n: int) -> tuple[bool, bool]:
              np.diagonal(mint)[:, None] if diagonal else mint, a21, a22, cfg.bc[m:], cfg.bs[m:]), shared)
         if shared is not None:
             cfg._shared += (shared[0],)  # the system's: not in the configuration's nbytes
-        # K_c, a copy of which is now packed: the configuration's own (its stiffness, and with N =
-        # I the Kr of its first-order parts and of a waiting decomposition) becomes a view of it
-        off, r, c = cfg.kern[1][3:6]
-        own, view = cfg.stiffness, cfg.kern[0][off:off + r * c].reshape(r, c)
-        cfg.stiffness = view
-        if cfg._a_parts is not None and cfg._a_parts[1] is own:
-            cfg._a_parts = cfg._a_parts[:1] + (view,) + cfg._a_parts[2:]
-        pending = cfg.__dict__.get("_pending")
-        if pending is not None and pending[3] is own:
-            cfg._pending = pending[:3] + (view,) + pending[4:]
+        off, r, c = cfg.kern[1][3:6]  # K_c, now packed: the configuration refers to that copy
+        cfg.adopt_stiffness(cfg.kern[0][off:off + r * c].reshape(r, c))
     return identity, diagonal
 
 

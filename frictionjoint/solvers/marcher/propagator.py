@@ -428,20 +428,24 @@ def _halved_modes(lam, v, w):
     return lam[keep], vh, w[keep], int(first.size)
 
 
-def _unhalved_modes(lam, v, w, p: int):
-    """``(lam, V, V^-1)`` whole from :func:`_halved_modes`' (``p`` pairs): each pair's roots side by
-    side, then the real roots; the same numbers as before halving."""
-    size = lam.size + p
+def _unhalved(x: np.ndarray, p: int, axis: int = -1, half: bool = False) -> np.ndarray:
+    """``x`` (roots, vectors or rows of :func:`_halved_modes`, ``p`` pairs, along ``axis``) whole:
+    each pair's entry (halved where ``half``: the vectors carry the pair's 2) and its conjugate side
+    by side, then the real roots'; the same numbers as before halving (C-ordered, as they were)."""
+    shape = list(x.shape)
+    shape[axis] += p
+    out = np.empty(shape, complex)
+    o, h = np.moveaxis(out, axis, -1), np.moveaxis(x, axis, -1)
     first = np.arange(0, 2 * p, 2)
-    lam_f = np.empty(size, complex)
-    v_f = np.empty((v.shape[0], size), complex)
-    w_f = np.empty((size, w.shape[1]), complex)
-    lam_f[first], lam_f[first + 1], lam_f[2 * p:] = lam[:p], lam[:p].conj(), lam[p:]
-    v_f[:, first] = 0.5 * v[:, :p]
-    v_f[:, first + 1] = v_f[:, first].conj()
-    v_f[:, 2 * p:] = v[:, p:]
-    w_f[first], w_f[first + 1], w_f[2 * p:] = w[:p], w[:p].conj(), w[p:]
-    return lam_f, v_f, w_f
+    o[..., first] = 0.5 * h[..., :p] if half else h[..., :p]
+    o[..., first + 1] = o[..., first].conj()
+    o[..., 2 * p:] = h[..., p:]
+    return out
+
+
+def _unhalved_modes(lam, v, w, p: int):
+    """``(lam, V, V^-1)`` whole from :func:`_halved_modes`' (``p`` pairs) (:func:`_unhalved`)."""
+    return _unhalved(lam, p), _unhalved(v, p, half=True), _unhalved(w, p, axis=0)
 
 
 def _norm1(a: np.ndarray) -> float:
@@ -624,8 +628,9 @@ class ConfigData:
             roots = None
         self._decompose(*pending, roots)
         hook = self.__dict__.pop("_on_decomposed", None)  # the cache that counts it (weak)
-        if hook is not None and hook() is not None:
-            hook()(self)
+        recount = hook() if hook is not None else None
+        if recount is not None:
+            recount(self)
         return self.__dict__[name]
 
     def _stiffness(self, system, status: np.ndarray, jen_stuck: np.ndarray) -> None:
@@ -863,30 +868,29 @@ class ConfigData:
             return self.lam, self.V, self.W
         return _full_modes(self.shapes, self.shapes_mass, *self.pairs)
 
+    def adopt_stiffness(self, packed: np.ndarray) -> None:
+        """Refer to ``packed``, a copy of ``K_c`` (the consistency test's packed arrays), wherever
+        the configuration held its own: its stiffness and, with ``N = I``, the ``Kr`` of its
+        first-order parts and of a decomposition still to come; the own copy is then freed."""
+        own = self.stiffness
+        self.stiffness = packed
+        if self._a_parts is not None and self._a_parts[1] is own:
+            self._a_parts = self._a_parts[:1] + (packed,) + self._a_parts[2:]
+        pending = self.__dict__.get("_pending")
+        if pending is not None and pending[3] is own:
+            self._pending = pending[:3] + (packed,) + pending[4:]
+
     def update_basis(self, force: np.ndarray | None = None):
         """What a rank-one update from this configuration reads of its modes
         (:func:`.mode_update.rank_one_roots_top`): ``(lam, V[:m], V^-1[:, m:] force)`` with both
         roots of every pair (the last None without ``force``). Halved modes give them without
         their whole ``V`` and ``V^-1`` (:func:`_unhalved_modes`: the same numbers)."""
-        p = self.n_pairs
+        p, m = self.n_pairs, self.m
         if p is None:
             lam, v, w = self.full_modes()
-            return lam, v[:self.m], None if force is None else w[:, self.m:] @ force
-        first = np.arange(0, 2 * p, 2)
-        size = self.lam.size + p
-        lam = np.empty(size, complex)
-        lam[first], lam[first + 1], lam[2 * p:] = self.lam[:p], self.lam[:p].conj(), self.lam[p:]
-        top = self.V[:self.m]
-        v = np.empty((self.m, size), complex)
-        v[:, first] = 0.5 * top[:, :p]
-        v[:, first + 1] = v[:, first].conj()
-        v[:, 2 * p:] = top[:, p:]
-        if force is None:
-            return lam, v, None
-        ah = self._W[:, self.m:] @ force
-        a = np.empty(size, complex)
-        a[first], a[first + 1], a[2 * p:] = ah[:p], ah[:p].conj(), ah[p:]
-        return lam, v, a
+            return lam, v[:m], None if force is None else w[:, m:] @ force
+        a = None if force is None else _unhalved(self._W[:, m:] @ force, p)
+        return _unhalved(self.lam, p), _unhalved(self.V[:m], p, half=True), a
 
     def modal_rows(self, rows: np.ndarray) -> np.ndarray:
         """``rows @ V`` for real ``rows`` on the reduced state ``[q, q']`` (``2m`` columns), e.g. the
