@@ -108,7 +108,7 @@ def test_left_rows_refine_to_the_inverse(damping, monkeypatch):
     for c in left:
         _, _, w = c.full_modes()  # the inverse of the whole modes
         exact = w @ z
-        got = propagator._unhalved(c._W @ c.refined(z), c.n_pairs)
+        got = propagator._unhalved(c.left_product(c.refined(z)), c.n_pairs)
         assert np.max(np.abs(got - exact)) <= 1e-12 * np.max(np.abs(exact))
     monkeypatch.setattr(propagator, "_symmetric_pencil", lambda system: False)
     ref = periodic_response(system, marcher=events.Marcher(system))
@@ -131,5 +131,5 @@ def test_left_rows_are_refused_where_shapes_are_not_orthogonal():
     assert propagator._left_inverse(mu, modes([1, 0], [1, 1]), mass, damping, np.ones(4)) is None
     halved = propagator._left_inverse(mu, modes([1, 0], [0, 1]), mass, damping, np.ones(4))
     assert halved is not None
-    lam_h, v, w, p = halved
+    lam_h, v, w, p, _ = halved
     assert p == 2 and np.max(np.abs((v @ w).real - np.eye(4))) <= 1e-14

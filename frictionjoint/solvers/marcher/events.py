@@ -270,6 +270,7 @@ class Marcher:
         key = cfg.__dict__.get("_cache_key")
         if key is not None and self._configs.get(key) is cfg:
             self._charge(("c", key), cfg)
+            self._within_budget()
 
     def _recount(self, pat: StatusPattern, status: np.ndarray) -> None:
         """A status pattern packed or given its modal coefficients (and its configuration, which
@@ -280,6 +281,13 @@ class Marcher:
         ckey = self.system.config_key(status)
         if self._configs.get(ckey) is pat.cfg:
             self._charge(("c", ckey), pat.cfg)
+        self._within_budget()
+
+    def _within_budget(self) -> None:
+        """Evict where a recount grew the cache past its budget (a status packed, a configuration
+        decomposed on first use): the caller keeps what it holds, the cache forgets it."""
+        if self._config_bytes > CONFIG_CACHE_BYTES and len(self._configs) > 1:
+            self._evict()
 
     def _neighbour(self, status: np.ndarray) -> tuple | None:
         """A decomposed configuration that differs from the one of ``status`` by one Jenkins

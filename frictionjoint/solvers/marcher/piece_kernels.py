@@ -18,7 +18,7 @@ import numpy as np
 
 from .search import ENABLED, _jit, _resonant
 
-__all__ = ["coefficients", "coefficients_factored", "coefficients_modal", "state", "resonant_terms", "ENABLED"]
+__all__ = ["coefficients", "coefficients_given", "coefficients_factored", "coefficients_modal", "state", "resonant_terms", "ENABLED"]
 
 
 @_jit(inline=True)
@@ -68,6 +68,13 @@ def coefficients(wi, lam, y0, b0, hp, hm, w, t0):
         for k in range(y0.size):  # the reduced state's 2m; p modes (fewer where pairs are halved)
             e[i] += wi[i, k] * y0[k]
             b[i] += wi[i, k] * b0[k]
+    return _terms(e, b, lam, hp, hm, w, t0)
+
+
+@_jit
+def coefficients_given(e, b, lam, hp, hm, w, t0):
+    """:func:`coefficients` from the modal start ``e`` and constant load ``b`` (modes,) formed
+    elsewhere (the left eigenvectors' products, :meth:`.propagator.ConfigData.left_product`)."""
     return _terms(e, b, lam, hp, hm, w, t0)
 
 

@@ -426,7 +426,8 @@ def _left_inverse(mu, v, mass, damping, tsc):
     """The modes ``(mu, V = [Phi; Phi diag(mu)])`` of a symmetric pencil halved (:func:`_halved_modes`:
     ``(lam, V, V^-1, p)``, the first root of each of the ``p`` conjugate pairs then the real ones)
     with the rows of ``V^-1`` from their shapes (:func:`_left_modes`' rows: ``[mu M phi + C phi, M
-    phi]^T`` over ``2 mu phi^T M phi + phi^T C phi``), or None where the pairs do not lie side by side
+    phi]^T`` over ``2 mu phi^T M phi + phi^T C phi``) and the scale of each row against the halved
+    shapes (:meth:`ConfigData.left_product`: the configuration keeps the scale, not the rows), or None where the pairs do not lie side by side
     as exact conjugates (the updates build them so) or a random probe shows ``|Re(V W z) - z| >
     LEFT_PROBE |z|`` in the balanced coordinates (``tsc``, :func:`_general_modes`). One ``N/2 x m x
     m`` product with ``C`` instead of the inverse of the ``2m x 2m`` real matrix (getrf + getri: 13
@@ -466,7 +467,17 @@ def _left_inverse(mu, v, mass, damping, tsc):
     back = (vh @ (w @ (tsc * z))).real / tsc
     if not (np.all(np.isfinite(w)) and np.max(np.abs(back - z)) <= LEFT_PROBE * np.max(np.abs(z))):
         return None
-    return lam, vh, w, p
+    scale = 1.0 / den
+    scale[:p] *= 0.5  # the rows from the halved vectors (their 2 in Phi): ConfigData.left_product
+    return lam, vh, w, p, scale
+
+
+def _left_times(mat: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """``M z`` (``mat`` the mass matrix, or its diagonal (m,) where the masses are lumped: a
+    scaling) or ``C z``, for ``z`` (m,) or (m, k)."""
+    if mat.ndim == 1:
+        return mat * z if z.ndim == 1 else mat[:, None] * z
+    return mat @ z
 
 
 def _halved_modes(lam, v, w):
@@ -643,15 +654,22 @@ class ConfigData:
         #: ``V^-1`` of classical modes in factored form ``(rows, left, right)`` (:func:`_half_modes`)
         self._inverse = None
         halved = None
-        #: ``V^-1`` from the left eigenvectors (:func:`_left_inverse`): the products that set a
-        #: piece's start are refined once (:meth:`refined`)
-        self._left = False
+        #: ``(scale, M, C)`` where ``V^-1`` is the left eigenvectors' (:func:`_left_inverse`): not
+        #: held, its products formed from the shapes (:meth:`left_product`) and those that set a
+        #: piece's start refined once (:meth:`refined`); else None
+        self._left = None
         if self.m:
             modes = self._modes(system, jen_stuck, mr, kr, cr, neighbour, roots)
             lam, v, w = modes[:3]
-            if len(modes) == 4:  # halved already (:func:`_left_inverse`)
-                halved = modes
-                self._left = True
+            if len(modes) == 5:  # halved already, V^-1 from the left eigenvectors (:func:`_left_inverse`)
+                halved = modes[:4]
+                # kept as a scale per mode: the rows are products with the shapes, M and C (the
+                # system's), formed where they are used (:meth:`left_product`), not held (half the
+                # memory of a configuration's modes)
+                mass = system.mass
+                lumped = np.count_nonzero(mass) == np.count_nonzero(np.diagonal(mass))
+                self._left = (modes[4], np.diag(mass) if lumped else mass, self.damping)
+                halved = halved[:2] + (None,) + halved[3:]
         else:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
@@ -905,10 +923,45 @@ class ConfigData:
     @property
     def W(self) -> np.ndarray | None:
         """``V^-1`` (p, 2m) (None where the configuration is defective); for classical modes built
-        on each use from its factored form (the march needs :meth:`velocity_inverse` only)."""
+        on each use from its factored form (the march needs :meth:`velocity_inverse` only), and from
+        the left eigenvectors' shapes where they gave it (:meth:`left_product`: the same rows)."""
+        if self._left is not None:
+            m = self.m
+            scale, mass, damping = self._left
+            psi = self.V[:m]
+            w = np.empty((psi.shape[1], 2 * m), complex)
+            w[:, m:] = _left_times(mass, psi).T  # psi^T M = (M psi)^T: M symmetric
+            w[:, :m] = (damping @ psi).T
+            w[:, :m] += self.lam[:, None] * w[:, m:]
+            w *= scale[:, None]
+            return w
         if self._inverse is None:
             return self._W
         return _inverse(*self._inverse)
+
+    def left_product(self, z: np.ndarray) -> np.ndarray:
+        """``V^-1 z`` for a reduced state ``z`` (2m,) or states (2m, k), real or complex. Where the
+        left eigenvectors gave ``V^-1`` (rows ``s_i [lam_i (M psi_i)^T + (C psi_i)^T, (M psi_i)^T]``,
+        ``psi`` the halved shapes, ``s`` :func:`_left_inverse`'s scale) it is formed from the shapes:
+        ``s (lam psi^T M x + psi^T (C x + M v))``, two products with ``psi^T``, the work of one with
+        ``V^-1``; else the product with :attr:`W`."""
+        if self._left is None:
+            return self.W @ z
+        m = self.m
+        scale, mass, damping = self._left
+        x, v = z[:m], z[m:]
+        psi_t = self.V[:m].T
+        out = psi_t @ _left_times(mass, x)
+        rest = psi_t @ (damping @ x + _left_times(mass, v))
+        if z.ndim == 1:
+            out *= self.lam
+            out += rest
+            out *= scale
+        else:
+            out *= self.lam[:, None]
+            out += rest
+            out *= scale[:, None]
+        return out
 
     def diagonal_mass_inverse(self) -> bool:
         """Whether ``N = I`` (no stuck rigid slider) and ``M^-1`` (:attr:`mr_inv_nt`) is diagonal
@@ -932,6 +985,9 @@ class ConfigData:
     def velocity_inverse(self) -> np.ndarray:
         """``V^-1[:, m:]`` (p, m): the columns of ``V^-1`` a reduced state ``[0, u]`` meets (every
         piece's start and constant load); for classical modes built on each use."""
+        if self._left is not None:
+            scale, mass, _ = self._left
+            return _left_times(mass, self.V[:self.m]).T * scale[:, None]
         if self._inverse is None:
             return self._W[:, self.m:]
         return _inverse(*self._inverse, half=True)
@@ -942,20 +998,20 @@ class ConfigData:
         exact only to the shapes' rounding over the gaps of clustered roots, up to
         :data:`LEFT_PROBE`), ``z + (z - Re(V V^-1 z))``, one step of iterative refinement (the
         error squared: the orbits of the (200, 40) chains as with the inverse, 1.4e-12)."""
-        if not self._left:
+        if self._left is None:
             return z
-        return 2.0 * z - (self.V @ (self._W @ z)).real
+        return 2.0 * z - (self.V @ self.left_product(z)).real
 
     def full_modes(self):
         """``(lam, V, V^-1)`` with both roots of every conjugate pair (square ``V``): for a
         complex response (the stuck orbit's harmonic solve), where the halved modes' real-part
         rule does not apply; ``V^-1`` exact to rounding (the inverse, where the left eigenvectors
         gave it)."""
+        if self._left is not None:
+            lam, v = _unhalved(self.lam, self.n_pairs), _unhalved(self.V, self.n_pairs, half=True)
+            return lam, v, _real_inverse(lam, v, exact=True)
         if self.n_pairs is not None:
-            lam, v, w = _unhalved_modes(self.lam, self.V, self._W, self.n_pairs)
-            if self._left:
-                w = _real_inverse(lam, v, exact=True)
-            return lam, v, w
+            return _unhalved_modes(self.lam, self.V, self._W, self.n_pairs)
         if self.pairs is None:
             return self.lam, self.V, self.W
         return _full_modes(self.shapes, self.shapes_mass, *self.pairs)
@@ -983,8 +1039,8 @@ class ConfigData:
             return lam, v[:m], None if force is None else w[:, m:] @ force
         if force is None:
             a = None
-        elif self._left:
-            a = _unhalved(self._W @ self.refined(np.concatenate([np.zeros(m), force])), p)
+        elif self._left is not None:
+            a = _unhalved(self.left_product(self.refined(np.concatenate([np.zeros(m), force]))), p)
         else:
             a = _unhalved(self._W[:, m:] @ force, p)
         return _unhalved(self.lam, p), _unhalved(self.V[:m], p, half=True), a
@@ -1030,7 +1086,6 @@ class ConfigData:
         half the modal harmonic loads and, for ``mu`` in ``0, iw, -iw``, ``(mu, mu - lam, near)``."""
         if self._modal_omega != w:
             m = self.m
-            wi = self.velocity_inverse()  # bc, bs: [0, Mr^-1 N^T f]
             lam = self.lam
             # nearness per mode, relative to that mode's own rate (or w): the closed form
             # c / (mu - lam) loses ~ eps * max(|lam|, w) / |mu - lam| of the mode's response; a
@@ -1047,10 +1102,11 @@ class ConfigData:
                 # and an unreachable shooting tolerance)
                 near = np.abs(dmu) < band * scale
                 terms.append((mu, dmu, near, bool(near.any())))
-            if self._left:
-                hc, hs = self._W @ self.refined(self.bc), self._W @ self.refined(self.bs)
+            if self._left is not None:
+                hc, hs = self.left_product(self.refined(self.bc)), self.left_product(self.refined(self.bs))
                 self._modal_cache = ((hc - 1j * hs) * 0.5, (hc + 1j * hs) * 0.5, terms)
             else:
+                wi = self.velocity_inverse()  # bc, bs: [0, Mr^-1 N^T f]
                 self._modal_cache = (wi @ (self.bc[m:] - 1j * self.bs[m:]) * 0.5,
                                      wi @ (self.bc[m:] + 1j * self.bs[m:]) * 0.5, terms)
             self._modal_omega = w
@@ -1189,18 +1245,22 @@ class Interval:
                     rows, _, right = config._inverse
                     out = piece_kernels.coefficients_factored(rows, right, config.lam, y0[m:], b0[m:], hp, hm,
                                                               w, self.t0)
+                elif config._left is not None:
+                    out = piece_kernels.coefficients_given(config.left_product(config.refined(y0)),
+                                                           config.left_product(config.refined(b0)),
+                                                           config.lam, hp, hm, w, self.t0)
                 else:
-                    out = piece_kernels.coefficients(config.W, config.lam, config.refined(y0), config.refined(b0),
-                                                     hp, hm, w, self.t0)
+                    out = piece_kernels.coefficients(config.W, config.lam, y0, b0, hp, hm, w, self.t0)
                 (self.eta0, self.beta0, self.gp, self.gm, self._a, *b) = out
                 self._b = b
                 self._near = []
                 self.near = _NO_NEAR
                 return
             wi = config.velocity_inverse()  # y0, b0 = [0, .]
-            self.eta0 = config.W @ config.refined(y0) if config._left else wi @ y0[m:]
-            if config._left:
-                self.beta0 = config.W @ config.refined(b0)
+            left = config._left is not None
+            self.eta0 = config.left_product(config.refined(y0)) if left else wi @ y0[m:]
+            if left:
+                self.beta0 = config.left_product(config.refined(b0))
             elif modal_load:
                 rows, _, right = config._inverse
                 self.beta0 = right * (rows @ self._mass_load() - config.modal_w2() * (rows @ self.x0))
