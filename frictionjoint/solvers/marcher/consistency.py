@@ -33,7 +33,7 @@ import numpy as np
 
 from ..jit import ENABLED, _jit, matvec, row_dot
 
-__all__ = ["check", "pack", "pack_config", "unpack", "most_violated", "ROW_KIND", "FLOATS", "CONFIG_FLOATS", "INTS",
+__all__ = ["check", "pack", "pack_config", "packed", "unpack", "most_violated", "ROW_KIND", "FLOATS", "CONFIG_FLOATS", "INTS",
            "ENABLED", "KIND_V", "KIND_PLUS", "KIND_MINUS", "KIND_OPEN", "KIND_CLOSE", "EVENT_ROW_SLACK"]
 
 #: row kinds: a slipping slider's velocity, a stuck slider's force at +limit / -limit, a contact's
@@ -130,6 +130,17 @@ def pack(config, floats, ints) -> tuple:
         ioff += a.size
     ik = np.concatenate([np.array(hdr, np.intp)] + ints)
     return (fc, fk, fs), ik
+
+
+def packed(kern, name: str) -> np.ndarray:
+    """The packed copy (a view) of the status's float array ``name`` (:data:`FLOATS`, after the
+    configuration's) in :func:`pack`'s ``kern``, shaped as it was packed (2-D)."""
+    i = FLOATS.index(name)
+    if i < _N_CONFIG:
+        raise ValueError(f"{name!r} is a configuration's array, not a status's")
+    (_, fk, _), ik = kern
+    off, r, c = (int(v) for v in ik[3 * i:3 * i + 3])
+    return fk[off:off + r * c].reshape(r, c)
 
 
 @_jit

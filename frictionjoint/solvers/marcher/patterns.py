@@ -65,15 +65,27 @@ class StatusPattern:
         self.meta = meta
         self.n_rows = len(meta)
         if meta:
-            obs = Observables(rows_x, rows_v, rows_f, a0c)
+            # the rows of F: zero but for stuck rigid sliders' holding forces (one read-only zero
+            # then, not rows x n of them)
+            af = (np.broadcast_to(zero, (len(meta), n)) if all(r is zero for r in rows_f)
+                  else np.array(rows_f, dtype=float))
+            if not cfg.rigid_stuck.size:
+                # N = I: the reduced rows are [ax, av] (the products with N would give them again,
+                # exact zeros added, at r n^2 each), and ax, av their halves (views: held once)
+                cy = np.empty((len(meta), 2 * n))
+                cy[:, :n] = rows_x
+                cy[:, n:] = rows_v
+                obs = Observables(cy[:, :n], cy[:, n:], af, a0c)
+                self.red_cy = cy
+            else:
+                obs = Observables(rows_x, rows_v, af, a0c)
+                nb = cfg.N
+                self.red_cy = np.hstack([obs.ax @ nb, obs.av @ nb])
             self.obs = obs
             # |coefficients| of x in the event rows: their rounding scale (|ax| |x| >> |ax x| when
-            # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses)
+            # the DOFs a slider joins move together, e.g. a stiff Jenkins between two masses);
+            # once packed, the packed copy (:meth:`pack`)
             self.ax_abs = np.abs(obs.ax)
-            nb = cfg.N
-            # N = I: the products would give ax and av again (exact zeros added), at r n^2 each
-            self.red_cy = (np.hstack([obs.ax, obs.av]) if not cfg.rigid_stuck.size
-                           else np.hstack([obs.ax @ nb, obs.av @ nb]))
             self.red_cc = obs.af @ sysm.force_cos
             self.red_cs = obs.af @ sysm.force_sin
             self.has_af = bool(np.any(obs.af != 0))
@@ -170,6 +182,10 @@ class StatusPattern:
              [pat.f_slip is not None, pat.has_jst, pat.has_af, pat.has_w,
               bool(np.any(pat.red_cc != 0) or np.any(pat.red_cs != 0)), identity, diagonal],
              np.flatnonzero(pat.slip_j), rigid_idx))
+        # the arrays the status keeps that the packed buffer holds now: its copies (views), the
+        # status's own freed
+        pat.ax_abs = consistency.packed(pat.kern, "ax_abs")
+        pat.slip_j_dir = consistency.packed(pat.kern, "slip_j_dir")
         return pat.kern
 
 
