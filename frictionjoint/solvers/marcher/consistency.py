@@ -192,8 +192,9 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
         The status's constant arrays packed by :func:`pack` (see ``Marcher._kernel``): the float
         arrays :data:`FLOATS` (``scales``: fixed load scale, mass scale, rate, omega) and the int
         arrays :data:`INTS` (``flags``: has_slip, has_jst, has_af, has_w, harmonic, identity,
-        diagonal). ``identity``: ``N = I`` (no stuck rigid sliders), ``N^T`` and ``cy_q`` (then
-        ``ax``) are not packed; ``diagonal``: ``M_r^-1 N^T`` is diagonal and packed as its diagonal
+        diagonal). ``identity``: ``N = I`` (no stuck rigid sliders), ``N^T`` is not packed and the
+        reduced rows ``[ax, av]`` are one block in ``cy_q``'s place (``cy_q = ax`` and ``cy_v = av``
+        its halves; the status's ``red_cy`` is a view of it: held once); ``diagonal``: ``M_r^-1 N^T`` is diagonal and packed as its diagonal
         (m, 1); ``af`` is packed only where ``has_af``. Each gives the numbers of the product it
         replaces: the terms of the zero entries add exact zeros.
     x, v : (n,) ndarray
@@ -247,8 +248,11 @@ def check(fk, ik, x, v, w, f_ext, t0, v_scale, forced, event_row, zero_rows):
     identity, diagonal = flags[5], flags[6]
     fscale_fixed, mass_scale, rate, om = scales[0], scales[1], scales[2], scales[3]
     m = a21.shape[0]
-    if identity:
+    if identity:  # the reduced rows [ax, av], one block: ax (= cy_q) and cy_v its halves
+        cy = _f2(fk, ik, 11)
+        ax = cy[:, :n]
         cyq = ax
+        cyv = cy[:, n:]
     nr = a0c.size
     # constant load of the piece and the reduced forcing (as Marcher.interval)
     f_const = f_ext.copy()

@@ -138,10 +138,15 @@ class StatusPattern:
         kj = sysm.slider_stiffness[slip_j]
         self.slip_j_dir = d[slip_j] - (sig[slip_j] / kj)[:, None] * sysm.slip_gradient[slip_j]
         self.slip_j_off = sig[slip_j] * sysm.slip_force[slip_j] / kj
-        #: rows of w' = w_dir . v of every slider not stuck (stuck Jenkins sliders: zero rows)
-        self.w_dir = d.copy()
-        self.w_dir[slip_j] = self.slip_j_dir
-        self.w_dir[self.jst] = 0.0
+        #: rows of w' = w_dir . v of every slider not stuck (the rows of stuck Jenkins sliders, whose
+        #: w' is 0, are not read): the directions themselves (a view of the system's) where no
+        #: slipping slider is on a contact
+        if np.any(sysm.varying[slip_j]):
+            self.w_dir = d.copy()
+            self.w_dir[slip_j] = self.slip_j_dir
+            self.w_dir[self.jst] = 0.0
+        else:
+            self.w_dir = d[:]
 
     def pack(self, fscale_fixed: float, mass_scale: float) -> tuple:
         """The constant arrays of :func:`.consistency.check` for this status, packed
@@ -174,7 +179,8 @@ class StatusPattern:
         pat.kern = consistency.pack(
             cfg.kern,
             (np.zeros(n) if pat.f_slip is None else pat.f_slip, pat.jst_dt, pat.jst_k,
-             none if identity else cy[:, :m], cy[:, m:], obs.ax, obs.af if pat.has_af else none, pat.ax_abs,
+             cy if identity else cy[:, :m], none if identity else cy[:, m:], none if identity else obs.ax,
+             obs.af if pat.has_af else none, pat.ax_abs,
              pat.a0c, pat.a0k, pat.red_cc, pat.red_cs, pat.row_fs,
              [fscale_fixed, mass_scale, max(sysm.omega, cfg.max_rate, 1e-300), sysm.omega], pat.slip_j_dir,
              pat.slip_j_off, sysm.slider_direction[rigid_idx]),
@@ -186,6 +192,9 @@ class StatusPattern:
         # status's own freed
         pat.ax_abs = consistency.packed(pat.kern, "ax_abs")
         pat.slip_j_dir = consistency.packed(pat.kern, "slip_j_dir")
+        if identity:  # the reduced rows [ax, av] (packed as one block) and ax, av their halves
+            cy = pat.red_cy = consistency.packed(pat.kern, "cy_q")
+            obs.ax, obs.av = cy[:, :n], cy[:, n:]
         return pat.kern
 
 
