@@ -201,8 +201,9 @@ class StatusPattern:
 def _config_kern(sysm, cfg: ConfigData, n: int) -> tuple[bool, bool]:
     """The configuration's part of the consistency test's arrays (:func:`.consistency.pack_config`),
     packed on the first status of the configuration and kept in ``cfg.kern``; returns the flags
-    ``(identity, diagonal)``: ``N = I`` (``N^T`` not packed, nor the statuses' ``cy_q``, which is
-    ``ax``), ``M^-1`` diagonal (packed as its diagonal). Where the configuration's ``K`` and
+    ``(identity, diagonal)``: ``N = I`` (``N^T`` not packed; the statuses' ``cy_q`` holds their
+    rows ``[ax, av]``), ``M^-1`` diagonal (packed as its diagonal; with ``N = I`` also ``A21 = -M^-1
+    K_c`` not packed, formed from ``K_c`` where read). Where the configuration's ``K`` and
     ``A22 = -M^-1 C`` are the system's (``N = I``, no contact changes them), they are packed once
     per system (:func:`.consistency.pack_shared`): two of the four ``n x n`` matrices, 2.6 MB of a
     configuration's memory at 400 DOFs."""
@@ -211,11 +212,15 @@ def _config_kern(sysm, cfg: ConfigData, n: int) -> tuple[bool, bool]:
     diagonal = cfg.diagonal_mass_inverse()
     if cfg.kern is None:
         m = cfg.m
-        a21, a22 = cfg.first_order_blocks()
         shared = None
         if identity and cfg.base_stiffness is sysm.stiffness and cfg.damping is sysm.damping:
-            shared = _system_cached(sysm, "_kern_shared", lambda: consistency.pack_shared({0: sysm.stiffness, 5: a22}),
+            shared = _system_cached(sysm, "_kern_shared",
+                                    lambda: consistency.pack_shared({0: sysm.stiffness, 5: cfg.first_order_blocks()[1]}),
                                     sysm.stiffness, sysm.damping, sysm.mass)
+        if identity and diagonal:  # A21 = -M^-1 K_c: formed from K_c where it is read (consistency.check)
+            a21, a22 = np.zeros((0, m)), (np.zeros((0, m)) if shared else cfg.first_order_blocks()[1])
+        else:
+            a21, a22 = cfg.first_order_blocks()
         cfg.kern = consistency.pack_config(
             (cfg.base_stiffness, cfg.stiffness, np.zeros((0, n)) if identity else cfg.N.T,
              np.diagonal(mint)[:, None] if diagonal else mint, a21, a22, cfg.bc[m:], cfg.bs[m:]), shared)
