@@ -270,6 +270,7 @@ class Marcher:
         key = cfg.__dict__.get("_cache_key")
         if key is not None and self._configs.get(key) is cfg:
             self._charge(("c", key), cfg)
+            self._configs.move_to_end(key)  # in use: the last to go
             self._within_budget()
 
     def _recount(self, pat: StatusPattern, status: np.ndarray) -> None:
@@ -281,6 +282,7 @@ class Marcher:
         ckey = self.system.config_key(status)
         if self._configs.get(ckey) is pat.cfg:
             self._charge(("c", ckey), pat.cfg)
+            self._configs.move_to_end(ckey)  # in use (a pattern hit does not refresh it): the last to go
         self._within_budget()
 
     def _within_budget(self) -> None:

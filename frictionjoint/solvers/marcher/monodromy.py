@@ -398,6 +398,8 @@ def _left(marcher, cfg) -> np.ndarray:
         q[1::2, m:] = cfg.shapes_mass
         return q
     real = _real_modes(marcher, cfg)
+    # where the left eigenvectors gave V^-1 its rows are exact to LEFT_PROBE (1e-10) of V V^-1 = I,
+    # not refined as a piece's start is: the Jacobian's and the multipliers' error, not the orbit's
     return real.rows(cfg.W[real.keep])
 
 
@@ -573,7 +575,7 @@ def _modal_saltation(marcher, basis, jac, jump, dg) -> None:
         real = _real_modes(marcher, basis)
         grad[:2 * n] = real.cols((dg[:2 * n] @ basis.V)[real.keep])
         r = grad @ jac
-        jac[:2 * n] += np.outer(real.rows((basis.velocity_inverse() @ jump[:n])[real.keep]), r)
+        jac[:2 * n] += np.outer(real.rows(basis.velocity_product(jump[:n])[real.keep]), r)
     jac[2 * n:] += np.outer(jump[n:], r)
 
 

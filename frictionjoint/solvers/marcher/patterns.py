@@ -138,8 +138,8 @@ class StatusPattern:
         kj = sysm.slider_stiffness[slip_j]
         self.slip_j_dir = d[slip_j] - (sig[slip_j] / kj)[:, None] * sysm.slip_gradient[slip_j]
         self.slip_j_off = sig[slip_j] * sysm.slip_force[slip_j] / kj
-        #: rows of w' = w_dir . v of every slider not stuck (the rows of stuck Jenkins sliders, whose
-        #: w' is 0, are not read): the directions themselves (a view of the system's) where no
+        #: rows of w' = w_dir . v of every slider but the stuck Jenkins ones (their rows, w' = 0,
+        #: are not read): the directions themselves (a view of the system's) where no
         #: slipping slider is on a contact
         if np.any(sysm.varying[slip_j]):
             self.w_dir = d.copy()

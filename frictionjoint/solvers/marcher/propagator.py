@@ -816,7 +816,8 @@ class ConfigData:
     def _modes(self, system, jen_stuck: np.ndarray, mr, kr, cr, neighbour=None, roots=None):
         """``(lam, V, V^-1)``: classical modes (:func:`_classical_modes`) where they apply, else
         the neighbour's updated by the one spring they differ by (:meth:`_updated_modes`, from
-        ``roots`` where its first half was done), else the first-order matrix's
+        ``roots`` where its first half was done; five items where halved with the left
+        eigenvectors' rows), else the first-order matrix's
         (:func:`_general_modes`), refined where a stuck spring is far stiffer than the structure
         (:func:`_refine_modes`); ``modal`` False where defective."""
         refine, alpha, pencil = self._route(system, jen_stuck)
@@ -861,9 +862,11 @@ class ConfigData:
         """``(lam, V, V^-1)`` from the modes of ``old``, the configuration that differs from this one
         by the Jenkins spring of ``slider`` only (both without stuck rigid sliders and contacts): the
         rank-one update of its eigenvalues and shapes (:func:`.mode_update.rank_one_modes`), checked
-        (:func:`.mode_update.checked_modes`), and the inverse of the new eigenvectors, balanced as
-        ``old``'s were (:func:`_general_modes`) and under :data:`DEFECTIVE_COND` as there; None
-        where any of it does not hold (the caller decomposes from scratch)."""
+        (:func:`.mode_update.checked_modes`), and ``V^-1``: of a symmetric pencil from the left
+        eigenvectors, halved (:func:`_left_inverse`'s ``(lam, V, V^-1, p, scale)``), else the
+        inverse of the new eigenvectors, balanced as ``old``'s were (:func:`_general_modes`); under
+        :data:`DEFECTIVE_COND` either way; None where any of it does not hold (the caller
+        decomposes from scratch)."""
         if roots is None:
             roots = self._update_roots(system, jen_stuck, old, slider)
             if roots is None:
@@ -984,13 +987,21 @@ class ConfigData:
 
     def velocity_inverse(self) -> np.ndarray:
         """``V^-1[:, m:]`` (p, m): the columns of ``V^-1`` a reduced state ``[0, u]`` meets (every
-        piece's start and constant load); for classical modes built on each use."""
+        piece's start and constant load); for classical modes and where the left eigenvectors gave
+        ``V^-1`` (:meth:`left_product`) built on each use (:meth:`velocity_product` for a product)."""
         if self._left is not None:
             scale, mass, _ = self._left
             return _left_times(mass, self.V[:self.m]).T * scale[:, None]
         if self._inverse is None:
             return self._W[:, self.m:]
         return _inverse(*self._inverse, half=True)
+
+    def velocity_product(self, u: np.ndarray) -> np.ndarray:
+        """``V^-1[:, m:] u`` for ``u`` (m,) or (m, k): a product with :meth:`velocity_inverse`,
+        without building it where the left eigenvectors gave ``V^-1`` (:meth:`left_product`)."""
+        if self._left is None:
+            return self.velocity_inverse() @ u
+        return self.left_product(np.concatenate([np.zeros((self.m,) + u.shape[1:]), u]))
 
     def refined(self, z: np.ndarray) -> np.ndarray:
         """A real reduced state ``z`` (2m,) whose modal coordinates ``V^-1 z`` are those of ``z`` to
@@ -1007,9 +1018,10 @@ class ConfigData:
         complex response (the stuck orbit's harmonic solve), where the halved modes' real-part
         rule does not apply; ``V^-1`` exact to rounding (the inverse, where the left eigenvectors
         gave it)."""
-        if self._left is not None:
+        if self._left is not None:  # the inverse, balanced as the update's (:meth:`_updated_modes`)
             lam, v = _unhalved(self.lam, self.n_pairs), _unhalved(self.V, self.n_pairs, half=True)
-            return lam, v, _real_inverse(lam, v, exact=True)
+            tsc = self._balance
+            return lam, v, _real_inverse(lam, v / tsc[:, None], exact=True) / tsc[None, :]
         if self.n_pairs is not None:
             return _unhalved_modes(self.lam, self.V, self._W, self.n_pairs)
         if self.pairs is None:
@@ -1032,7 +1044,8 @@ class ConfigData:
         """What a rank-one update from this configuration reads of its modes
         (:func:`.mode_update.rank_one_roots_top`): ``(lam, V[:m], V^-1[:, m:] force)`` with both
         roots of every pair (the last None without ``force``). Halved modes give them without
-        their whole ``V`` and ``V^-1`` (:func:`_unhalved_modes`: the same numbers)."""
+        their whole ``V`` and ``V^-1`` (:func:`_unhalved_modes`: the same numbers; where the left
+        eigenvectors gave ``V^-1``, its product refined once, :meth:`refined`)."""
         p, m = self.n_pairs, self.m
         if p is None:
             lam, v, w = self.full_modes()
@@ -1072,8 +1085,12 @@ class ConfigData:
         seen = {id(a) for a in self._shared}
         # a configuration decomposed on first use counts its eigenvectors and their inverse to come
         # (halved, :func:`_halved_modes`: 2m x m complex each where every mode is under-damped, up
-        # to 2m x 2m where all are over-damped; counted at their size once decomposed)
-        total = 16 * (2 * self.m) ** 2 if "_pending" in self.__dict__ else 0
+        # to 2m x 2m where all are over-damped; counted at their size once decomposed), of a
+        # symmetric pencil its eigenvectors only (the inverse's rows are not held, :func:`_left_inverse`)
+        pending = self.__dict__.get("_pending")
+        total = 0
+        if pending is not None:
+            total = 16 * (2 * self.m) ** 2 // (2 if _symmetric_pencil(pending[0]) else 1)
         for value in vars(self).values():
             for a in value if isinstance(value, tuple) else (value,):
                 if isinstance(a, np.ndarray) and a.base is None and id(a) not in seen:
@@ -1256,16 +1273,17 @@ class Interval:
                 self._near = []
                 self.near = _NO_NEAR
                 return
-            wi = config.velocity_inverse()  # y0, b0 = [0, .]
-            left = config._left is not None
-            self.eta0 = config.left_product(config.refined(y0)) if left else wi @ y0[m:]
-            if left:
+            if config._left is not None:  # the left eigenvectors' products, refined
+                self.eta0 = config.left_product(config.refined(y0))
                 self.beta0 = config.left_product(config.refined(b0))
-            elif modal_load:
-                rows, _, right = config._inverse
-                self.beta0 = right * (rows @ self._mass_load() - config.modal_w2() * (rows @ self.x0))
             else:
-                self.beta0 = wi @ b0[m:]
+                wi = config.velocity_inverse()  # y0, b0 = [0, .]
+                self.eta0 = wi @ y0[m:]
+                if modal_load:
+                    rows, _, right = config._inverse
+                    self.beta0 = right * (rows @ self._mass_load() - config.modal_w2() * (rows @ self.x0))
+                else:
+                    self.beta0 = wi @ b0[m:]
             ph = cmath.exp(1j * w * self.t0)
             self.gp = hp * ph
             self.gm = hm * ph.conjugate()
