@@ -107,8 +107,9 @@ def _bundle(tmp: Path) -> list:
 
 
 def postprocess(fmu: Path, description: str | None = None) -> None:
-    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits; with
-    ``description``, write it as the model's (pythonfmu writes the slave class's)."""
+    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits, keeping
+    the outputs' ``dependencies`` the slave wrote; with ``description``, write it as the model's
+    (pythonfmu writes the slave class's)."""
     fmu = Path(fmu)
     with zipfile.ZipFile(fmu) as z:
         items = {name: z.read(name) for name in z.namelist()}
@@ -120,6 +121,8 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     structure = root.find("ModelStructure")
     if structure is None:
         structure = ET.SubElement(root, "ModelStructure")
+    # each output's dependencies as the slave declared them (frictionjoint.fmi.slaves._Slave.to_xml)
+    declared = {u.get("index"): u.get("dependencies") for u in structure.iterfind("Outputs/Unknown")}
     for tag in ("Outputs", "InitialUnknowns"):
         old = structure.find(tag)
         if old is not None:
@@ -127,7 +130,9 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     outs = ET.Element("Outputs")
     init = ET.Element("InitialUnknowns")
     for idx in outputs:
-        ET.SubElement(outs, "Unknown", index=str(idx))
+        unknown = ET.SubElement(outs, "Unknown", index=str(idx))
+        if declared.get(str(idx)) is not None:
+            unknown.set("dependencies", declared[str(idx)])
         ET.SubElement(init, "Unknown", index=str(idx))
     structure.insert(0, outs)
     # Outputs, Derivatives, InitialUnknowns: keep the schema order

@@ -379,9 +379,12 @@ class FMUSystem:
 
         return read
 
-    def to_ssp(self, path, name: str = "system") -> Path:
-        """Write the system as an SSP archive (:func:`frictionjoint.fmi.ssp.write_ssp`)."""
-        return write_ssp(self, path, name=name)
+    def to_ssp(self, path, name: str = "system", start_time: float = 0.0, stop_time: float | None = None,
+               step: float | None = None) -> Path:
+        """Write the system as an SSP archive (:func:`frictionjoint.fmi.ssp.write_ssp`), with the
+        default experiment ``start_time`` to ``stop_time`` [s] and a fixed-step host's communication
+        ``step`` [s] where given."""
+        return write_ssp(self, path, name=name, start_time=start_time, stop_time=stop_time, step=step)
 
 
 def _since(reading):

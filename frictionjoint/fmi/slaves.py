@@ -136,6 +136,10 @@ class _Slave(BalancedSlave):
 
     author = "frictionjoint developers"
     description = ""
+    #: the inputs every output depends on directly (its value changes when one is set, without a
+    #: step): the model description's ``dependencies`` of each output (:meth:`dependencies`), which
+    #: lets a host order the FMUs of a system (an output that depends on no input breaks a loop)
+    direct_inputs: tuple = ()
     #: stop a step just after its first event (the FMI 3 binding, :mod:`.slaves3`, sets it where the host
     #: allows early return); :attr:`early_stop` is then the time it stopped at, None after a whole step
     stop_at_event = False
@@ -164,6 +168,25 @@ class _Slave(BalancedSlave):
         variability = Fmi2Variability.continuous if kind is float else Fmi2Variability.discrete
         self._declared.append(_Declaration(name, kind, Fmi2Causality.output, variability, description,
                                            method=method, args=(name,) if args is None else tuple(args)))
+
+    def dependencies(self) -> dict:
+        """Output name -> the names of the inputs it depends on directly (:attr:`direct_inputs`)."""
+        inputs = [d.name for d in self._declared if d.causality is Fmi2Causality.input]
+        missing = set(self.direct_inputs) - set(inputs)
+        if missing:
+            raise ValueError(f"{type(self).__name__}.direct_inputs names no input: {sorted(missing)}")
+        return {d.name: tuple(self.direct_inputs) for d in self._declared if d.causality is Fmi2Causality.output}
+
+    def to_xml(self, model_options=None):
+        """pythonfmu's model description with each output's ``dependencies`` (the indices of the
+        inputs it depends on directly, :meth:`dependencies`; empty: none)."""
+        root = super().to_xml(model_options or {})
+        index = {d.name: i + 1 for i, d in enumerate(self._declared)}
+        deps = self.dependencies()
+        for unknown in root.iterfind("ModelStructure/Outputs/Unknown"):
+            name = self._declared[int(unknown.get("index")) - 1].name
+            unknown.set("dependencies", " ".join(str(index[i]) for i in deps[name]))
+        return root
 
     @property
     def vars(self):
@@ -508,6 +531,9 @@ class _DrivenSlave(_Slave):
     the input ``velocity`` (the rate of ``u``), the status and event indicators a master needs to
     locate the joint's stick/slip events (:mod:`frictionjoint.fmi.cosim`, ``locate_events``)."""
 
+    #: every output is evaluated at the inputs as set (the slip state also at the velocity's sign)
+    direct_inputs = ("u", "velocity")
+
     def _declare_io(self):
         self._input("u", 0.0, "relative displacement across the joint, held over a step [m]")
         self._output("force", "joint force, restoring convention [N]", method="_get")
@@ -751,6 +777,9 @@ class DovetailRootSlave(_Slave):
     """Dovetail blade root (two inclined flanks under centrifugal load) driven by the root's
     tangential and radial displacement from the static state
     (:class:`~frictionjoint.elements.dovetail.DrivenDovetail`)."""
+
+    #: every output is the root's response at the displacement as set
+    direct_inputs = ("u_tangential", "u_radial")
 
     description = ("Dovetail blade root: two flanks inclined at flank_angle, loaded by the centrifugal "
                    "force, each a Jenkins (flat flank) or a microslip Iwan from contact theory (rounded "

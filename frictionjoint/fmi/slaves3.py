@@ -103,6 +103,19 @@ class _Slave3(Fmi3Slave):
     def _log2(self, msg, status=Fmi3Status.ok, category=None):
         self.log(msg, Fmi3Status(int(status)), category)
 
+    def to_xml(self, model_options=None):
+        """pythonfmu3's model description with each output's ``dependencies``: the value references
+        of the inputs it depends on directly (the bound slave's :meth:`~.slaves._Slave.dependencies`;
+        empty: none)."""
+        root = super().to_xml(model_options or {})
+        declared = self._inner._declared
+        vr = {d.name: i for i, d in enumerate(declared, start=1)}
+        deps = self._inner.dependencies()
+        for output in root.iterfind("ModelStructure/Output"):
+            name = declared[int(output.get("valueReference")) - 1].name
+            output.set("dependencies", " ".join(str(vr[i]) for i in deps[name]))
+        return root
+
     @property
     def vars(self):
         """pythonfmu3's ``value reference -> variable`` map: ``time``, then the bound slave's

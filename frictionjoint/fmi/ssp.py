@@ -5,13 +5,22 @@ connectors used by the connections, the connections, and the parameter values as
 parameter set (``ssv:ParameterSet``, named :data:`PARAMETER_SET`), and packs it with the FMUs
 (``resources/``) into a ``.ssp`` zip archive. Ecos applies a parameter set only when it is
 named on its command line (``--parameterSet initialValues``) or to ``EcosSimulation.init``.
+
+The run's start and stop time go into the SSD's ``DefaultExperiment`` (SSP 1.0 has no step size:
+OpenModelica's OMSimulator runs from 0 to 1 s without one). The communication step goes where
+OMSimulator reads it, its vendor annotation of the system (``org.openmodelica``:
+``oms:SimulationInformation`` / ``oms:FixedStepMaster``, its fixed-step master ``oms-ma``, as
+OMSimulator 3.0 writes and reads it in ``SystemWC.cpp``); other hosts ignore annotations they do
+not know.
 """
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
+from ..errors import ParameterError
 from .ports import split_port
 
 __all__ = ["PARAMETER_SET", "write_ssp"]
@@ -19,7 +28,8 @@ __all__ = ["PARAMETER_SET", "write_ssp"]
 PARAMETER_SET = "initialValues"
 _NS = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
        "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
-       "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues"}
+       "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
+       "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"}
 #: a model variable's type (fmpy: FMI 2's, or FMI 3's) -> the SSP 1.0 connector and parameter type
 _TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String",
           "Float64": "Real", "Float32": "Real", "Int32": "Integer"}
@@ -40,7 +50,8 @@ def _value(kind: str, value) -> str:
     return str(value)
 
 
-def write_ssp(system, path, name: str = "system") -> Path:
+def write_ssp(system, path, name: str = "system", start_time: float = 0.0, stop_time: float | None = None,
+              step: float | None = None) -> Path:
     """Write ``system`` (:class:`~frictionjoint.fmi.cosim.FMUSystem`) as an SSP archive.
 
     Parameters
@@ -50,11 +61,24 @@ def write_ssp(system, path, name: str = "system") -> Path:
         The ``.ssp`` file to write.
     name : str
         Name of the system in the SSD.
+    start_time, stop_time : float
+        The default experiment [s] (``DefaultExperiment``); without ``stop_time`` a host picks its
+        own (OMSimulator: 1 s).
+    step : float, optional
+        Communication step [s] > 0 for a fixed-step host (OMSimulator's annotation, see the module
+        docstring).
 
     Returns
     -------
     Path
     """
+    start_time = float(start_time)
+    if not math.isfinite(start_time):
+        raise ParameterError(f"start_time must be finite, got {start_time!r}")
+    if stop_time is not None and not (math.isfinite(stop_time) and stop_time > start_time):
+        raise ParameterError(f"stop_time must be finite and > start_time = {start_time}, got {stop_time!r}")
+    if step is not None and not (math.isfinite(step) and step > 0):
+        raise ParameterError(f"step must be finite and > 0 [s], got {step!r}")
     for prefix, uri in _NS.items():
         ET.register_namespace(prefix, uri)
     root = ET.Element(f"{{{_NS['ssd']}}}SystemStructureDescription", {"name": name, "version": "1.0"})
@@ -90,6 +114,14 @@ def write_ssp(system, path, name: str = "system") -> Path:
         for source, target in system.connections:
             (sc, sv), (tc, tv) = split_port(source), split_port(target)
             _el(conns, "ssd:Connection", startElement=sc, startConnector=sv, endElement=tc, endConnector=tv)
+    if step is not None:  # OMSimulator's fixed-step master and its step
+        note = _el(_el(sys_el, "ssd:Annotations"), "ssc:Annotation", type="org.openmodelica")
+        info = _el(_el(note, "oms:Annotations"), "oms:SimulationInformation")
+        _el(info, "oms:FixedStepMaster", description="oms-ma", stepSize=repr(float(step)), relativeTolerance="0.0001")
+    experiment = {"startTime": repr(start_time)}
+    if stop_time is not None:
+        experiment["stopTime"] = repr(float(stop_time))
+    _el(root, "ssd:DefaultExperiment", **experiment)
     ET.indent(root)
     path = Path(path)
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
