@@ -29,7 +29,7 @@ from pathlib import Path
 
 from .bundle_loader import ARCHIVE, BUNDLE, EXCLUDED, IDENTITY, identity
 
-__all__ = ["FMUS", "FMUS3", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+__all__ = ["FMUS", "FMUS3", "FMI2_BINARIES", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
            "SYSTEM_SCRIPT3", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
@@ -50,6 +50,11 @@ FMUS3 = {
     "IwanJoint": "fj3_iwan_joint_fmu.py",
     "MicroslipJoint": "fj3_microslip_joint_fmu.py",
 }
+#: pythonfmu's wrapper with frictionjoint's fixes (``fmi2_wrapper/fix.patch``: never a NULL log category,
+#: errors reported whatever the debug logging, a Python exception fmi2Error, reference counts):
+#: FMI 2 platform -> binary; the other platforms keep pythonfmu's stock binary
+FMI2_BINARIES = {"linux64": Path(__file__).resolve().parent / "fmi2_wrapper" / "binaries" / "x86_64-linux"
+                 / "libpythonfmu-export.so"}
 #: pythonfmu3's wrapper with early return (``fmi3_wrapper/early_return.patch``): FMI 3 platform -> binary
 FMI3_BINARIES = {"x86_64-linux": Path(__file__).resolve().parent / "fmi3_wrapper" / "binaries" / "x86_64-linux"
                  / "libpythonfmu-export.so"}
@@ -109,7 +114,8 @@ def _bundle(tmp: Path) -> list:
 def postprocess(fmu: Path, description: str | None = None) -> None:
     """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits, keeping
     the outputs' ``dependencies`` the slave wrote; with ``description``, write it as the model's
-    (pythonfmu writes the slave class's)."""
+    (pythonfmu writes the slave class's); put the fixed wrapper (:data:`FMI2_BINARIES`) in place of
+    pythonfmu's x86_64-linux binary."""
     fmu = Path(fmu)
     with zipfile.ZipFile(fmu) as z:
         items = {name: z.read(name) for name in z.namelist()}
@@ -138,6 +144,11 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     # Outputs, Derivatives, InitialUnknowns: keep the schema order
     structure.append(init)
     items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    ident = root.find("CoSimulation").get("modelIdentifier")
+    for platform, binary in FMI2_BINARIES.items():  # the fixed wrapper in place of pythonfmu's
+        if not binary.is_file():
+            raise FileNotFoundError(f"the fixed FMI 2 wrapper {binary} is missing (see fmi2_wrapper/build_wrapper.py)")
+        items[f"binaries/{platform}/{ident}.so"] = binary.read_bytes()
     _rewrite(fmu, items)
 
 

@@ -15,6 +15,11 @@ crash a host holding several instances of an FMU, or any native host at exit.
 4. the FMU's resources folder is added to ``sys.path`` at every instantiation
    (:func:`_drop_repeated_path`).
 
+frictionjoint's FMI 2 FMUs carry a fixed build of that wrapper for x86_64 Linux
+(:mod:`frictionjoint.fmi.fmi2_wrapper`, ``fix.patch``), whose C++ source no longer has defects 1 and 2:
+there (:data:`STOCK_WRAPPER` false) they are not balanced, and a surplus reference would leak the
+instance at every error. Elsewhere (Windows: pythonfmu's stock binary) all four are.
+
 Leaks of the wrapper (temporaries of ``PyUnicode_AsUTF8String``/``PyObject_Repr`` in
 ``findClass``, three attribute references per log message in ``clearLogBuffer``, the result of
 ``_set_fmu_state``) cost memory only and are left alone. A surplus reference here, should a
@@ -25,11 +30,17 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
+import platform
 import sys
 
 from pythonfmu import Fmi2Slave
 
 __all__ = ["BalancedSlave", "WRAPPER_CALLS"]
+
+#: whether pythonfmu's stock binary runs this FMU: every platform but x86_64 Linux, whose FMI 2 FMUs carry
+#: frictionjoint's fixed wrapper (``fmi2_wrapper/fix.patch``: defects 1 and 2 fixed in its C++ source, so
+#: that their balancing here goes; 3 and 4 are balanced here on every platform)
+STOCK_WRAPPER = not (sys.platform.startswith("linux") and platform.machine().lower() in ("x86_64", "amd64"))
 
 _py_incref = ctypes.pythonapi.Py_IncRef
 _py_incref.argtypes = [ctypes.py_object]
@@ -153,6 +164,8 @@ class BalancedSlave(Fmi2Slave):
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
+        if not STOCK_WRAPPER:  # the fixed wrapper: nothing to balance (fmi2_wrapper/fix.patch, 4 and 5)
+            return
         if "." not in cls.__module__:  # an FMU script's class: pythonfmu imports the script by file stem
             _balance_find_class(cls)
         cls._guard()
@@ -172,4 +185,5 @@ class BalancedSlave(Fmi2Slave):
         _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
 
 
-BalancedSlave._guard(inherited=True)
+if STOCK_WRAPPER:
+    BalancedSlave._guard(inherited=True)
