@@ -11,9 +11,10 @@ import shutil
 import subprocess
 import sys
 import sysconfig
+import tempfile
 from pathlib import Path
 
-__all__ = ["TARGET", "apply_patch", "build_main", "cmake_build"]
+__all__ = ["TARGET", "apply_patch", "build_main", "patched_build"]
 
 #: Zig's target: x86_64 Linux, glibc 2.17 (manylinux2014) or newer
 TARGET = "x86_64-linux-gnu.2.17"
@@ -62,22 +63,30 @@ def _compiler(tmp: Path, name: str) -> Path:
     return script
 
 
-def cmake_build(tree: Path, tmp: Path, built: Path, out: Path) -> Path:
-    """Configure and build the CMake project ``tree`` (release, stripped) with Zig's compilers (scripts
-    in ``tmp``), copy the library it writes at ``built`` to ``out``; prints its size and SHA-256."""
-    build_dir = tree / "build"
-    env = dict(os.environ, CC=str(_compiler(tmp, "cc")), CXX=str(_compiler(tmp, "c++")))
-    cmake = [str(Path(sys.executable).with_name("cmake"))]  # the cmake wheel's, next to this Python
-    if not Path(cmake[0]).is_file():
-        cmake = [shutil.which("cmake") or "cmake"]
-    subprocess.run([*cmake, "-S", str(tree), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
-                    f"-DPython3_EXECUTABLE={sys.executable}",
-                    # the headers given: a FindPython of the stable ABI alone does not ask the interpreter
-                    f"-DPython3_INCLUDE_DIR={sysconfig.get_paths()['include']}", "-DCMAKE_SHARED_LINKER_FLAGS=-s"],
-                   check=True, env=env)
-    subprocess.run([*cmake, "--build", str(build_dir), "--parallel", "2"], check=True, env=env)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(built, out)
+def patched_build(sources: Path, patch: Path, library: str, out: Path) -> Path:
+    """Copy the CMake project ``sources`` (a pythonfmu-export tree) to a temporary folder, apply
+    ``patch`` to its ``src``, configure and build it (release, stripped) with Zig's compilers, and copy
+    the library CMake writes at ``library`` (relative to the copy's parent: pythonfmu's CMake writes
+    to ``../resources``) to ``out``; prints its size and SHA-256."""
+    with tempfile.TemporaryDirectory(prefix="fj_wrapper_") as tmpd:
+        tmp = Path(tmpd)
+        tree = tmp / "pythonfmu-export"
+        shutil.copytree(sources, tree, ignore=shutil.ignore_patterns("build"))
+        apply_patch(patch, tree / "src")
+        build_dir = tree / "build"
+        env = dict(os.environ, CC=str(_compiler(tmp, "cc")), CXX=str(_compiler(tmp, "c++")))
+        cmake = [str(Path(sys.executable).with_name("cmake"))]  # the cmake wheel's, next to this Python
+        if not Path(cmake[0]).is_file():
+            cmake = [shutil.which("cmake") or "cmake"]
+        subprocess.run([*cmake, "-S", str(tree), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
+                        f"-DPython3_EXECUTABLE={sys.executable}",
+                        # the headers given: a FindPython of the stable ABI alone does not ask the interpreter
+                        f"-DPython3_INCLUDE_DIR={sysconfig.get_paths()['include']}",
+                        "-DCMAKE_SHARED_LINKER_FLAGS=-s"],
+                       check=True, env=env)
+        subprocess.run([*cmake, "--build", str(build_dir), "--parallel", "2"], check=True, env=env)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(tmp / library, out)
     digest = hashlib.sha256(out.read_bytes()).hexdigest()
     print(f"{out}: {out.stat().st_size} bytes, sha256 {digest}")
     return out

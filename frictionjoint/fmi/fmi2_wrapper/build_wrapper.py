@@ -14,17 +14,15 @@ size and SHA-256 are printed.
 """
 from __future__ import annotations
 
-import shutil
 import sys
-import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 try:
-    from ..native_build import apply_patch, build_main, cmake_build
+    from ..native_build import build_main, patched_build
 except ImportError:  # run as a script (a build venv without frictionjoint's dependencies)
     sys.path.insert(0, str(HERE.parent))
-    from native_build import apply_patch, build_main, cmake_build
+    from native_build import build_main, patched_build
 
 PATCH = HERE / "fix.patch"
 SOURCES = HERE / "pythonfmu-export"
@@ -33,13 +31,7 @@ BINARY = HERE / "binaries" / "x86_64-linux" / "libpythonfmu-export.so"
 
 def build(out: Path = BINARY) -> Path:
     """Copy, patch, configure and build the wrapper; write the stripped binary to ``out``."""
-    with tempfile.TemporaryDirectory(prefix="fj_fmi2_wrapper_") as tmpd:
-        tmp = Path(tmpd)
-        tree = tmp / "pythonfmu-export"
-        shutil.copytree(SOURCES, tree, ignore=shutil.ignore_patterns("build"))
-        apply_patch(PATCH, tree / "src")
-        # (CMake writes the library to ../resources/binaries/linux64)
-        return cmake_build(tree, tmp, tmp / "resources" / "binaries" / "linux64" / "libpythonfmu-export.so", out)
+    return patched_build(SOURCES, PATCH, "resources/binaries/linux64/libpythonfmu-export.so", out)
 
 
 def main(argv=None) -> int:

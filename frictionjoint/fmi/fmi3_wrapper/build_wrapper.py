@@ -17,17 +17,16 @@ CPython 3). The headers are the running Python's. The result is written over the
 from __future__ import annotations
 
 import importlib.metadata
-import shutil
 import sys
-import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 try:
-    from ..native_build import TARGET, apply_patch, build_main, cmake_build  # noqa: F401 (apply_patch: build.postprocess3's)
+    from ..native_build import TARGET, apply_patch, build_main, patched_build  # noqa: F401 (apply_patch: build.postprocess3's)
 except ImportError:  # run as a script (a build venv without frictionjoint's dependencies)
     sys.path.insert(0, str(HERE.parent))
-    from native_build import TARGET, apply_patch, build_main, cmake_build  # noqa: F401
+    from native_build import TARGET, apply_patch, build_main, patched_build  # noqa: F401
+
 PATCH = HERE / "early_return.patch"
 BINARY = HERE / "binaries" / "x86_64-linux" / "libpythonfmu-export.so"
 #: the pythonfmu3 release whose sources the patch is for
@@ -42,14 +41,7 @@ def build(out: Path = BINARY) -> Path:
     import pythonfmu3
 
     sources = Path(pythonfmu3.__file__).parent / "pythonfmu-export"
-    with tempfile.TemporaryDirectory(prefix="fj_fmi3_wrapper_") as tmpd:
-        tmp = Path(tmpd)
-        tree = tmp / "pythonfmu-export"
-        shutil.copytree(sources, tree, ignore=shutil.ignore_patterns("build"))
-        apply_patch(PATCH, tree / "src")
-        # (CMake writes the library to ../resources)
-        cmake_build(tree, tmp, tmp / "resources" / "binaries" / "x86_64-linux" / "libpythonfmu-export.so", out)
-    return out
+    return patched_build(sources, PATCH, "resources/binaries/x86_64-linux/libpythonfmu-export.so", out)
 
 
 def main(argv=None) -> int:
