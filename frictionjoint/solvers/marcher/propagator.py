@@ -422,6 +422,16 @@ def _symmetric_pencil(system) -> bool:
                           lambda: _symmetric(mass) and _symmetric(c) and _symmetric(k), mass, c, k)
 
 
+def _left_mass(system) -> np.ndarray:
+    """The system's mass as :func:`_left_inverse` and :meth:`ConfigData.left_product` take it: its
+    diagonal (m,) where the masses are lumped (:func:`_mass_factor`: products are scalings), else the
+    matrix; one array per system."""
+    mass = system.mass
+    factor = _mass_factor(system)
+    return _system_cached(system, "_left_mass",
+                          lambda: np.diag(mass).copy() if factor is not None and factor.ndim == 1 else mass, mass)
+
+
 def _left_inverse(mu, v, mass, damping, tsc):
     """The modes ``(mu, V = [Phi; Phi diag(mu)])`` of a symmetric pencil halved (:func:`_halved_modes`:
     ``(lam, V, V^-1, p)``, the first root of each of the ``p`` conjugate pairs then the real ones)
@@ -431,7 +441,7 @@ def _left_inverse(mu, v, mass, damping, tsc):
     as exact conjugates (the updates build them so) or a random probe shows ``|Re(V W z) - z| >
     LEFT_PROBE |z|`` in the balanced coordinates (``tsc``, :func:`_general_modes`). One ``N/2 x m x
     m`` product with ``C`` instead of the inverse of the ``2m x 2m`` real matrix (getrf + getri: 13
-    of the 24 ms of an update at 200 DOFs); lumped masses are a scaling."""
+    of the 24 ms of an update at 200 DOFs); ``mass`` as :func:`_left_mass` gives it (lumped: a scaling)."""
     m = mass.shape[0]
     first = np.flatnonzero(mu.imag > 0)
     second = first + 1
@@ -447,9 +457,8 @@ def _left_inverse(mu, v, mass, damping, tsc):
     re_t, im_t = phi.real.T, phi.imag.T
     w = np.empty((keep.size, 2 * m), complex)
     mp_t = w[:, m:]
-    diag = np.diag(mass)
-    if np.count_nonzero(mass) == np.count_nonzero(diag):  # lumped masses: a column scaling
-        np.multiply(phi.T, diag, out=mp_t)
+    if mass.ndim == 1:  # lumped masses: a column scaling
+        np.multiply(phi.T, mass, out=mp_t)
     else:
         mp_t.real[...] = re_t @ mass
         mp_t.imag[...] = im_t @ mass
@@ -662,14 +671,12 @@ class ConfigData:
             modes = self._modes(system, jen_stuck, mr, kr, cr, neighbour, roots)
             lam, v, w = modes[:3]
             if len(modes) == 5:  # halved already, V^-1 from the left eigenvectors (:func:`_left_inverse`)
-                halved = modes[:4]
                 # kept as a scale per mode: the rows are products with the shapes, M and C (the
                 # system's), formed where they are used (:meth:`left_product`), not held (half the
                 # memory of a configuration's modes)
-                mass = system.mass
-                lumped = np.count_nonzero(mass) == np.count_nonzero(np.diagonal(mass))
-                self._left = (modes[4], np.diag(mass) if lumped else mass, self.damping)
-                halved = halved[:2] + (None,) + halved[3:]
+                self._left = (modes[4], _left_mass(system), self.damping)
+                self._shared += (self._left[1],)  # the system's (not in nbytes)
+                halved = modes[:2] + (None,) + modes[3:4]
         else:
             lam = np.zeros(0, complex)
             v = np.zeros((0, 0), complex)
@@ -881,7 +888,7 @@ class ConfigData:
         tsc = getattr(old, "_balance", None)
         if tsc is None:
             tsc = np.ones(2 * n)
-        halved = _left_inverse(mu, v, system.mass, self.damping, tsc) if _symmetric_pencil(system) else None
+        halved = _left_inverse(mu, v, _left_mass(system), self.damping, tsc) if _symmetric_pencil(system) else None
         if halved is not None:
             # halved: the 1-norms within a factor 2 of the whole modes' (a pair's columns and rows)
             vb, wb = halved[1] / tsc[:, None], halved[2] * tsc[None, :]
@@ -954,16 +961,11 @@ class ConfigData:
         scale, mass, damping = self._left
         x, v = z[:m], z[m:]
         psi_t = self.V[:m].T
+        per_mode = (slice(None),) + (None,) * (z.ndim - 1)  # a mode's factor on its row of each state
         out = psi_t @ _left_times(mass, x)
-        rest = psi_t @ (damping @ x + _left_times(mass, v))
-        if z.ndim == 1:
-            out *= self.lam
-            out += rest
-            out *= scale
-        else:
-            out *= self.lam[:, None]
-            out += rest
-            out *= scale[:, None]
+        out *= self.lam[per_mode]
+        out += psi_t @ (damping @ x + _left_times(mass, v))
+        out *= scale[per_mode]
         return out
 
     def diagonal_mass_inverse(self) -> bool:
