@@ -11,7 +11,9 @@ periods) through:
   transfers every connection);
 
 with semi-implicit coupling (the joints' tangent stiffness and evaluation point passed to the
-structure) and explicit coupling (force held); this master with the events located across the
+structure) and explicit coupling (force held), the joints' velocity not connected
+(``joint_connections(..., events=False)``; the rows with it connected are rerun by
+tests/test_cosim.py::test_the_guide_table_rows); this master with the events located across the
 FMUs (``locate_events=True``, the joints' velocity connected: ``joint_connections(...,
 events=True)``), both transfers; and the whole system as one FMU (models/two_dof_chain_system.toml,
 ``build_fmus(systems=...)``: its events located inside each doStep) under fmpy's simulate_fmu (its

@@ -113,6 +113,60 @@ def test_jacobi_transfer_lags_and_stays_stable(chain_fmus, references):
     assert errs[-1] < 0.05 and observed_order(errs) > 1.5
 
 
+def guide_rows():
+    """The fixed-step rows of docs/cosimulation.md's coupling table that this master ran: (transfer,
+    coupling, velocity connected, the five printed errors at T/20 ... T/400)."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "cosimulation.md").read_text()
+    rows = []
+    for line in page.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 7 or "fixed step" not in cells[0]:
+            continue
+        coupling = cells[1].split(",")[0]
+        velocity = [v for v in (False, True) if ("velocity connected" in cells[1]) == v
+                    or "connected or not" in cells[1]]
+        transfers = ([t for t in ("sequential", "jacobi") if t in cells[0].lower()]
+                     or ["sequential", "jacobi"])  # "any of the four": a range over both
+        rows += [(cells[0], coupling, tuple(transfers), v, tuple(cells[2:7])) for v in velocity]
+    return rows
+
+
+def printed(text):
+    """``(low, high)`` of a printed number or range ``"89 … 308"``: each to half a unit in its
+    last printed digit (the rounding of the page)."""
+    from decimal import Decimal
+
+    def bounds(number):
+        d = Decimal(number.strip())
+        half = Decimal(5) * Decimal(10) ** (d.as_tuple().exponent - 1)
+        return float(d - half), float(d + half)
+
+    parts = [bounds(n) for n in text.split("…")]
+    return parts[0], parts[-1]
+
+
+@pytest.mark.parametrize("row", guide_rows(), ids=lambda r: f"{r[0]}-{r[1]}-{'v' if r[3] else 'no-v'}")
+def test_the_guide_table_rows(chain_fmus, row):
+    """docs/cosimulation.md's fixed-step rows of this master, rerun as each row says: the error at
+    T/20 ... T/400 to the page's printed digits (a range row: its ends are the least and largest
+    error over the transfers). These are coupling errors of 1e-3 or more, in which rounding
+    (1e-14) cannot move a printed digit."""
+    label, coupling, transfers, velocity, cells = row
+    assert len(guide_rows()) == 6  # sequential and Jacobi, velocity or not; explicit, velocity or not
+    s = FMUSystem({"chain": chain_fmus["chain"], "j1": chain_fmus["joint"], "j2": chain_fmus["joint"]},
+                  joint_connections("chain", "j1", "x1", coupling, events=velocity)
+                  + joint_connections("chain", "j2", "x2", coupling, events=velocity))
+    for division, cell in zip((20, 50, 100, 200, 400), cells):
+        ref = exact(chain_fmus["definition"], division)
+        errs = [errors(s.simulate(PERIODS * T, T / division, OUTPUTS, transfer=t, locate_events=False), ref).max()
+                for t in transfers]
+        (lo_ok, hi_ok) = printed(cell)
+        assert lo_ok[0] <= min(errs) <= lo_ok[1], (label, division, errs)
+        assert hi_ok[0] <= max(errs) <= hi_ok[1], (label, division, errs)
+
+
 def test_bad_systems_are_rejected(chain_fmus):
     comps = {"chain": chain_fmus["chain"], "j1": chain_fmus["joint"]}
     with pytest.raises(ParameterError, match="has no output 'nope'"):
