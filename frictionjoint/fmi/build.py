@@ -29,8 +29,8 @@ from pathlib import Path
 
 from .bundle_loader import ARCHIVE, BUNDLE, EXCLUDED, IDENTITY, identity
 
-__all__ = ["FMUS", "FMUS3", "FMI2_BINARIES", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
-           "SYSTEM_SCRIPT3", "build_fmus", "postprocess",
+__all__ = ["FMUS", "FMUS3", "FMUS_ME", "INTERFACES", "FMI2_BINARIES", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+           "SYSTEM_SCRIPT3", "STRUCTURE_SCRIPT_ME", "SYSTEM_SCRIPT_ME", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
 BUNDLE_NAME = BUNDLE  # the name the FMU scripts and their loader import
@@ -50,6 +50,21 @@ FMUS3 = {
     "IwanJoint": "fj3_iwan_joint_fmu.py",
     "MicroslipJoint": "fj3_microslip_joint_fmu.py",
 }
+#: FMI 3.0 Model Exchange FMUs (``interface="model-exchange"`` or ``"both"``): FMU name -> script; built
+#: as ``<name>ME.fmu`` (model identifier ``<name>ME``), with the structures and systems as ``<name>ME.fmu``
+#: (:data:`STRUCTURE_SCRIPT_ME`, :data:`SYSTEM_SCRIPT_ME`)
+FMUS_ME = {
+    "CoulombOscillator": "fj3_coulomb_oscillator_me_fmu.py",
+    "JenkinsJoint": "fj3_jenkins_joint_me_fmu.py",
+    "IwanJoint": "fj3_iwan_joint_me_fmu.py",
+    "MicroslipJoint": "fj3_microslip_joint_me_fmu.py",
+}
+#: the script of a Model Exchange structure FMU (model identifier ``LinearStructureME``)
+STRUCTURE_SCRIPT_ME = "fj3_linear_structure_me_fmu.py"
+#: the script of a Model Exchange friction system FMU (model identifier ``FrictionSystemME``)
+SYSTEM_SCRIPT_ME = "fj3_friction_system_me_fmu.py"
+#: the interfaces :func:`build_fmus` builds: name -> (co-simulation, model exchange)
+INTERFACES = {"co-simulation": (True, False), "model-exchange": (False, True), "both": (True, True)}
 #: pythonfmu's wrapper with frictionjoint's fixes (``fmi2_wrapper/fix.patch``: never a NULL log category,
 #: errors reported whatever the debug logging, a Python exception fmi2Error, reference counts):
 #: FMI 2 platform -> binary; the other platforms keep pythonfmu's stock binary
@@ -157,7 +172,9 @@ def postprocess3(fmu: Path, early_return: bool = True) -> None:
     with the value of the option before it), and with ``early_return`` the patched wrapper: its
     x86_64-linux binary (:data:`FMI3_BINARIES`) replaces pythonfmu3's binaries, ``sources/`` get the
     patch, and the FMU declares ``mightReturnEarlyFromDoStep`` and ``hasEventMode``; without, pythonfmu3's
-    binaries stay and neither is declared."""
+    binaries stay and neither is declared. A Model Exchange FMU (its model description has a
+    ``ModelExchange`` element: :mod:`.slaves3`'s ``*SlaveME3``) keeps that interface alone (pythonfmu3
+    also writes ``CoSimulation`` for the base class) and always carries the patched wrapper."""
     from .fmi3_wrapper.build_wrapper import PATCH, apply_patch
 
     fmu = Path(fmu)
@@ -166,9 +183,15 @@ def postprocess3(fmu: Path, early_return: bool = True) -> None:
     root = ET.fromstring(items["modelDescription.xml"])
     cs = root.find("CoSimulation")
     flags = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePerProcess="false",
-                 canGetAndSetFMUState="true", canSerializeFMUState="true",
-                 canHandleVariableCommunicationStepSize="true", mightReturnEarlyFromDoStep=str(early_return).lower(),
-                 hasEventMode=str(early_return).lower())
+                 canGetAndSetFMUState="true", canSerializeFMUState="true")
+    me = root.find("ModelExchange")
+    if me is not None:
+        root.remove(cs)
+        cs, early_return = me, True
+        flags["needsCompletedIntegratorStep"] = "false"
+    else:
+        flags.update(canHandleVariableCommunicationStepSize="true",
+                     mightReturnEarlyFromDoStep=str(early_return).lower(), hasEventMode=str(early_return).lower())
     for key, value in flags.items():
         cs.set(key, value)
     items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
@@ -209,7 +232,8 @@ def validate(fmu: Path) -> list[str]:
 
 
 def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structures=(), systems=(),
-               fmi_version: int = 2, early_return: bool = True, blades=()) -> list[Path]:
+               fmi_version: int = 2, early_return: bool = True, blades=(),
+               interface: str = "co-simulation") -> list[Path]:
     """Build, post-process and (optionally) validate the FMUs.
 
     Parameters
@@ -241,6 +265,11 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         Blade model definitions, beam or solid (:func:`~frictionjoint.structures.load_blade_model`):
         each becomes ``<name>.fmu``, the blade FMU (:data:`BLADE_SCRIPT`, model identifier
         ``BladeDovetail``) carrying it in its resources (:func:`_blade_jobs`).
+    interface : {"co-simulation", "model-exchange", "both"}
+        Which FMUs: co-simulation (``fmi_version`` 2 or 3), FMI 3.0 Model Exchange (the FMUs of
+        :data:`FMUS_ME`, the structures and the systems as ``<name>ME.fmu``:
+        :mod:`frictionjoint.fmi.model_exchange`; the blades and the dovetail root have no Model
+        Exchange form), or both.
 
     Returns
     -------
@@ -253,9 +282,14 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     source = Path(source_dir) if source_dir is not None else default_source_dir()
     from ..system_file import SystemDefinition, load_system_definition
 
+    if interface not in INTERFACES:
+        raise ValueError(f"interface must be one of {sorted(INTERFACES)}, got {interface!r}")
+    cosim, model_exchange = INTERFACES[interface]
     structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
     systems = [s if isinstance(s, SystemDefinition) else load_system_definition(s) for s in systems]
-    names = _names(names, [*structures, *blades], systems, fmi_version)
+    requested = names
+    names = _names(names, [*structures, *blades], systems, fmi_version) if cosim else []
+    names_me = _names_me(requested, structures, systems, strict=not cosim) if model_exchange else []
     built = []
     # the builder imports each script, and so the bundle: set aside a bundle this process has
     # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
@@ -263,8 +297,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
     # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
     # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), STRUCTURE_SCRIPT, SYSTEM_SCRIPT,
-                                      SYSTEM_SCRIPT3)}
+    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), *FMUS_ME.values(), STRUCTURE_SCRIPT,
+                                      SYSTEM_SCRIPT, SYSTEM_SCRIPT3, STRUCTURE_SCRIPT_ME, SYSTEM_SCRIPT_ME)}
 
     def ours(m):
         return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
@@ -274,10 +308,15 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         bundle = _bundle(tmp)
         sys.path.insert(0, str(tmp))
         try:
-            jobs = (_jobs3(names, systems, out, tmp, bundle) if fmi_version == 3
-                    else _jobs(names, structures, systems, out, tmp, bundle) + _blade_jobs(blades, out, tmp, bundle))
-            for script_name, dest, project_files, *description in jobs:
-                built.append(_build_one(source / script_name, dest, project_files, check, fmi_version, early_return,
+            jobs = []
+            if cosim:
+                jobs += [(3, *j) for j in _jobs3(names, systems, out, tmp, bundle)] if fmi_version == 3 else [
+                    (2, *j) for j in _jobs(names, structures, systems, out, tmp, bundle)
+                    + _blade_jobs(blades, out, tmp, bundle)]
+            if model_exchange:
+                jobs += [(3, *j) for j in _jobs_me(names_me, structures, systems, out, tmp, bundle)]
+            for version, script_name, dest, project_files, *description in jobs:
+                built.append(_build_one(source / script_name, dest, project_files, check, version, early_return,
                                         *description))
         finally:
             sys.path.remove(str(tmp))
@@ -301,19 +340,55 @@ def _names(names, structures, systems, fmi_version: int) -> list:
     return names
 
 
+def _names_me(names, structures, systems, strict: bool) -> list:
+    """The names of :data:`FMUS_ME` to build: all by default (none when ``structures`` or ``systems``
+    are given); of ``names`` those in the table (``strict``: every one, else a ValueError)."""
+    if names is None:
+        return [] if structures or systems else list(FMUS_ME)
+    if strict:
+        for n in names:
+            if n not in FMUS_ME:
+                raise ValueError(f"names must be among {sorted(FMUS_ME)} for Model Exchange, got {n!r}")
+    return [n for n in names if n in FMUS_ME]
+
+
+def _fmi3_files(tmp: Path, bundle: list) -> list:
+    """The bundle and pythonfmu's Python sources (the FMI 3 slaves bind the FMI 2 ones, which import
+    pythonfmu; pythonfmu3 puts its own into every FMU, as pythonfmu does into the FMI 2 ones), so that
+    an FMU needs no pythonfmu installed; copied into ``tmp`` once."""
+    import pythonfmu
+
+    pkg = tmp / "fmi3" / "pythonfmu"
+    if not pkg.is_dir():
+        pkg.mkdir(parents=True)
+        for f in Path(pythonfmu.__file__).parent.glob("*.py"):
+            shutil.copy2(f, pkg)
+    return [*bundle, pkg]
+
+
+def _jobs_me(names, structures, systems, out: Path, tmp: Path, bundle: list) -> list:
+    """The jobs of the Model Exchange FMUs: the named ones, one per structure definition and one per
+    system definition, each ``<name>ME.fmu``."""
+    from .slaves import STRUCTURE_RESOURCE
+
+    files = _fmi3_files(tmp, bundle)
+    jobs = [(FMUS_ME[n], out / f"{n}ME.fmu", files) for n in names]
+    for d in structures:
+        data = tmp / ("structure_me_" + d.name) / STRUCTURE_RESOURCE
+        data.parent.mkdir()
+        d.to_json(data)
+        jobs.append((STRUCTURE_SCRIPT_ME, out / f"{d.name}ME.fmu", [*files, data]))
+    return jobs + _system_jobs(systems, SYSTEM_SCRIPT_ME, "ME", out, tmp, files)
+
+
 def _jobs3(names, systems, out: Path, tmp: Path, bundle: list) -> list:
     """``(script name, destination, project files)`` of each FMI 3 FMU (the named ones, then one per
     system definition): the bundle and pythonfmu's Python sources (the FMI 3 slaves bind the FMI 2 ones,
     which import pythonfmu; pythonfmu3 puts its own into every FMU, as pythonfmu does into the FMI 2
     ones), so that an FMU needs no pythonfmu installed."""
-    import pythonfmu
-
-    pkg = tmp / "fmi3" / "pythonfmu"
-    pkg.mkdir(parents=True)
-    for f in Path(pythonfmu.__file__).parent.glob("*.py"):
-        shutil.copy2(f, pkg)
-    return ([(FMUS3[n], out / f"{n}Fmi3.fmu", [*bundle, pkg]) for n in names]
-            + _system_jobs(systems, SYSTEM_SCRIPT3, "Fmi3", out, tmp, [*bundle, pkg]))
+    files = _fmi3_files(tmp, bundle)
+    return ([(FMUS3[n], out / f"{n}Fmi3.fmu", files) for n in names]
+            + _system_jobs(systems, SYSTEM_SCRIPT3, "Fmi3", out, tmp, files))
 
 
 def _system_jobs(systems, script: str, suffix: str, out: Path, tmp: Path, files: list) -> list:

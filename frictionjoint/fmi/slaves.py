@@ -106,11 +106,13 @@ class _Declaration(NamedTuple):
     start: object = None
     method: Optional[str] = None
     args: tuple = ()
+    #: a Model Exchange FMU's derivative variable: the name of the continuous state it derives
+    derivative: Optional[str] = None
 
     def start_args(self, exact) -> dict:
         """Keyword arguments of its variable: a parameter carries ``initial`` = ``exact`` (the binding's
         Initial.exact) and a start, an input a start only, an output neither."""
-        if self.causality is Fmi2Causality.output:
+        if self.causality in (Fmi2Causality.output, Fmi2Causality.local):
             return {}
         return dict(initial=exact, start=self.start) if self.causality is Fmi2Causality.parameter else dict(
             start=self.start)
@@ -168,6 +170,12 @@ class _Slave(BalancedSlave):
         variability = Fmi2Variability.continuous if kind is float else Fmi2Variability.discrete
         self._declared.append(_Declaration(name, kind, Fmi2Causality.output, variability, description,
                                            method=method, args=(name,) if args is None else tuple(args)))
+
+    def _local(self, name, description, method, args=(), derivative=None):
+        """A local variable read as ``self.<method>(*args)`` (a Model Exchange FMU's state not among its
+        outputs, a state's derivative, an event indicator; :mod:`.model_exchange`)."""
+        self._declared.append(_Declaration(name, float, Fmi2Causality.local, Fmi2Variability.continuous,
+                                           description, method=method, args=tuple(args), derivative=derivative))
 
     def dependencies(self) -> dict:
         """Output name -> the names of the inputs it depends on directly (:attr:`direct_inputs`)."""

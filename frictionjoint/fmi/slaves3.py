@@ -39,18 +39,24 @@ from typing import NamedTuple
 
 from pythonfmu3 import (Boolean, Fmi3Causality, Fmi3Initial, Fmi3Slave, Fmi3Status, Fmi3Variability, Float64,
                         Int32)
+from pythonfmu3.modelexchange import ModelExchange
 
-from . import slaves, system_slave
+from . import model_exchange, slaves, system_slave
 from .wrapper import _lending_references
 
 __all__ = ["CoulombOscillatorSlave3", "JenkinsJointSlave3", "IwanJointSlave3", "MicroslipJointSlave3",
-           "SystemSlave3", "StepResult"]
+           "SystemSlave3", "StepResult", "CoulombOscillatorSlaveME3", "JenkinsJointSlaveME3", "IwanJointSlaveME3",
+           "MicroslipJointSlaveME3", "LinearStructureSlaveME3", "SystemSlaveME3"]
 
 _TYPES = {float: Float64, int: Int32, bool: Boolean}
 #: the methods pythonfmu3's wrapper calls on the instance (their exceptions lend references)
 WRAPPER_CALLS3 = ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "do_step",
                   "terminate", "update_discrete_states", "get_float64", "get_int32", "get_boolean",
-                  "set_float64", "set_int32", "set_boolean", "_get_fmu_state", "_set_fmu_state")
+                  "set_float64", "set_int32", "set_boolean", "_get_fmu_state", "_set_fmu_state",
+                  # Model Exchange (_SlaveME3)
+                  "get_continuous_states", "set_continuous_states", "get_continuous_state_derivatives",
+                  "get_event_indicators", "get_nominals_of_continuous_states", "set_time",
+                  "get_number_of_continuous_states", "get_number_of_event_indicators")
 #: (binding class, FMI 2 declarations) -> pythonfmu3 variables, built once (see _Slave3.vars)
 _VARIABLES3: dict = {}
 
@@ -128,10 +134,12 @@ class _Slave3(Fmi3Slave):
             var = Float64("time", causality=Fmi3Causality.independent, variability=Fmi3Variability.continuous,
                           description="simulation time [s]")
             var.value_reference, table[0] = 0, var
+            index = {d.name: vr for vr, d in enumerate(declared, start=1)}
             for vr, d in enumerate(declared, start=1):
+                extra = {} if d.derivative is None else {"derivative": index[d.derivative]}
                 var = _TYPES[d.kind](d.name, causality=Fmi3Causality[d.causality.name],
                                      variability=Fmi3Variability[d.variability.name], description=d.description,
-                                     **d.start_args(Fmi3Initial.exact))
+                                     **d.start_args(Fmi3Initial.exact), **extra)
                 var.value_reference, table[vr] = vr, var
             _VARIABLES3[key] = table
         return table
@@ -237,3 +245,92 @@ class SystemSlave3(_Slave3):
     in the FMU's resources, its events exact inside ``do_step``; early return just after each)."""
 
     _binds = system_slave.SystemSlave
+
+
+@_lend
+class _SlaveME3(_Slave3, ModelExchange):
+    """FMI 3 Model Exchange binding of a :mod:`.model_exchange` model (:attr:`_binds`): the host sets
+    the time and the continuous states, reads their derivatives and the event indicators and, at an
+    event it located, calls ``update_discrete_states`` (the model's rules there). The model
+    description declares the ``ModelExchange`` interface only (:func:`~frictionjoint.fmi.build.postprocess3`
+    drops the ``CoSimulation`` element pythonfmu3 writes for its base class)."""
+
+    _binds = model_exchange.MEModel
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        inner = self._inner
+        self.description = self._binds.description
+        vr = {d.name: i for i, d in enumerate(inner._declared, start=1)}
+        self.event_indicators = [vr[name] for name in inner.me_indicators]
+
+    def set_time(self, time):
+        self.time = float(time)
+        self._inner.me_set_time(time)
+
+    def get_number_of_continuous_states(self):
+        return len(self._inner.me_states)
+
+    def get_number_of_event_indicators(self):
+        return len(self._inner.me_indicators)
+
+    def get_continuous_states(self):
+        return [float(v) for v in self._inner.me_get_states()] if self._inner._ready else [
+            0.0] * len(self._inner.me_states)
+
+    def set_continuous_states(self, values):
+        self._inner.me_set_states(list(values))
+
+    def get_continuous_state_derivatives(self):
+        return [float(v) for v in self._inner.me_derivatives()]
+
+    def get_event_indicators(self):
+        return [float(v) for v in self._inner.me_event_indicators()]
+
+    def get_nominals_of_continuous_states(self, size):
+        return [float(v) for v in self._inner.me_nominals()][:size]
+
+    def update_discrete_states(self):
+        changed = self._inner.me_update()
+        return SimpleNamespace(discreteStatesNeedUpdate=False, terminateSimulation=False,
+                               nominalContinuousStatesChanged=False, valuesOfContinuousStatesChanged=bool(changed),
+                               nextEventTimeDefined=False, nextEventTime=0.0)
+
+    def do_step(self, current_time, step_size):
+        return StepResult(Fmi3Status.error, lastSuccessfulTime=current_time)
+
+
+class CoulombOscillatorSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange Coulomb oscillator (:class:`~frictionjoint.fmi.model_exchange.CoulombOscillatorME`)."""
+
+    _binds = model_exchange.CoulombOscillatorME
+
+
+class JenkinsJointSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange Jenkins joint (:class:`~frictionjoint.fmi.model_exchange.JenkinsJointME`)."""
+
+    _binds = model_exchange.JenkinsJointME
+
+
+class IwanJointSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange Iwan joint (:class:`~frictionjoint.fmi.model_exchange.IwanJointME`)."""
+
+    _binds = model_exchange.IwanJointME
+
+
+class MicroslipJointSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange microslip joint (:class:`~frictionjoint.fmi.model_exchange.MicroslipJointME`)."""
+
+    _binds = model_exchange.MicroslipJointME
+
+
+class LinearStructureSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange linear structure (:class:`~frictionjoint.fmi.model_exchange.LinearStructureME`)."""
+
+    _binds = model_exchange.LinearStructureME
+
+
+class SystemSlaveME3(_SlaveME3):
+    """FMI 3 Model Exchange friction system (:class:`~frictionjoint.fmi.model_exchange.SystemME`)."""
+
+    _binds = model_exchange.SystemME

@@ -1,0 +1,12 @@
+"""FMU script: CoulombOscillatorME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
+
+from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
+
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+CoulombOscillatorSlaveME3 = library(__file__, "fmi.slaves3").CoulombOscillatorSlaveME3
+
+
+class CoulombOscillatorME(CoulombOscillatorSlaveME3, Fmi3SlaveBase):
+    """Coulomb oscillator (rigid slider, Hong & Liu stop rules): Model Exchange, event indicators for its stick/slip events."""

@@ -1,0 +1,12 @@
+"""FMU script: LinearStructureME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
+
+from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
+
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+LinearStructureSlaveME3 = library(__file__, "fmi.slaves3").LinearStructureSlaveME3
+
+
+class LinearStructureME(LinearStructureSlaveME3, Fmi3SlaveBase):
+    """Linear structure with joint ports (the structure is data in the FMU's resources): Model Exchange, event indicators for its stick/slip events."""
