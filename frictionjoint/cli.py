@@ -11,6 +11,7 @@ Subcommands::
                            [--amplitude A] [--harmonics H] [--plot PNG] [--csv FILE]
     frictionjoint build-fmus [--out DIR] [--only NAME ...] [--structure FILE ...] [--system FILE ...]
                              [--blade MODEL ...] [--fmi-version {2,3}] [--no-early-return]
+                             [--interface {cs,me,both}]
     frictionjoint host-env [COMMAND ...]
     frictionjoint bench [--quick] [--repeat N] [--out DIR]
 
@@ -19,7 +20,8 @@ exact periodic steady state at every frequency), prints the table beside Den Har
 form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``sweep`` runs the
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
 (``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition; FMI 3.0
-FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included);
+FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included;
+FMI 3.0 Model Exchange FMUs, ``<name>ME.fmu``, with ``--interface me`` or ``both``);
 ``campbell`` computes a blade model's Campbell diagram (its frequencies on the stuck and on the
 slipping root against rotor speed, the engine-order crossings, with ``--amplitude`` the nonlinear
 modes between them); ``host-env`` runs a non-Python host (Ecos, a C/C++ master) with the environment it needs to run them, in
@@ -40,10 +42,13 @@ import numpy as np
 
 from . import __version__
 from .errors import ParameterError, check_bool
-from .fmi.build import FMUS, FMUS3
+from .fmi.build import FMUS, FMUS3, FMUS_ME
 from .frequencies import omega_range, parse_range
 from .stepping import OSCILLATOR_OUTPUTS
 from .sweep import BLADE_SETTINGS
+
+#: build-fmus --interface -> build_fmus(interface=...)
+_INTERFACES = {"cs": "co-simulation", "me": "model-exchange", "both": "both"}
 
 __all__ = ["main", "build_parser"]
 
@@ -461,6 +466,11 @@ def _add_tools(sub) -> None:
     bf.add_argument("--no-early-return", action="store_true",
                     help="--fmi-version 3: pythonfmu3's stock binaries (Linux and Windows x86_64), no early return "
                          "or event mode declared")
+    bf.add_argument("--interface", choices=tuple(_INTERFACES), default="cs",
+                    help="cs: co-simulation FMUs (--fmi-version 2 or 3); me: FMI 3.0 Model Exchange FMUs of "
+                         + ", ".join(FMUS_ME) + ", of each --structure and each --system, as <name>ME.fmu (their "
+                         "host integrates them with its own solver and locates their stick/slip events from "
+                         "their event indicators); both: the two")
 
     he = _command(
         sub, "host-env", _host_env, csv=None, out=None,
@@ -613,17 +623,23 @@ def _build_fmus(args, parser) -> int:
     from .fmi.build import build_fmus, default_source_dir
 
     out = args.out or str(default_source_dir() / "build")
-    table = FMUS3 if args.fmi_version == 3 else FMUS
+    interface = _INTERFACES[args.interface]
+    cosim = interface != "model-exchange"
+    table = dict(FMUS3 if args.fmi_version == 3 else FMUS) if cosim else {}
+    if interface != "co-simulation":
+        table.update(FMUS_ME)
     if args.only:
         unknown = [n for n in args.only if n not in table]
         if unknown:
-            parser.error(f"--only: unknown FMU(s) {unknown} for --fmi-version {args.fmi_version}; choose from "
-                         f"{sorted(table)}")
-    if args.fmi_version == 3 and (args.structure or args.blade):
-        parser.error("--structure and --blade build FMI 2.0 FMUs only (--fmi-version 2)")
+            parser.error(f"--only: unknown FMU(s) {unknown} for --fmi-version {args.fmi_version} --interface "
+                         f"{args.interface}; choose from {sorted(table)}")
+    if cosim and args.fmi_version == 3 and (args.structure or args.blade):
+        parser.error("--structure and --blade build FMI 2.0 co-simulation FMUs only (--fmi-version 2)")
+    if not cosim and args.blade:
+        parser.error("--blade: a blade FMU has no Model Exchange form (--interface cs)")
     for path in build_fmus(out, names=args.only, structures=args.structure, systems=args.system,
                            fmi_version=args.fmi_version, early_return=not args.no_early_return,
-                           blades=args.blade):
+                           blades=args.blade, interface=interface):
         print(f"built and validated {path}")
     return 0
 

@@ -187,13 +187,20 @@ class ModelExchangeSystem:
         if n_points > 10_000_000 or t0 + h == t0:
             raise ParameterError(f"step {h!r} s gives {n_points} points from {t0!r} to {t_end!r} s; at most 1e7 "
                                  "and above the rounding of the times")
+        from fmpy.fmi1 import FMICallException
+
         reads = [self._port(name) for name in outputs]
         times = t0 + h * np.arange(n_points)
-        run = _Run(self, t0)
+        messages = []
+        run = None
         try:
+            run = _Run(self, t0, messages)
             record = run.integrate(getattr(scipy.integrate, method), times, reads, rtol, atol)
+        except FMICallException as exc:  # the FMU's reason is in its log
+            raise FMUError(f"{exc}: " + " | ".join(messages[-5:] or ["(no message)"])) from None
         finally:
-            run.close()
+            if run is not None:
+                run.close()
         return CoSimulationResult(t=times, values=dict(zip(outputs, record.T)), step=h,
                                   host=f"frictionjoint Model Exchange master ({method}, rtol={rtol:g}), "
                                        f"{run.events} events located")
@@ -209,12 +216,17 @@ class ModelExchangeSystem:
 class _Run:
     """One run: the loaded instances, the state layout, the evaluations and the event loop."""
 
-    def __init__(self, system: ModelExchangeSystem, t0: float):
+    def __init__(self, system: ModelExchangeSystem, t0: float, messages: list):
         from fmpy import extract
         from fmpy.fmi3 import FMU3Model
 
         self.system, self.events = system, 0
         self._dirs, self.inst = [], {}
+
+        def log(env, status, category, message):  # the FMUs' messages, for the error a failed call raises
+            text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
+            messages.append(text)
+            del messages[:-20]
         try:
             for comp, path in system.components.items():
                 md = system._md[comp]
@@ -222,7 +234,7 @@ class _Run:
                 self._dirs.append(folder)
                 fmu = FMU3Model(guid=md.instantiationToken, unzipDirectory=folder,
                                 modelIdentifier=md.modelExchange.modelIdentifier, instanceName=comp)
-                fmu.instantiate()
+                fmu.instantiate(logMessage=log)
                 self.inst[comp] = fmu
                 for pname, value in system.parameters.get(comp, {}).items():
                     self._set(comp, system._vars[comp][pname], value)

@@ -67,7 +67,8 @@ class SpringSliders:
     Attributes
     ----------
     w : (n,) ndarray
-        Anchors [m]: of a stuck slider its spring's, of a slipping one where its slip began.
+        Anchors [m]: of a stuck slider its spring's, of a slipping one the slider's position where its
+        slip began (it is at ``u - direction slip_force / stiffness`` while it slips).
     direction : (n,) int ndarray
         0 where the slider sticks, +1 or -1 where it slips in that direction.
     dissipated : float
@@ -144,9 +145,8 @@ class SpringSliders:
         tol = LIMIT_ROUNDING * _EPS * (self.slip_force + self.stiffness * (np.abs(u) + np.abs(self.w)))
         at_limit = stuck & (self.slip_force - np.abs(spring) <= tol)
         starts = at_limit & (side * udot > 0.0)
-        if starts.any():
+        if starts.any():  # (the anchor stays: the slider slides from where its spring held it)
             self.direction[starts] = side[starts].astype(np.int8)
-            self.w[starts] = u[starts] - side[starts] * self.reach[starts]
         beyond = at_limit & ~starts & (np.abs(spring) > self.slip_force)
         self.w[beyond] = self._anchor(u, side, beyond)
         return bool(stops.any() or starts.any())
