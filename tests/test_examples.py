@@ -32,6 +32,7 @@ GUIDE_EXAMPLES = {
     "nonlinear-modes.md": "nm = fj.nonlinear_mode(",
     "campbell.md": "cd = fj.campbell(",
     "solid-blades.md": "pattern = slip_pattern(",
+    "fmus.md": "system = ModelExchangeSystem(",
 }
 
 
@@ -152,6 +153,23 @@ def test_system_of_fmus_example_runs(tmp_path, monkeypatch, fmus):
     result = namespace["result"]
     assert result.t[-1] == pytest.approx(20.9, abs=0.0524) and abs(result["j2.force"]).max() <= 0.8 + 1e-12
     assert (tmp_path / "chain.ssp").is_file()
+
+
+def test_model_exchange_example_runs(tmp_path, monkeypatch):
+    """The Model Exchange example of docs/fmus.md, with the FMUs its shell commands build in build/:
+    fmpy's loop and this library's master both locate the exact solution's 31 events (the chain of
+    tests/test_model_exchange.py, 20.9 s: four periods of omega = 1.2 rad/s but the last 0.04 s)."""
+    from frictionjoint.fmi.build import build_fmus
+
+    block, origin = guide_example("fmus.md")
+    build_fmus(tmp_path / "build", names=["JenkinsJoint"], structures=[ROOT / "models" / "two_dof_chain.toml"],
+               systems=[ROOT / "models" / "two_dof_chain_system.toml"], interface="model-exchange")
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "guide"}
+    exec(compile(block, origin, "exec"), namespace)
+    r, result = namespace["r"], namespace["result"]
+    assert r["event_count"][-1] == 31 and result.host.endswith("31 events located")
+    assert abs(result["j2.force"]).max() <= 0.8 * (1 + 1e-12)
 
 
 def test_ci_runs_the_readme_test_command():

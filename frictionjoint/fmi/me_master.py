@@ -36,7 +36,7 @@ from ..results import CoSimulationResult
 from ..threads import owns_blas_threads
 from .ports import split_port
 
-__all__ = ["ModelExchangeSystem", "METHODS"]
+__all__ = ["ModelExchangeSystem", "METHODS", "AMPLITUDE_FLOOR", "MAX_EVENTS"]
 
 #: SciPy steppers this master takes (the explicit ones have a dense output of their order)
 METHODS = ("DOP853", "RK45", "Radau", "BDF", "LSODA")
