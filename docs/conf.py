@@ -75,6 +75,7 @@ EXTRA_MODULES = [
     "frictionjoint.drivers",
     "frictionjoint.fmi.cosim",
     "frictionjoint.fmi.ecos",
+    "frictionjoint.fmi.me_master",
 ]
 
 
