@@ -1,4 +1,4 @@
-"""FMU script: CoulombOscillatorME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+"""FMU script: CoulombOscillatorMEFmi3, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
 from _frictionjoint_loader import library
 
 from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
@@ -8,5 +8,5 @@ from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find t
 CoulombOscillatorSlaveME3 = library(__file__, "fmi.slaves3").CoulombOscillatorSlaveME3
 
 
-class CoulombOscillatorME(CoulombOscillatorSlaveME3, Fmi3SlaveBase):
+class CoulombOscillatorMEFmi3(CoulombOscillatorSlaveME3, Fmi3SlaveBase):
     """Coulomb oscillator (rigid slider, Hong & Liu stop rules): Model Exchange, event indicators for its stick/slip events."""

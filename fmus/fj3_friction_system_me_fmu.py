@@ -1,4 +1,4 @@
-"""FMU script: FrictionSystemME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+"""FMU script: FrictionSystemMEFmi3, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
 from _frictionjoint_loader import library
 
 from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
@@ -8,5 +8,5 @@ from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find t
 SystemSlaveME3 = library(__file__, "fmi.slaves3").SystemSlaveME3
 
 
-class FrictionSystemME(SystemSlaveME3, Fmi3SlaveBase):
+class FrictionSystemMEFmi3(SystemSlaveME3, Fmi3SlaveBase):
     """Linear structure with Jenkins-type joints (the system is data in the FMU's resources): Model Exchange, event indicators for its stick/slip events."""

@@ -1,4 +1,4 @@
-"""FMU script: JenkinsJointME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+"""FMU script: JenkinsJointMEFmi3, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
 from _frictionjoint_loader import library
 
 from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
@@ -8,5 +8,5 @@ from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find t
 JenkinsJointSlaveME3 = library(__file__, "fmi.slaves3").JenkinsJointSlaveME3
 
 
-class JenkinsJointME(JenkinsJointSlaveME3, Fmi3SlaveBase):
+class JenkinsJointMEFmi3(JenkinsJointSlaveME3, Fmi3SlaveBase):
     """Displacement-driven Jenkins joint: Model Exchange, event indicators for its stick/slip events."""

@@ -1,4 +1,4 @@
-"""FMU script: LinearStructureME, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+"""FMU script: LinearStructureMEFmi3, FMI 3.0 Model Exchange (thin adapter; physics in frictionjoint)."""
 from _frictionjoint_loader import library
 
 from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find the class by this base's name)
@@ -8,5 +8,5 @@ from pythonfmu3 import Fmi3SlaveBase  # (pythonfmu3's builder and wrapper find t
 LinearStructureSlaveME3 = library(__file__, "fmi.slaves3").LinearStructureSlaveME3
 
 
-class LinearStructureME(LinearStructureSlaveME3, Fmi3SlaveBase):
+class LinearStructureMEFmi3(LinearStructureSlaveME3, Fmi3SlaveBase):
     """Linear structure with joint ports (the structure is data in the FMU's resources): Model Exchange, event indicators for its stick/slip events."""

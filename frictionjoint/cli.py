@@ -21,7 +21,7 @@ form and writes the plot; ``map`` draws Hong & Liu's map of stops per cycle; ``s
 same stepped sine through an FMU (fmpy) or the library model; ``build-fmus`` builds the FMUs
 (``LinearStructure`` FMUs from structure definitions, one FMU per friction system definition; FMI 3.0
 FMUs with early return at stick/slip events with ``--fmi-version 3``, friction systems included;
-FMI 3.0 Model Exchange FMUs, ``<name>ME.fmu``, with ``--interface me`` or ``both``);
+Model Exchange FMUs, ``<name>ME.fmu``, with ``--interface me`` or ``both``);
 ``campbell`` computes a blade model's Campbell diagram (its frequencies on the stuck and on the
 slipping root against rotor speed, the engine-order crossings, with ``--amplitude`` the nonlinear
 modes between them); ``host-env`` runs a non-Python host (Ecos, a C/C++ master) with the environment it needs to run them, in
@@ -467,10 +467,10 @@ def _add_tools(sub) -> None:
                     help="--fmi-version 3: pythonfmu3's stock binaries (Linux and Windows x86_64), no early return "
                          "or event mode declared")
     bf.add_argument("--interface", choices=tuple(_INTERFACES), default="cs",
-                    help="cs: co-simulation FMUs (--fmi-version 2 or 3); me: FMI 3.0 Model Exchange FMUs of "
-                         + ", ".join(FMUS_ME) + ", of each --structure and each --system, as <name>ME.fmu (their "
-                         "host integrates them with its own solver and locates their stick/slip events from "
-                         "their event indicators); both: the two")
+                    help="cs: co-simulation FMUs; me: Model Exchange FMUs of " + ", ".join(FMUS_ME)
+                         + ", of each --structure and each --system, as <name>ME.fmu (--fmi-version 3: "
+                         "<name>MEFmi3.fmu; their host integrates them with its own solver and locates their "
+                         "stick/slip events from their event indicators; x86_64 Linux); both: the two")
 
     he = _command(
         sub, "host-env", _host_env, csv=None, out=None,

@@ -1,6 +1,8 @@
-"""Model Exchange FMUs (FMI 3.0) and this library's Model Exchange master, against the exact
+"""Model Exchange FMUs (FMI 2.0 and 3.0) and this library's Model Exchange master, against the exact
 event-driven solution of the same model (``fj.simulate``, ``CoulombOscillator.simulate``: no time
-step, events in closed form).
+step, events in closed form). The FMI 2.0 FMUs (``<name>ME.fmu``, on the fixed wrapper of
+frictionjoint/fmi/fmi2_wrapper) and the FMI 3.0 ones (``<name>MEFmi3.fmu``) are one model on two
+wrappers: each test runs both.
 
 The chain is the README's (models/two_dof_chain.toml, a Jenkins joint kt = 100 N/m, Fs = 0.8 N from
 each mass to the ground, 1 N cos(1.2 t) on DOF 2, four periods from rest): as three ME FMUs
@@ -37,18 +39,26 @@ def me_fmus(tmp_path_factory):
     from frictionjoint.fmi.build import build_fmus
 
     out = tmp_path_factory.mktemp("me")
-    built = build_fmus(out, structures=[ROOT / "models" / "two_dof_chain.toml"],
-                       systems=[ROOT / "models" / "two_dof_chain_system.toml"], interface="model-exchange")
-    built += build_fmus(out, interface="model-exchange")
+    built = []
+    for version in (2, 3):
+        built += build_fmus(out, structures=[ROOT / "models" / "two_dof_chain.toml"],
+                            systems=[ROOT / "models" / "two_dof_chain_system.toml"], interface="model-exchange",
+                            fmi_version=version)
+        built += build_fmus(out, interface="model-exchange", fmi_version=version)
     return {p.stem: p for p in built}
 
 
-def chain(me_fmus, joint="JenkinsJointME", parameters=None):
+#: the FMU names' suffix of each FMI version
+SUFFIX = {2: "ME", 3: "MEFmi3"}
+
+
+def chain(me_fmus, joint="JenkinsJoint", parameters=None, version=2):
     connections = []
     for j, dof in (("j1", "x1"), ("j2", "x2")):
         connections += [(f"chain.x_{dof}", f"{j}.u"), (f"chain.v_{dof}", f"{j}.velocity"),
                         (f"{j}.force", f"chain.joint_force_{dof}")]
-    return ModelExchangeSystem({"chain": me_fmus["TwoDofChainME"], "j1": me_fmus[joint], "j2": me_fmus[joint]},
+    fmu = me_fmus[joint + SUFFIX[version]]
+    return ModelExchangeSystem({"chain": me_fmus["TwoDofChain" + SUFFIX[version]], "j1": fmu, "j2": fmu},
                                connections, parameters or {})
 
 
@@ -72,8 +82,9 @@ def test_every_me_fmu_declares_model_exchange_only_and_validates(me_fmus):
     ModelExchange interface alone, a derivative for every state, and its event indicators."""
     from frictionjoint.fmi.build import validate
 
-    expected = {"JenkinsJointME": (0, 2), "IwanJointME": (0, 2), "MicroslipJointME": (0, 2),
-                "CoulombOscillatorME": (2, 1), "TwoDofChainME": (4, 0), "TwoDofChainSystemME": (4, 4)}
+    sizes = {"JenkinsJoint": (0, 2), "IwanJoint": (0, 2), "MicroslipJoint": (0, 2), "CoulombOscillator": (2, 1),
+             "TwoDofChain": (4, 0), "TwoDofChainSystem": (4, 4)}
+    expected = {name + suffix: size for name, size in sizes.items() for suffix in SUFFIX.values()}
     assert set(me_fmus) == set(expected)
     from fmpy import read_model_description
 
@@ -82,20 +93,26 @@ def test_every_me_fmu_declares_model_exchange_only_and_validates(me_fmus):
         with zipfile.ZipFile(path) as z:
             root = ET.fromstring(z.read("modelDescription.xml"))
         assert root.find("ModelExchange") is not None and root.find("CoSimulation") is None, name
-        assert root.find("ModelExchange").get("canGetAndSetFMUState") == "true"
         md = read_model_description(str(path))
+        assert md.modelExchange.canGetAndSetFMUstate and md.modelExchange.canSerializeFMUstate, name
         assert (md.numberOfContinuousStates, md.numberOfEventIndicators) == expected[name], name
         assert all(d.variable.name == f"der({d.variable.derivative.name})" for d in md.derivatives), name
-        with zipfile.ZipFile(path) as z:  # the patched wrapper (early_return.patch), as the FMI 3 CS FMUs
-            assert any(n.startswith("binaries/x86_64-linux/") for n in z.namelist())
+        from frictionjoint.fmi.build import FMI2_BINARIES, FMI3_BINARIES
+
+        # the patched wrappers alone (pythonfmu's has no Model Exchange; pythonfmu3's, early_return.patch)
+        fixed = FMI2_BINARIES["linux64"] if md.fmiVersion == "2.0" else FMI3_BINARIES["x86_64-linux"]
+        with zipfile.ZipFile(path) as z:
+            binaries = [n for n in z.namelist() if n.startswith("binaries/") and not n.endswith("/")]
+            assert len(binaries) == 1 and z.read(binaries[0]) == fixed.read_bytes(), name
 
 
-def test_the_readme_chain_through_me_fmus_equals_the_exact_solution(me_fmus):
+@pytest.mark.parametrize("version", [2, 3])
+def test_the_readme_chain_through_me_fmus_equals_the_exact_solution(me_fmus, version):
     """The issue's target: <= 1e-8 of each DOF's amplitude at rtol = 1e-10 (measured 1.4e-9 and
     1.6e-10 with DOP853), the same events as the exact solution (31: joint 2 sticks and slips, joint 1
     never slips) and the dissipated energy; the error falls with the tolerance (measured 1.4e-7 at
     1e-8, 1.2e-11 at 1e-12)."""
-    s = chain(me_fmus)
+    s = chain(me_fmus, version=version)
     t = T / 50 * np.arange(50 * PERIODS + 1)
     ref = exact_chain([fj.Jenkins(100.0, 0.8, dof="x1"), fj.Jenkins(100.0, 0.8, dof="x2")], t)
     errs = {}
@@ -122,7 +139,7 @@ def test_iwan_and_microslip_chains_equal_the_exact_solution(me_fmus):
     t = T / 50 * np.arange(50 * PERIODS + 1)
     ref = exact_chain([fj.Iwan.segalman(0.8, 100.0, -0.5, 0.1, 8, dof=d) for d in ("x1", "x2")], t)
     iwan = dict(n_sliders=8)
-    r = chain(me_fmus, "IwanJointME", {"j1": iwan, "j2": iwan}).simulate(PERIODS * T, T / 50, OUT, rtol=1e-10)
+    r = chain(me_fmus, "IwanJoint", {"j1": iwan, "j2": iwan}).simulate(PERIODS * T, T / 50, OUT, rtol=1e-10)
     assert np.all(dof_errors(np.vstack([r["chain.x_x1"], r["chain.x_x2"]]), ref.x) <= 1e-8)
     assert events_located(r) > 100  # (instants: the exact log counts each slider, 281)
 
@@ -130,8 +147,8 @@ def test_iwan_and_microslip_chains_equal_the_exact_solution(me_fmus):
     t = T / 50 * np.arange(6)
     ref = exact_chain([contact.to_iwan(3, dof=d) for d in ("x1", "x2")], t)
     micro = dict(normal_load=1.0, n_sliders=3)
-    r = chain(me_fmus, "MicroslipJointME", {"j1": micro, "j2": micro}).simulate(t[-1], T / 50, OUT, rtol=1e-9,
-                                                                              method="Radau")
+    r = chain(me_fmus, "MicroslipJoint", {"j1": micro, "j2": micro}, version=3).simulate(
+        t[-1], T / 50, OUT, rtol=1e-9, method="Radau")
     x = np.vstack([r["chain.x_x1"], r["chain.x_x2"]])
     # DOF 1 moves 1.2e-8 m against DOF 2's 0.09 m (its joint holds): relative to the system's amplitude
     # (measured 8e-12; DOF 1's 8.5e-15 m is 6.9e-7 of its own amplitude, the rounding of the system)
@@ -140,7 +157,8 @@ def test_iwan_and_microslip_chains_equal_the_exact_solution(me_fmus):
     assert r["j2.dissipated_energy"][-1] > 0.0
 
 
-def test_the_me_system_fmu_in_fmpy_equals_the_exact_solution(me_fmus):
+@pytest.mark.parametrize("version", [2, 3])
+def test_the_me_system_fmu_in_fmpy_equals_the_exact_solution(me_fmus, version):
     """fmpy's own Model Exchange loop (CVode BDF, its absolute tolerance rtol x the FMU's nominals:
     the static deflections with the joints stuck) on the system FMU: at rtol = 1e-10, 3.2e-9 of DOF 2's
     amplitude, and 4.9e-8 of DOF 1's, whose amplitude is 1.1 % of DOF 2's (5.5e-10 of the system's
@@ -151,7 +169,8 @@ def test_the_me_system_fmu_in_fmpy_equals_the_exact_solution(me_fmus):
     system = load_system_definition(ROOT / "models" / "two_dof_chain_system.toml").system({})
     errs, scale = {}, None
     for rtol in (1e-10, 1e-12):
-        r = simulate_fmu(str(me_fmus["TwoDofChainSystemME"]), stop_time=PERIODS * T, output_interval=T / 50,
+        r = simulate_fmu(str(me_fmus["TwoDofChainSystem" + SUFFIX[version]]), stop_time=PERIODS * T,
+                         output_interval=T / 50,
                          relative_tolerance=rtol, output=["x_x1", "x_x2", "event_count"], record_events=False)
         ref = fj.simulate(system, r["time"][-1], t_eval=r["time"], record=("x",))
         x = np.vstack([r["x_x1"], r["x_x2"]])
@@ -163,7 +182,8 @@ def test_the_me_system_fmu_in_fmpy_equals_the_exact_solution(me_fmus):
     assert np.all(errs[1e-12] < errs[1e-10] / 10), errs
 
 
-def test_the_me_oscillator_in_fmpy_and_in_this_master(me_fmus):
+@pytest.mark.parametrize("version", [2, 3])
+def test_the_me_oscillator_in_fmpy_and_in_this_master(me_fmus, version):
     """The Coulomb oscillator's defaults (m = k = 1, F = 1, Fs = 0.5, omega = 1.5; it slips, and stops
     once per period in the steady state, Hong & Liu), ten periods from rest: this master 2.3e-10 at
     rtol = 1e-10 (target 1e-8); fmpy's CVode 1.4e-8 at 1e-10 (BDF's global error: 2.7e-10 at 1e-12).
@@ -172,7 +192,8 @@ def test_the_me_oscillator_in_fmpy_and_in_this_master(me_fmus):
 
     osc = fj.CoulombOscillator(mass=1.0, stiffness=1.0, slip_force=0.5, force_amplitude=1.0, omega=1.5)
     period = 2 * math.pi / 1.5
-    m = ModelExchangeSystem({"osc": me_fmus["CoulombOscillatorME"]}).simulate(
+    fmu = me_fmus["CoulombOscillator" + SUFFIX[version]]
+    m = ModelExchangeSystem({"osc": fmu}).simulate(
         10 * period, period / 50, ["osc.x", "osc.v", "osc.event_count", "osc.stop_count"], rtol=1e-10)
     ref = osc.simulate(m.t[-1], t_eval=m.t)
     assert np.max(np.abs(m["osc.x"] - ref.x)) / np.max(np.abs(ref.x)) <= 1e-8
@@ -181,7 +202,7 @@ def test_the_me_oscillator_in_fmpy_and_in_this_master(me_fmus):
     assert m["osc.event_count"][-1] == n_events and m["osc.stop_count"][-1] >= 1
     errs = []
     for rtol in (1e-10, 1e-12):
-        r = simulate_fmu(str(me_fmus["CoulombOscillatorME"]), stop_time=10 * period, output_interval=period / 50,
+        r = simulate_fmu(str(fmu), stop_time=10 * period, output_interval=period / 50,
                          relative_tolerance=rtol, output=["x", "v", "event_count"], record_events=False)
         ref = osc.simulate(r["time"][-1], t_eval=r["time"])
         errs.append(np.max(np.abs(r["x"] - ref.x)) / np.max(np.abs(ref.x)))
@@ -190,10 +211,10 @@ def test_the_me_oscillator_in_fmpy_and_in_this_master(me_fmus):
 
 
 def test_the_master_refuses_what_it_cannot_run(me_fmus, fmus):
-    with pytest.raises(ParameterError, match="not an FMI 3.0 Model Exchange FMU"):
+    with pytest.raises(ParameterError, match="not an FMI 2.0 or 3.0 Model Exchange FMU"):
         ModelExchangeSystem({"j": fmus["JenkinsJoint"]})
     with pytest.raises(ParameterError, match="algebraic loop"):
-        ModelExchangeSystem({"a": me_fmus["JenkinsJointME"], "b": me_fmus["JenkinsJointME"]},
+        ModelExchangeSystem({"a": me_fmus["JenkinsJointME"], "b": me_fmus["JenkinsJointMEFmi3"]},
                             [("a.force", "b.u"), ("b.force", "a.u")])
     s = chain(me_fmus)
     for kwargs, name in ((dict(rtol=1e-15), "rtol"), (dict(method="Euler"), "method"),
@@ -201,9 +222,10 @@ def test_the_master_refuses_what_it_cannot_run(me_fmus, fmus):
         args = dict(stop_time=1.0, step=0.1, outputs=["chain.x_x1"]) | kwargs
         with pytest.raises(ParameterError, match=name):
             s.simulate(**args)
-    with pytest.raises(FMUError, match="mass must be > 0"):  # the FMU's own message
-        ModelExchangeSystem({"osc": me_fmus["CoulombOscillatorME"]}, parameters={"osc": {"mass": -1.0}}).simulate(
-            1.0, 0.1, ["osc.x"])
+    for suffix in SUFFIX.values():  # the FMU's own message (FMI 2: fmi2Error, FMI 3: fmi3Fatal)
+        with pytest.raises(FMUError, match="mass must be > 0"):
+            ModelExchangeSystem({"osc": me_fmus["CoulombOscillator" + suffix]},
+                                parameters={"osc": {"mass": -1.0}}).simulate(1.0, 0.1, ["osc.x"])
 
 
 def test_spring_sliders_follow_the_play_operator():

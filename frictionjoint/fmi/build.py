@@ -29,8 +29,9 @@ from pathlib import Path
 
 from .bundle_loader import ARCHIVE, BUNDLE, EXCLUDED, IDENTITY, identity
 
-__all__ = ["FMUS", "FMUS3", "FMUS_ME", "INTERFACES", "FMI2_BINARIES", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
-           "SYSTEM_SCRIPT3", "STRUCTURE_SCRIPT_ME", "SYSTEM_SCRIPT_ME", "build_fmus", "postprocess",
+__all__ = ["FMUS", "FMUS3", "FMUS_ME", "FMUS_ME3", "INTERFACES", "FMI2_BINARIES", "FMI3_BINARIES", "BLADE_MODELS", "BLADE_SCRIPT", "BUNDLE_NAME", "STRUCTURE_SCRIPT", "SYSTEM_SCRIPT",
+           "SYSTEM_SCRIPT3", "STRUCTURE_SCRIPT_ME", "SYSTEM_SCRIPT_ME",
+           "STRUCTURE_SCRIPT_ME3", "SYSTEM_SCRIPT_ME3", "build_fmus", "postprocess",
            "validate", "default_source_dir"]
 
 BUNDLE_NAME = BUNDLE  # the name the FMU scripts and their loader import
@@ -50,19 +51,30 @@ FMUS3 = {
     "IwanJoint": "fj3_iwan_joint_fmu.py",
     "MicroslipJoint": "fj3_microslip_joint_fmu.py",
 }
-#: FMI 3.0 Model Exchange FMUs (``interface="model-exchange"`` or ``"both"``): FMU name -> script; built
-#: as ``<name>ME.fmu`` (model identifier ``<name>ME``), with the structures and systems as ``<name>ME.fmu``
-#: (:data:`STRUCTURE_SCRIPT_ME`, :data:`SYSTEM_SCRIPT_ME`)
+#: Model Exchange FMUs (``interface="model-exchange"`` or ``"both"``): FMU name -> script (FMI 2.0, on the
+#: fixed wrapper: ``fmi2_wrapper/fix.patch``); built as ``<name>ME.fmu`` (model identifier ``<name>ME``),
+#: with the structures and systems as ``<name>ME.fmu`` (:data:`STRUCTURE_SCRIPT_ME`, :data:`SYSTEM_SCRIPT_ME`)
 FMUS_ME = {
+    "CoulombOscillator": "fj_coulomb_oscillator_me_fmu.py",
+    "JenkinsJoint": "fj_jenkins_joint_me_fmu.py",
+    "IwanJoint": "fj_iwan_joint_me_fmu.py",
+    "MicroslipJoint": "fj_microslip_joint_me_fmu.py",
+}
+#: FMI 3.0 Model Exchange FMUs (``fmi_version=3``): FMU name -> script; built as ``<name>MEFmi3.fmu``
+FMUS_ME3 = {
     "CoulombOscillator": "fj3_coulomb_oscillator_me_fmu.py",
     "JenkinsJoint": "fj3_jenkins_joint_me_fmu.py",
     "IwanJoint": "fj3_iwan_joint_me_fmu.py",
     "MicroslipJoint": "fj3_microslip_joint_me_fmu.py",
 }
-#: the script of a Model Exchange structure FMU (model identifier ``LinearStructureME``)
-STRUCTURE_SCRIPT_ME = "fj3_linear_structure_me_fmu.py"
-#: the script of a Model Exchange friction system FMU (model identifier ``FrictionSystemME``)
-SYSTEM_SCRIPT_ME = "fj3_friction_system_me_fmu.py"
+#: the script of a Model Exchange structure FMU (model identifier ``LinearStructureME``; FMI 3.0:
+#: ``..._ME3``, ``LinearStructureMEFmi3``)
+STRUCTURE_SCRIPT_ME = "fj_linear_structure_me_fmu.py"
+STRUCTURE_SCRIPT_ME3 = "fj3_linear_structure_me_fmu.py"
+#: the script of a Model Exchange friction system FMU (model identifier ``FrictionSystemME``; FMI 3.0:
+#: ``..._ME3``, ``FrictionSystemMEFmi3``)
+SYSTEM_SCRIPT_ME = "fj_friction_system_me_fmu.py"
+SYSTEM_SCRIPT_ME3 = "fj3_friction_system_me_fmu.py"
 #: the interfaces :func:`build_fmus` builds: name -> (co-simulation, model exchange)
 INTERFACES = {"co-simulation": (True, False), "model-exchange": (False, True), "both": (True, True)}
 #: pythonfmu's wrapper with frictionjoint's fixes (``fmi2_wrapper/fix.patch``: never a NULL log category,
@@ -140,6 +152,11 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     variables = root.find("ModelVariables").findall("ScalarVariable")
     outputs = [i + 1 for i, v in enumerate(variables) if v.get("causality") == "output"]
     structure = root.find("ModelStructure")
+    # a Model Exchange FMU (frictionjoint.fmi.model_exchange): its states and their derivatives too
+    derivatives = [int(u.get("index")) for u in structure.iterfind("Derivatives/Unknown")]
+    states = [int(variables[i - 1].find("Real").get("derivative")) for i in derivatives]
+    initial = sorted(set(outputs) | set(derivatives) | {i for i in states
+                                                         if variables[i - 1].get("causality") == "local"})
     if structure is None:
         structure = ET.SubElement(root, "ModelStructure")
     # each output's dependencies as the slave declared them (frictionjoint.fmi.slaves._Slave.to_xml)
@@ -154,12 +171,24 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
         unknown = ET.SubElement(outs, "Unknown", index=str(idx))
         if declared.get(str(idx)) is not None:
             unknown.set("dependencies", declared[str(idx)])
+    for idx in initial:
         ET.SubElement(init, "Unknown", index=str(idx))
     structure.insert(0, outs)
     # Outputs, Derivatives, InitialUnknowns: keep the schema order
     structure.append(init)
     items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
-    ident = root.find("CoSimulation").get("modelIdentifier")
+    interface = root.find("CoSimulation")
+    me = root.find("ModelExchange")
+    if me is not None:  # Model Exchange only: the fixed wrapper alone has its functions (fix.patch, 6)
+        for key in ("needsExecutionTool", "canBeInstantiatedOnlyOncePerProcess", "canNotUseMemoryManagementFunctions",
+                    "canGetAndSetFMUstate", "canSerializeFMUstate", "providesDirectionalDerivative"):
+            if interface.get(key) is not None:
+                me.set(key, interface.get(key))
+        root.remove(interface)
+        interface = me
+        items = {name: data for name, data in items.items() if not name.startswith("binaries/")}
+    items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    ident = interface.get("modelIdentifier")
     for platform, binary in FMI2_BINARIES.items():  # the fixed wrapper in place of pythonfmu's
         if not binary.is_file():
             raise FileNotFoundError(f"the fixed FMI 2 wrapper {binary} is missing (see fmi2_wrapper/build_wrapper.py)")
@@ -266,10 +295,9 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
         each becomes ``<name>.fmu``, the blade FMU (:data:`BLADE_SCRIPT`, model identifier
         ``BladeDovetail``) carrying it in its resources (:func:`_blade_jobs`).
     interface : {"co-simulation", "model-exchange", "both"}
-        Which FMUs: co-simulation (``fmi_version`` 2 or 3), FMI 3.0 Model Exchange (the FMUs of
-        :data:`FMUS_ME`, the structures and the systems as ``<name>ME.fmu``:
-        :mod:`frictionjoint.fmi.model_exchange`; the blades and the dovetail root have no Model
-        Exchange form), or both.
+        Which FMUs: co-simulation, Model Exchange (the FMUs of :data:`FMUS_ME`, the structures and the
+        systems as ``<name>ME.fmu``, FMI 3.0: ``<name>MEFmi3.fmu``; :mod:`frictionjoint.fmi.model_exchange`;
+        the blades and the dovetail root have no Model Exchange form), or both; each of ``fmi_version``.
 
     Returns
     -------
@@ -297,8 +325,9 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
     # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
     # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), *FMUS_ME.values(), STRUCTURE_SCRIPT,
-                                      SYSTEM_SCRIPT, SYSTEM_SCRIPT3, STRUCTURE_SCRIPT_ME, SYSTEM_SCRIPT_ME)}
+    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), *FMUS_ME.values(), *FMUS_ME3.values(),
+                                      STRUCTURE_SCRIPT, SYSTEM_SCRIPT, SYSTEM_SCRIPT3, STRUCTURE_SCRIPT_ME,
+                                      SYSTEM_SCRIPT_ME, STRUCTURE_SCRIPT_ME3, SYSTEM_SCRIPT_ME3)}
 
     def ours(m):
         return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
@@ -314,7 +343,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
                     (2, *j) for j in _jobs(names, structures, systems, out, tmp, bundle)
                     + _blade_jobs(blades, out, tmp, bundle)]
             if model_exchange:
-                jobs += [(3, *j) for j in _jobs_me(names_me, structures, systems, out, tmp, bundle)]
+                jobs += [(fmi_version, *j) for j in _jobs_me(names_me, structures, systems, out, tmp, bundle,
+                                                             fmi_version)]
             for version, script_name, dest, project_files, *description in jobs:
                 built.append(_build_one(source / script_name, dest, project_files, check, version, early_return,
                                         *description))
@@ -366,19 +396,24 @@ def _fmi3_files(tmp: Path, bundle: list) -> list:
     return [*bundle, pkg]
 
 
-def _jobs_me(names, structures, systems, out: Path, tmp: Path, bundle: list) -> list:
+def _jobs_me(names, structures, systems, out: Path, tmp: Path, bundle: list, fmi_version: int = 2) -> list:
     """The jobs of the Model Exchange FMUs: the named ones, one per structure definition and one per
-    system definition, each ``<name>ME.fmu``."""
+    system definition, each ``<name>ME.fmu`` (FMI 3.0: ``<name>MEFmi3.fmu``)."""
     from .slaves import STRUCTURE_RESOURCE
 
-    files = _fmi3_files(tmp, bundle)
-    jobs = [(FMUS_ME[n], out / f"{n}ME.fmu", files) for n in names]
+    if fmi_version == 3:
+        files, table, suffix = _fmi3_files(tmp, bundle), FMUS_ME3, "MEFmi3"
+        structure_script, system_script = STRUCTURE_SCRIPT_ME3, SYSTEM_SCRIPT_ME3
+    else:
+        files, table, suffix = list(bundle), FMUS_ME, "ME"
+        structure_script, system_script = STRUCTURE_SCRIPT_ME, SYSTEM_SCRIPT_ME
+    jobs = [(table[n], out / f"{n}{suffix}.fmu", files) for n in names]
     for d in structures:
-        data = tmp / ("structure_me_" + d.name) / STRUCTURE_RESOURCE
+        data = tmp / ("structure_" + suffix + d.name) / STRUCTURE_RESOURCE
         data.parent.mkdir()
         d.to_json(data)
-        jobs.append((STRUCTURE_SCRIPT_ME, out / f"{d.name}ME.fmu", [*files, data]))
-    return jobs + _system_jobs(systems, SYSTEM_SCRIPT_ME, "ME", out, tmp, files)
+        jobs.append((structure_script, out / f"{d.name}{suffix}.fmu", [*files, data]))
+    return jobs + _system_jobs(systems, system_script, suffix, out, tmp, files)
 
 
 def _jobs3(names, systems, out: Path, tmp: Path, bundle: list) -> list:

@@ -1,7 +1,7 @@
-"""A system of FMI 3.0 Model Exchange FMUs integrated together, with state events located from the
+"""A system of Model Exchange FMUs (FMI 2.0 or 3.0) integrated together, with state events located from the
 FMUs' event indicators: this library's Model Exchange master.
 
-:class:`ModelExchangeSystem` loads each component (fmpy's ``FMU3Model``), stacks their continuous
+:class:`ModelExchangeSystem` loads each component (fmpy's ``FMU2Model`` or ``FMU3Model``), stacks their continuous
 states into one vector and integrates it with one of SciPy's explicit Runge-Kutta steppers
 (:class:`scipy.integrate.DOP853` by default) at the tolerances given. At every evaluation it sets
 each component's time and states, transfers the connections in the order of the model
@@ -50,12 +50,12 @@ MAX_EVENTS = 1_000_000
 
 @dataclass
 class ModelExchangeSystem:
-    """Model Exchange FMUs (FMI 3.0), their parameter values and the connections between them.
+    """Model Exchange FMUs (FMI 2.0 or 3.0), their parameter values and the connections between them.
 
     Parameters
     ----------
     components : dict
-        Component name -> ``.fmu`` path of an FMI 3.0 FMU with a ``ModelExchange`` interface
+        Component name -> ``.fmu`` path of an FMI 2.0 or 3.0 FMU with a ``ModelExchange`` interface
         (``frictionjoint build-fmus --interface me``). Several components may use the same FMU.
     connections : sequence of (str, str)
         ``("source.output", "target.input")`` pairs; transferred in the order of the outputs'
@@ -81,9 +81,9 @@ class ModelExchangeSystem:
             if not path.is_file():
                 raise ParameterError(f"components[{name!r}]: FMU {str(path)!r} not found")
             md = read_model_description(str(path))
-            if not str(md.fmiVersion).startswith("3.") or md.modelExchange is None:
-                raise ParameterError(f"components[{name!r}]: {path.name} is not an FMI 3.0 Model Exchange FMU "
-                                     "(build one with build-fmus --interface me)")
+            if md.modelExchange is None or not str(md.fmiVersion).startswith(("2.", "3.")):
+                raise ParameterError(f"components[{name!r}]: {path.name} is not an FMI 2.0 or 3.0 Model Exchange "
+                                     "FMU (build one with build-fmus --interface me)")
             self._md[name] = md
         self.components = components
         self._vars = {c: {v.name: v for v in md.modelVariables} for c, md in self._md.items()}
@@ -213,32 +213,62 @@ class ModelExchangeSystem:
         return comp, v
 
 
+def _instantiate(md, folder, name, log):
+    """An fmpy Model Exchange instance of the FMU unpacked in ``folder`` (FMI 2.0 or 3.0), its log
+    messages passed to ``log``."""
+    if md.fmiVersion.startswith("2."):
+        from ctypes import byref
+
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (FMU2Model, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+        from fmpy.logging import addLoggerProxy
+
+        callbacks = fmi2CallbackFunctions()
+        callbacks.logger = fmi2CallbackLoggerTYPE(lambda env, inst, status, category, message: log(message))
+        callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(callbacks))  # (the variadic logger's message formatted)
+        fmu = FMU2Model(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.modelExchange.modelIdentifier,
+                        instanceName=name)
+        fmu.instantiate(callbacks=callbacks)
+        fmu._frictionjoint_callbacks = callbacks  # (kept alive with the instance)
+        return fmu
+    from fmpy.fmi3 import FMU3Model
+
+    fmu = FMU3Model(guid=md.instantiationToken, unzipDirectory=folder,
+                    modelIdentifier=md.modelExchange.modelIdentifier, instanceName=name)
+    fmu.instantiate(logMessage=lambda env, status, category, message: log(message))
+    return fmu
+
+
 class _Run:
     """One run: the loaded instances, the state layout, the evaluations and the event loop."""
 
     def __init__(self, system: ModelExchangeSystem, t0: float, messages: list):
         from fmpy import extract
-        from fmpy.fmi3 import FMU3Model
 
         self.system, self.events = system, 0
-        self._dirs, self.inst = [], {}
+        self._dirs, self.inst, self._v2 = [], {}, set()
 
-        def log(env, status, category, message):  # the FMUs' messages, for the error a failed call raises
-            text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
-            messages.append(text)
+        def log(text):  # the FMUs' messages, for the error a failed call raises
+            messages.append(text.decode(errors="replace") if isinstance(text, bytes) else str(text))
             del messages[:-20]
         try:
             for comp, path in system.components.items():
                 md = system._md[comp]
                 folder = extract(str(path), unzipdir=tempfile.mkdtemp(prefix="frictionjoint_me_"))
                 self._dirs.append(folder)
-                fmu = FMU3Model(guid=md.instantiationToken, unzipDirectory=folder,
-                                modelIdentifier=md.modelExchange.modelIdentifier, instanceName=comp)
-                fmu.instantiate(logMessage=log)
-                self.inst[comp] = fmu
+                self.inst[comp] = fmu = _instantiate(md, folder, comp, log)
+                if md.fmiVersion.startswith("2."):
+                    self._v2.add(comp)
+                    fmu.setupExperiment(startTime=t0)
                 for pname, value in system.parameters.get(comp, {}).items():
                     self._set(comp, system._vars[comp][pname], value)
-                fmu.enterInitializationMode(startTime=t0)
+                if comp in self._v2:
+                    fmu.enterInitializationMode()
+                else:
+                    fmu.enterInitializationMode(startTime=t0)
             for comp, fmu in self.inst.items():
                 fmu.exitInitializationMode()
             self.sizes = {c: self.system._md[c].numberOfContinuousStates for c in self.inst}
@@ -246,26 +276,31 @@ class _Run:
             self.t = t0
             self.y = self._states()
             self._sync(t0, self.y)
-            self._event_mode(t0)
+            self._event_mode(t0, initial=True)
         except Exception:
             self.close()
             raise
 
     # -- values ------------------------------------------------------------------------------------
     def _set(self, comp, var, value):
-        fmu = self.inst[comp]
-        if var.type == "Float64":
-            fmu.setFloat64([var.valueReference], [float(value)])
+        fmu, v2 = self.inst[comp], comp in self._v2
+        if var.type in ("Float64", "Real"):
+            (fmu.setReal if v2 else fmu.setFloat64)([var.valueReference], [float(value)])
         elif var.type == "Boolean":
             fmu.setBoolean([var.valueReference], [bool(value)])
         else:
             if float(value) != int(value):
                 raise ParameterError(f"{comp}.{var.name} is an integer, got {value!r}")
-            fmu.setInt32([var.valueReference], [int(value)])
+            (fmu.setInteger if v2 else fmu.setInt32)([var.valueReference], [int(value)])
 
     def _get(self, comp, var) -> float:
-        fmu = self.inst[comp]
-        getter = {"Float64": fmu.getFloat64, "Boolean": fmu.getBoolean}.get(var.type, fmu.getInt32)
+        fmu, v2 = self.inst[comp], comp in self._v2
+        if var.type in ("Float64", "Real"):
+            getter = fmu.getReal if v2 else fmu.getFloat64
+        elif var.type == "Boolean":
+            getter = fmu.getBoolean
+        else:
+            getter = fmu.getInteger if v2 else fmu.getInt32
         return float(getter([var.valueReference])[0])
 
     def _vector(self, which: str, sizes: dict) -> np.ndarray:
@@ -276,7 +311,8 @@ class _Run:
         for comp, n in sizes.items():
             if n:
                 part = np.empty(n)
-                getattr(self.inst[comp], "get" + which)(part.ctypes.data_as(_DOUBLE_P), n)
+                name = "Derivatives" if which == "ContinuousStateDerivatives" and comp in self._v2 else which
+                getattr(self.inst[comp], "get" + name)(part.ctypes.data_as(_DOUBLE_P), n)
                 out[i:i + n] = part
             i += n
         return out
@@ -307,15 +343,16 @@ class _Run:
         return self._vector("EventIndicators", self.n_ind)
 
     # -- events ---------------------------------------------------------------------------------------
-    def _event_mode(self, t) -> None:
-        """Event mode at ``t``: every component updates its discrete states until none needs more;
-        then the states are read back."""
-        for fmu in self.inst.values():
-            fmu.enterEventMode()
+    def _event_mode(self, t, initial=False) -> None:
+        """Event mode at ``t`` (after initialisation: its event iteration): every component updates
+        its discrete states until none needs more; then the states are read back."""
+        if not initial:
+            for fmu in self.inst.values():
+                fmu.enterEventMode()
         for _ in range(100):
             again = False
-            for fmu in self.inst.values():
-                need, terminate, *_ = fmu.updateDiscreteStates()
+            for comp, fmu in self.inst.items():
+                need, terminate, *_ = fmu.newDiscreteStates() if comp in self._v2 else fmu.updateDiscreteStates()
                 if terminate:
                     raise FMUError(f"a component asked to terminate the simulation at t = {t!r} s")
                 again |= bool(need)

@@ -241,6 +241,61 @@ class MEModel:
     def do_step(self, current_time, step_size):  # a Model Exchange FMU has no step
         return self._refuse("a Model Exchange FMU is not stepped: its host integrates its states")
 
+    # -- FMI 2.0: what the fixed wrapper calls (fmi2_wrapper/fix.patch, 6) -------------------------------
+    def set_time(self, time):
+        self.me_set_time(time)
+
+    def set_continuous_states(self, values):
+        self.me_set_states(list(values))
+
+    def get_continuous_states(self):
+        if not self._ready:
+            return [0.0] * len(self.me_states)
+        return [float(v) for v in self.me_get_states()]
+
+    def get_derivatives(self):
+        return [float(v) for v in self.me_derivatives()]
+
+    def get_event_indicators(self):
+        return [float(v) for v in self.me_event_indicators()]
+
+    def get_nominals_of_continuous_states(self):
+        return [float(v) for v in self.me_nominals()]
+
+    def new_discrete_states(self):
+        """``(newDiscreteStatesNeeded, terminateSimulation, nominalsOfContinuousStatesChanged,
+        valuesOfContinuousStatesChanged, nextEventTimeDefined, nextEventTime)``: the rules applied once
+        (they leave nothing for a second pass)."""
+        return False, False, False, bool(self.me_update()), False, 0.0
+
+    def to_xml(self, model_options=None):
+        """pythonfmu's FMI 2.0 model description made Model Exchange: a ``ModelExchange`` element
+        (:func:`~frictionjoint.fmi.build.postprocess` moves the builder's capability flags there and drops
+        ``CoSimulation``),
+        ``numberOfEventIndicators``, each ``der(<state>)``'s ``derivative`` and the ``Derivatives``
+        of the model structure (:func:`~frictionjoint.fmi.build.postprocess` adds them and the states to
+        the initial unknowns)."""
+        import xml.etree.ElementTree as ET
+
+        root = super().to_xml(model_options)
+        cs = root.find("CoSimulation")  # (pythonfmu's builder sets its flags there; postprocess moves them)
+        me = ET.Element("ModelExchange", modelIdentifier=cs.get("modelIdentifier"),
+                        completedIntegratorStepNotNeeded="true")
+        root.insert(list(root).index(cs), me)
+        root.set("numberOfEventIndicators", str(len(self.me_indicators)))
+        index = {d.name: i for i, d in enumerate(self._declared, start=1)}
+        variables = root.find("ModelVariables").findall("ScalarVariable")
+        derivatives = ET.Element("Derivatives")
+        for i, d in enumerate(self._declared, start=1):
+            if d.derivative is not None:
+                variables[i - 1].find("Real").set("derivative", str(index[d.derivative]))
+                ET.SubElement(derivatives, "Unknown", index=str(i))
+        structure = root.find("ModelStructure")
+        outputs = structure.find("Outputs")
+        if len(derivatives):
+            structure.insert(0 if outputs is None else list(structure).index(outputs) + 1, derivatives)
+        return root
+
 
 # -- displacement-driven joints -------------------------------------------------------------------
 class _DrivenME(MEModel, slaves._DrivenSlave):

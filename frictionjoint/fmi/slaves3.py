@@ -249,7 +249,8 @@ class SystemSlave3(_Slave3):
 
 @_lend
 class _SlaveME3(_Slave3, ModelExchange):
-    """FMI 3 Model Exchange binding of a :mod:`.model_exchange` model (:attr:`_binds`): the host sets
+    """FMI 3 Model Exchange binding of a :mod:`.model_exchange` model (:attr:`_binds`; the FMI 2 FMUs are
+    the model classes themselves, on the fixed FMI 2 wrapper): the host sets
     the time and the continuous states, reads their derivatives and the event indicators and, at an
     event it located, calls ``update_discrete_states`` (the model's rules there). The model
     description declares the ``ModelExchange`` interface only (:func:`~frictionjoint.fmi.build.postprocess3`

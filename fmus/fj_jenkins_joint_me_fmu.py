@@ -1,0 +1,10 @@
+"""FMU script: JenkinsJointME, FMI 2.0 Model Exchange (thin adapter; physics in frictionjoint)."""
+from _frictionjoint_loader import library
+
+# the installed frictionjoint where it is this FMU's library byte for byte, else the FMU's own bundle
+# (frictionjoint.fmi.bundle_loader)
+Model = library(__file__, "fmi.model_exchange").JenkinsJointME
+
+
+class JenkinsJointME(Model):
+    """Displacement-driven Jenkins joint: Model Exchange, event indicators for its stick/slip events."""
