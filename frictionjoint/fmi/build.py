@@ -20,6 +20,7 @@ steps are whole.
 """
 from __future__ import annotations
 
+import contextlib
 import shutil
 import sys
 import tempfile
@@ -319,41 +320,48 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     names = _names(names, [*structures, *blades], systems, fmi_version) if cosim else []
     names_me = _names_me(requested, structures, systems, strict=not cosim) if model_exchange else []
     built = []
-    # the builder imports each script, and so the bundle: set aside a bundle this process has
-    # loaded from an FMU it runs (it may be another version, its folder may be gone) and give
-    # it back afterwards, for those FMUs
-    # pythonfmu's builder imports each FMU script as a top-level module (fj_*_fmu) and leaves it in
-    # sys.modules: set those aside too, and drop the builder's afterwards, else an FMU loaded
-    # later in this process would reuse the build's script, bound to the removed build bundle
-    scripts = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), *FMUS_ME.values(), *FMUS_ME3.values(),
-                                      STRUCTURE_SCRIPT, SYSTEM_SCRIPT, SYSTEM_SCRIPT3, STRUCTURE_SCRIPT_ME,
-                                      SYSTEM_SCRIPT_ME, STRUCTURE_SCRIPT_ME3, SYSTEM_SCRIPT_ME3)}
-
-    def ours(m):
-        return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in scripts
-    loaded = {m: sys.modules.pop(m) for m in list(sys.modules) if ours(m)}
-    with tempfile.TemporaryDirectory(prefix="frictionjoint_fmu_") as tmpd:
-        tmp = Path(tmpd)
+    with tempfile.TemporaryDirectory(prefix="frictionjoint_fmu_") as tmpd, _builder_imports(Path(tmpd)) as tmp:
         bundle = _bundle(tmp)
-        sys.path.insert(0, str(tmp))
-        try:
-            jobs = []
-            if cosim:
-                jobs += [(3, *j) for j in _jobs3(names, systems, out, tmp, bundle)] if fmi_version == 3 else [
-                    (2, *j) for j in _jobs(names, structures, systems, out, tmp, bundle)
-                    + _blade_jobs(blades, out, tmp, bundle)]
-            if model_exchange:
-                jobs += [(fmi_version, *j) for j in _jobs_me(names_me, structures, systems, out, tmp, bundle,
-                                                             fmi_version)]
-            for version, script_name, dest, project_files, *description in jobs:
-                built.append(_build_one(source / script_name, dest, project_files, check, version, early_return,
-                                        *description))
-        finally:
-            sys.path.remove(str(tmp))
-            for mod in [m for m in sys.modules if ours(m)]:
-                del sys.modules[mod]
-            sys.modules.update(loaded)
+        jobs = []
+        if cosim:
+            jobs += [(3, *j) for j in _jobs3(names, systems, out, tmp, bundle)] if fmi_version == 3 else [
+                (2, *j) for j in _jobs(names, structures, systems, out, tmp, bundle)
+                + _blade_jobs(blades, out, tmp, bundle)]
+        jobs += [(fmi_version, *j) for j in _jobs_me(names_me, structures if model_exchange else (),
+                                                     systems if model_exchange else (), out, tmp, bundle,
+                                                     fmi_version)]
+        for version, script_name, dest, project_files, *description in jobs:
+            built.append(_build_one(source / script_name, dest, project_files, check, version, early_return,
+                                    *description))
     return built
+
+
+@contextlib.contextmanager
+def _builder_imports(tmp: Path):
+    """The builders' imports kept apart from this process's: ``tmp`` (the bundle's folder) on
+    ``sys.path`` while they run. The builder imports each script, and so the bundle: a bundle this
+    process has loaded from an FMU it runs (it may be another version, its folder may be gone) is
+    set aside and given back afterwards, for those FMUs. pythonfmu's builder imports each FMU
+    script as a top-level module (fj_*_fmu) and leaves it in ``sys.modules``: those are set aside
+    too, and the builder's dropped afterwards, else an FMU loaded later in this process would reuse
+    the build's script, bound to the removed build bundle."""
+    def ours(m):
+        return m == BUNDLE_NAME or m.startswith(BUNDLE_NAME + ".") or m in _SCRIPTS
+    loaded = {m: sys.modules.pop(m) for m in list(sys.modules) if ours(m)}
+    sys.path.insert(0, str(tmp))
+    try:
+        yield tmp
+    finally:
+        sys.path.remove(str(tmp))
+        for mod in [m for m in sys.modules if ours(m)]:
+            del sys.modules[mod]
+        sys.modules.update(loaded)
+
+
+#: the module names of the FMU scripts (pythonfmu's builder imports each as a top-level module)
+_SCRIPTS = {Path(f).stem for f in (*FMUS.values(), *FMUS3.values(), *FMUS_ME.values(), *FMUS_ME3.values(),
+                                   STRUCTURE_SCRIPT, SYSTEM_SCRIPT, SYSTEM_SCRIPT3, STRUCTURE_SCRIPT_ME,
+                                   SYSTEM_SCRIPT_ME, STRUCTURE_SCRIPT_ME3, SYSTEM_SCRIPT_ME3)}
 
 
 def _names(names, structures, systems, fmi_version: int) -> list:
