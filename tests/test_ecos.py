@@ -208,7 +208,9 @@ def test_ecos_executable_logs_a_bad_parameter_and_does_not_crash(fmus, tmp_path,
     statuses), the FMU answers each step with an error instead of crashing, the other instance
     runs, and the process ends normally (pythonfmu's exit-time double release and SciPy's
     _uarray release after Py_Finalize used to corrupt the heap at exit: status 139/134 in 6-8
-    of 8 runs; see frictionjoint.fmi.slaves._finalize_before_exit)."""
+    of 8 runs; fixed in the FMI 2 wrapper's C++ source, frictionjoint/fmi/fmi2_wrapper/fix.patch item
+    8, and balanced from Python under pythonfmu's binary, frictionjoint.fmi.wrapper._finalize_before_exit:
+    with neither, Ecos unloads and reloads the library and NumPy refuses to load twice)."""
     from frictionjoint.fmi.ecos import ecos_cli
 
     s = FMUSystem({"osc": fmus["CoulombOscillator"], "osc2": fmus["CoulombOscillator"]}, [],

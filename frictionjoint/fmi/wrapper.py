@@ -16,9 +16,10 @@ crash a host holding several instances of an FMU, or any native host at exit.
    (:func:`_drop_repeated_path`).
 
 frictionjoint's FMI 2 FMUs carry a fixed build of that wrapper for x86_64 Linux
-(:mod:`frictionjoint.fmi.fmi2_wrapper`, ``fix.patch``), whose C++ source no longer has defects 1 and 2:
-there (:data:`STOCK_WRAPPER` false) they are not balanced, and a surplus reference would leak the
-instance at every error. Elsewhere (Windows: pythonfmu's stock binary) all four are.
+(:mod:`frictionjoint.fmi.fmi2_wrapper`, ``fix.patch``), whose C++ source has none of the four defects
+(items 4, 5, 7 and 8 of the patch): there (:data:`STOCK_WRAPPER` false) nothing is balanced here (a
+surplus reference would leak the instance at every error). Elsewhere (Windows: pythonfmu's stock
+binary) all four are.
 
 Leaks of the wrapper (temporaries of ``PyUnicode_AsUTF8String``/``PyObject_Repr`` in
 ``findClass``, three attribute references per log message in ``clearLogBuffer``, the result of
@@ -38,8 +39,8 @@ from pythonfmu import Fmi2Slave
 __all__ = ["BalancedSlave", "WRAPPER_CALLS"]
 
 #: whether pythonfmu's stock binary runs this FMU: every platform but x86_64 Linux, whose FMI 2 FMUs carry
-#: frictionjoint's fixed wrapper (``fmi2_wrapper/fix.patch``: defects 1 and 2 fixed in its C++ source, so
-#: that their balancing here goes; 3 and 4 are balanced here on every platform)
+#: frictionjoint's fixed wrapper (``fmi2_wrapper/fix.patch``: the four defects fixed in its C++ source, so
+#: that their balancing here goes)
 STOCK_WRAPPER = not (sys.platform.startswith("linux") and platform.machine().lower() in ("x86_64", "amd64"))
 
 _py_incref = ctypes.pythonapi.Py_IncRef
@@ -181,8 +182,9 @@ class BalancedSlave(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        _drop_repeated_path(kwargs.get("resources"))
-        _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
+        if STOCK_WRAPPER:  # the fixed wrapper puts the folder on sys.path once and orders the exit (7, 8)
+            _drop_repeated_path(kwargs.get("resources"))
+            _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
 
 
 if STOCK_WRAPPER:
