@@ -140,7 +140,9 @@ def _bundle(tmp: Path) -> list:
 
 
 def postprocess(fmu: Path, description: str | None = None) -> None:
-    """Add ``<InitialUnknowns>`` (all outputs) to the model structure, which pythonfmu omits, keeping
+    """Add ``<InitialUnknowns>`` (the outputs, and a Model Exchange FMU's states and derivatives) to the
+    model structure, which pythonfmu omits; make a Model Exchange FMU's description Model Exchange only
+    (the builder's flags moved to ``ModelExchange``, ``CoSimulation`` dropped); keeping
     the outputs' ``dependencies`` the slave wrote; with ``description``, write it as the model's
     (pythonfmu writes the slave class's); put the fixed wrapper (:data:`FMI2_BINARIES`) in place of
     pythonfmu's x86_64-linux binary."""
@@ -153,13 +155,13 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     variables = root.find("ModelVariables").findall("ScalarVariable")
     outputs = [i + 1 for i, v in enumerate(variables) if v.get("causality") == "output"]
     structure = root.find("ModelStructure")
+    if structure is None:
+        structure = ET.SubElement(root, "ModelStructure")
     # a Model Exchange FMU (frictionjoint.fmi.model_exchange): its states and their derivatives too
     derivatives = [int(u.get("index")) for u in structure.iterfind("Derivatives/Unknown")]
     states = [int(variables[i - 1].find("Real").get("derivative")) for i in derivatives]
     initial = sorted(set(outputs) | set(derivatives) | {i for i in states
                                                          if variables[i - 1].get("causality") == "local"})
-    if structure is None:
-        structure = ET.SubElement(root, "ModelStructure")
     # each output's dependencies as the slave declared them (frictionjoint.fmi.slaves._Slave.to_xml)
     declared = {u.get("index"): u.get("dependencies") for u in structure.iterfind("Outputs/Unknown")}
     for tag in ("Outputs", "InitialUnknowns"):
@@ -177,7 +179,6 @@ def postprocess(fmu: Path, description: str | None = None) -> None:
     structure.insert(0, outs)
     # Outputs, Derivatives, InitialUnknowns: keep the schema order
     structure.append(init)
-    items["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
     interface = root.find("CoSimulation")
     me = root.find("ModelExchange")
     if me is not None:  # Model Exchange only: the fixed wrapper alone has its functions (fix.patch, 6)
@@ -314,6 +315,8 @@ def build_fmus(out_dir, names=None, source_dir=None, check: bool = True, structu
     if interface not in INTERFACES:
         raise ValueError(f"interface must be one of {sorted(INTERFACES)}, got {interface!r}")
     cosim, model_exchange = INTERFACES[interface]
+    if blades and not cosim:
+        raise ValueError("blades have no Model Exchange form: interface='co-simulation' or 'both'")
     structures = [s if isinstance(s, StructureDefinition) else load_structure_definition(s) for s in structures]
     systems = [s if isinstance(s, SystemDefinition) else load_system_definition(s) for s in systems]
     requested = names

@@ -84,6 +84,9 @@ class ModelExchangeSystem:
             if md.modelExchange is None or not str(md.fmiVersion).startswith(("2.", "3.")):
                 raise ParameterError(f"components[{name!r}]: {path.name} is not an FMI 2.0 or 3.0 Model Exchange "
                                      "FMU (build one with build-fmus --interface me)")
+            if md.modelExchange.needsCompletedIntegratorStep:
+                raise ParameterError(f"components[{name!r}]: {path.name} needs completedIntegratorStep after every "
+                                     "step, which this master does not call")
             self._md[name] = md
         self.components = components
         self._vars = {c: {v.name: v for v in md.modelVariables} for c, md in self._md.items()}
@@ -269,13 +272,12 @@ class _Run:
                     fmu.enterInitializationMode()
                 else:
                     fmu.enterInitializationMode(startTime=t0)
-            for comp, fmu in self.inst.items():
-                fmu.exitInitializationMode()
             self.sizes = {c: self.system._md[c].numberOfContinuousStates for c in self.inst}
             self.n_ind = {c: self.system._md[c].numberOfEventIndicators for c in self.inst}
+            self._transfer()  # each input from the initial outputs it is connected to
+            for comp, fmu in self.inst.items():
+                fmu.exitInitializationMode()
             self.t = t0
-            self.y = self._states()
-            self._sync(t0, self.y)
             self._event_mode(t0, initial=True)
         except Exception:
             self.close()
@@ -321,7 +323,8 @@ class _Run:
         return self._vector("ContinuousStates", self.sizes)
 
     def _sync(self, t, y) -> None:
-        """Set every component's time and states to ``(t, y)`` and transfer the connections."""
+        """Set every component's time and states to ``(t, y)`` (Continuous-Time Mode) and transfer
+        the connections."""
         i = 0
         for comp, n in self.sizes.items():
             fmu = self.inst[comp]
@@ -330,6 +333,10 @@ class _Run:
                 part = np.ascontiguousarray(y[i:i + n], dtype=float)
                 fmu.setContinuousStates(part.ctypes.data_as(_DOUBLE_P), n)
             i += n
+        self._transfer()
+
+    def _transfer(self) -> None:
+        """Every connection, in the order of the dependencies (each input from its source output)."""
         vars_ = self.system._vars
         for (sc, sv), (tc, tv) in self.system._order:
             self._set(tc, vars_[tc][tv], self._get(sc, vars_[sc][sv]))
@@ -344,21 +351,27 @@ class _Run:
 
     # -- events ---------------------------------------------------------------------------------------
     def _event_mode(self, t, initial=False) -> None:
-        """Event mode at ``t`` (after initialisation: its event iteration): every component updates
-        its discrete states until none needs more; then the states are read back."""
+        """Event Mode at ``t`` (after initialisation: its event iteration): every component updates
+        its discrete states, the connections are transferred (inputs only: states are not set in
+        Event Mode), and again while one needs more or has changed its states; then Continuous-Time
+        Mode and the states read back. A time event (``nextEventTimeDefined``) is refused."""
         if not initial:
             for fmu in self.inst.values():
                 fmu.enterEventMode()
         for _ in range(100):
             again = False
             for comp, fmu in self.inst.items():
-                need, terminate, *_ = fmu.newDiscreteStates() if comp in self._v2 else fmu.updateDiscreteStates()
+                need, terminate, _, changed, timed, _ = (fmu.newDiscreteStates() if comp in self._v2
+                                                         else fmu.updateDiscreteStates())
                 if terminate:
-                    raise FMUError(f"a component asked to terminate the simulation at t = {t!r} s")
-                again |= bool(need)
+                    raise FMUError(f"component {comp!r} asked to terminate the simulation at t = {t!r} s")
+                if timed:
+                    raise FMUError(f"component {comp!r} schedules a time event: this master locates state "
+                                   "events only")
+                again |= bool(need) or bool(changed)
+            self._transfer()
             if not again:
                 break
-            self._sync(t, self._states())
         else:
             raise FMUError(f"the discrete states did not settle at t = {t!r} s in 100 event iterations")
         for fmu in self.inst.values():
@@ -414,6 +427,10 @@ class _Run:
                 self.t, self.y = t_new, np.asarray(dense(t_new), dtype=float)
                 if t_new >= t_end or (atol is None and np.any(np.abs(self.y) > 2 * scale)):
                     break  # (a state's amplitude has doubled: its tolerance with it)
+        y_end = self.y
+        k = self._record(record, times, k, t_end, lambda t: y_end, reads)  # (an event at t_end: the state after it)
+        if k != times.size:
+            raise FMUError(f"recorded {k} of {times.size} points: the run ended at t = {self.t!r} s")
         return record
 
     def _locate(self, brentq, dense, t_lo, t_hi, sign, crossed) -> float:

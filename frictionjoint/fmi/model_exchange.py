@@ -148,7 +148,10 @@ class SpringSliders:
         if starts.any():  # (the anchor stays: the slider slides from where its spring held it)
             self.direction[starts] = side[starts].astype(np.int8)
         beyond = at_limit & ~starts & (np.abs(spring) > self.slip_force)
-        self.w[beyond] = self._anchor(u, side, beyond)
+        if beyond.any():  # slid to its limit (the play operator; a velocity not connected reads 0)
+            anchor = self._anchor(u, side, beyond)
+            self.dissipated += float(np.dot(self.slip_force[beyond], np.abs(anchor - self.w[beyond])))
+            self.w[beyond] = anchor
         return bool(stops.any() or starts.any())
 
     def _anchor(self, u, side, which) -> np.ndarray:
@@ -159,11 +162,13 @@ class SpringSliders:
         u, side = u[which], side[which]
         k, f = self.stiffness[which], self.slip_force[which]
         w = u - side * self.reach[which]
-        for _ in range(8):
+        step = np.spacing(np.maximum(np.abs(u), np.abs(w)))  # (one of w's ulps may not move u - w)
+        for _ in range(64):
             over = np.abs(k * (u - w)) > f
             if not over.any():
                 break
-            w[over] = np.nextafter(w[over], u[over])
+            w[over] += side[over] * step[over]
+            step[over] *= 2.0
         return w
 
     def snapshot(self) -> dict:
@@ -321,10 +326,10 @@ class _DrivenME(MEModel, slaves._DrivenSlave):
 
     def _initialise(self):
         k, f = self._slider_table()
+        self._sliders = slaves.DrivenSliders(k, f)  # (its reach names the bound of u in _check_u)
         self._u_max = float(min(np.asarray(f) / np.asarray(k))) * slaves.RESOLUTION / _EPS
         u0 = self._check_u()
         self._me = SpringSliders(k, f, w0=np.full(len(k), u0))
-        self._sliders = slaves.DrivenSliders(k, f)  # (its reach names the bound of u in _check_u)
 
     def _me_inputs(self):
         u = self._check_u()
@@ -531,8 +536,8 @@ class CoulombOscillatorME(MEModel, slaves._Slave):
             self._mode = 1 if self._xv[1] > 0 else -1
         else:
             r = self._drive()
-            if abs(r) > self._fs:
-                self._mode = 1 if r > 0 else -1
+            if abs(r) > self._fs:  # from rest into slip: an event at the start, as the exact march logs it
+                self._mode, self._events = (1 if r > 0 else -1), 1
 
     def _drive(self) -> float:
         """The forces on the mass other than friction and damping [N] (what friction holds while stuck)."""
@@ -565,13 +570,16 @@ class CoulombOscillatorME(MEModel, slaves._Slave):
     def me_update(self):
         r = self._drive()
         if self._mode != 0 and self._mode * self._xv[1] <= 0.0:  # a stop
+            onward = 0 if abs(r) <= self._fs else (1 if r > 0 else -1)
+            if onward == self._mode:  # a slip that starts at rest (t0, or just now): nothing has stopped
+                return False
             self._diss += self._fs * abs(self._xv[0] - self._slide_from)
             self._xv[1] = 0.0
             self._events += 1
-            if abs(r) <= self._fs:
+            if onward == 0:
                 self._mode, self._stops = 0, self._stops + 1
-            else:  # slips on in the direction of the other forces (Hong & Liu)
-                self._mode, self._slide_from = (1 if r > 0 else -1), self._xv[0]
+            else:  # slips on, reversed, in the direction of the other forces (Hong & Liu)
+                self._mode, self._slide_from = onward, self._xv[0]
             return True
         tol = LIMIT_ROUNDING * _EPS * (self._fs + abs(self._fa) + abs(self.force) + self._kk * (abs(self._ba)
                                                                                               + abs(self._xv[0])))
@@ -636,10 +644,14 @@ class SystemME(_LinearME, system_slave.SystemSlave):
     def _initialise(self):
         params = {k: getattr(self, k) for k in self._definition.parameters()}
         system = self._definition.system(params)
-        if system.rigid.any() or system.varying.any():
-            raise ParameterError("a Model Exchange system FMU needs joints of Jenkins sliders (finite stiffness, "
-                                 "constant slip force): a rigid slider or a varying normal load is marched exactly "
-                                 "by the co-simulation FMU")
+        d = system.slider_direction
+        one_direction = all(np.array_equal(d[i], d[np.flatnonzero(system.slider_owner == system.slider_owner[i])[0]])
+                            for i in range(system.n_sliders))
+        if system.rigid.any() or system.varying.any() or not one_direction or not np.all(system.slip_force > 0):
+            raise ParameterError("a Model Exchange system FMU needs joints of Jenkins sliders along one direction "
+                                 "each (finite stiffness, a constant slip force > 0: Jenkins, Iwan): a rigid slider, "
+                                 "a varying normal load, a zero slip force or a dovetail's two flanks are marched "
+                                 "exactly by the co-simulation FMU")
         self._system = system
         self._linear(system.structure, system.mass, system.damping, system.stiffness)
         self._d = system.slider_direction
@@ -651,7 +663,6 @@ class SystemME(_LinearME, system_slave.SystemSlave):
         st = system.structure
         self._input_rows = np.array([st.dof_index(dof) for dof in self._definition.inputs], dtype=np.intp)
         self._events = 0
-        self._run = None
 
     def _load(self):
         s = self._system

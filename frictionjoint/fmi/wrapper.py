@@ -182,8 +182,10 @@ class BalancedSlave(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        if STOCK_WRAPPER:  # the fixed wrapper puts the folder on sys.path once and orders the exit (7, 8)
-            _drop_repeated_path(kwargs.get("resources"))
+        # (also under the fixed FMI 2 wrapper, which puts the folder on sys.path once (fix.patch, 7): an
+        # FMI 3 binding's slave is one of these too, and pythonfmu3's wrapper adds it at every instantiation)
+        _drop_repeated_path(kwargs.get("resources"))
+        if STOCK_WRAPPER:  # the fixed wrapper orders the exit itself (fix.patch, 8)
             _finalize_before_exit(kwargs.get("resources"), type(self).__name__)
 
 
