@@ -12,8 +12,13 @@ and ``N_i(t) > 0`` the normal nodal forces. Coulomb's law at each node: stick (`
 slip in the direction of the force (``q_i = g_i sgn(w_i')``). Quasi-static, no inertia.
 
 Uncoupled means ``B = 0`` in the seed's eq. (4): the normal forces do not depend on the slips,
-so ``N(t)`` is part of the load. Coupled systems (``B != 0``, where shakedown and the steady
-dissipation depend on the initial state) and separation are out of scope.
+so ``N(t)`` is part of the load. Coupled systems (``coupling = B``, issue 42, first part): the
+normal forces ``N = N_ext(t) - B w`` depend on the slips; the march below stays exact with the rate
+problem's matrix ``S K S - F B S``, which has one solution for every load rate iff the friction is
+below Klarbring's critical coefficient (:func:`critical_friction_coefficient`; a march above it is
+refused). Separation (a node whose normal force reaches zero) is not modelled yet: the march stops
+there with a :class:`~frictionjoint.errors.ConvergenceError` naming the node; nor are rigid-body
+slip modes (``K`` is positive definite), the critical load factors or Ahn's diagrams.
 
 What is exact. The load (``q_ext`` and ``N``) is linear in time between its samples. On such a
 piece the rate problem -- for the nodes at the friction bound (signs ``s``), slip rates
@@ -39,6 +44,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+import itertools
+
 import numpy as np
 from numpy.typing import ArrayLike
 import scipy.linalg
@@ -55,6 +62,8 @@ __all__ = [
     "ShakedownResult",
     "melan_check",
     "shakedown_check",
+    "critical_friction_coefficient",
+    "CRITICAL_ENUMERATION_NODES",
 ]
 
 _RTOL = 1e-12  # relative tolerance of the friction bound (rounding of q = q_ext - K w)
@@ -181,8 +190,9 @@ def _lcp(m: np.ndarray, r: np.ndarray, tol: float):
     raise ConvergenceError("the slip-rate complementarity problem did not terminate (is K positive definite?)")
 
 
-def _march_piece(k, w, q_a, q_b, g_a, g_b, dt, tol_q, kinv_dq):
+def _march_piece(k, w, q_a, q_b, g_a, g_b, dt, tol_q, kinv_dq, fb=None):
     """March the slips exactly over one linear piece of the load; see the module docstring.
+    ``fb``: the coupling ``diag(f) B`` (the bound is ``g = f (N_ext - B w)``), or None (``B = 0``).
 
     Returns ``(w, dissipation, slip_variation, work, n_events)``.
     """
@@ -199,26 +209,35 @@ def _march_piece(k, w, q_a, q_b, g_a, g_b, dt, tol_q, kinv_dq):
             raise ConvergenceError(f"more than {max_events} slip events in one load piece")
         n_events += 1
         q = q_a + tau * dq - k @ w
-        g = g_a + tau * dg
+        g = g_a + tau * dg if fb is None else g_a + tau * dg - fb @ w
         sign = np.where(q >= 0, 1.0, -1.0)
         active = np.flatnonzero(np.abs(q) >= g - tol_q)
         lam = np.zeros(w.size)
         if active.size:
             s = sign[active]
             m = s[:, None] * k[np.ix_(active, active)] * s[None, :]
+            if fb is not None:  # d/dt (g_i - s_i q_i) = ... + sum_j (s_i K_ij - f_i B_ij) s_j lambda_j
+                m = m - fb[np.ix_(active, active)] * s[None, :]
             lam[active], _ = _lcp(m, dg[active] - s * dq[active], tol_r)
         rate = sign * lam  # w'
         q_rate = dq - k @ rate
+        g_rate = dg if fb is None else dg - fb @ rate
         step = dt - tau
         free = lam == 0.0
-        for gap, closing in ((g - q, dg - q_rate), (g + q, dg + q_rate)):
+        for gap, closing in ((g - q, g_rate - q_rate), (g + q, g_rate + q_rate)):
             hit = free & (gap > tol_q) & (closing < 0)
             if hit.any():
                 step = min(step, float(np.min(gap[hit] / -closing[hit])))
+        if fb is not None:  # a node whose normal force reaches zero would open: not modelled
+            opening = (g > tol_q) & (g_rate < 0)
+            if opening.any() and float(np.min(g[opening] / -g_rate[opening])) < min(step, dt - tau):
+                i = int(np.flatnonzero(opening)[np.argmin(g[opening] / -g_rate[opening])])
+                raise ConvergenceError(f"node {i}'s normal force reaches zero at t = {tau + float(g[i] / -g_rate[i]):.6g} s "
+                                       "into a load piece: separation is not modelled")
         end = step >= dt - tau
         if end:
             step = dt - tau
-        g_next = g_b if end else g + step * dg
+        g_next = g + step * g_rate if fb is not None else (g_b if end else g + step * dg)
         dissipation += float(np.sum(lam * step * 0.5 * (g + g_next)))
         variation += lam * step
         work += float((q + 0.5 * step * q_rate) @ kinv_dq) * step
@@ -229,10 +248,10 @@ def _march_piece(k, w, q_a, q_b, g_a, g_b, dt, tol_q, kinv_dq):
 
 @dataclass(frozen=True, eq=False)
 class QuasiStaticFrictionSystem:
-    """Uncoupled (``B = 0``) discrete frictional system: n contact nodes coupled elastically.
+    """Discrete frictional system: n contact nodes coupled elastically.
 
-    ``q = q_ext(t) - K w``, ``|q_i| <= f_i N_i(t)`` (module docstring). Coupled systems
-    (normal forces depending on the slips, ``B != 0``) are out of scope.
+    ``q = q_ext(t) - K w``, ``|q_i| <= f_i N_i``, ``N = N_ext(t) - B w`` (module docstring; ``B = 0``
+    unless ``coupling`` is given).
 
     Parameters
     ----------
@@ -241,10 +260,16 @@ class QuasiStaticFrictionSystem:
         reduced onto the contact nodes).
     friction_coefficient : float or (n,) array_like
         Coulomb friction coefficient ``f`` [-] per node, > 0.
+    coupling : (n, n) array_like, optional
+        ``B`` [N/m]: the normal forces' dependence on the slips, ``N = N_ext - B w`` (any real
+        matrix, not necessarily symmetric); None or zero: uncoupled, today's march bit for bit. With
+        coupling, :attr:`CycleResult.work` and ``stored_energy_change`` are the tangential parts
+        (the normal forces' work is not in the balance).
     """
 
     stiffness: np.ndarray
     friction_coefficient: np.ndarray
+    coupling: np.ndarray | None = None
     _cho: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -272,6 +297,34 @@ class QuasiStaticFrictionSystem:
         object.__setattr__(self, "stiffness", k)
         object.__setattr__(self, "friction_coefficient", f)
         object.__setattr__(self, "_cho", cho)
+        if self.coupling is not None:
+            b = _finite_array("coupling", self.coupling, "(n, n)")
+            if b.shape != k.shape:
+                raise ParameterError(f"coupling must have the stiffness's shape {k.shape}, got {b.shape}")
+            object.__setattr__(self, "coupling", None if not np.any(b) else b)
+
+    @property
+    def _fb(self):
+        """``diag(f) B`` (None for an uncoupled system)."""
+        return None if self.coupling is None else self.friction_coefficient[:, None] * self.coupling
+
+    def normal_force(self, load_normal: ArrayLike, slip: ArrayLike) -> np.ndarray:
+        """``N = N_ext - B w`` [N], (n,) (``N_ext`` for an uncoupled system).
+
+        Parameters
+        ----------
+        load_normal : (n,) array_like
+            Welded normal nodal forces ``N_ext`` [N] (one sample of :attr:`PeriodicLoad.normal`).
+        slip : (n,) array_like
+            Tangential slips ``w`` [m].
+
+        Returns
+        -------
+        (n,) ndarray
+            Normal nodal forces ``N`` [N].
+        """
+        n = np.asarray(load_normal, dtype=float)
+        return n if self.coupling is None else n - self.coupling @ np.asarray(slip, dtype=float)
 
     @property
     def n_nodes(self) -> int:
@@ -336,7 +389,7 @@ class QuasiStaticFrictionSystem:
         if w.shape != (self.n_nodes,):
             raise ParameterError(f"{name} must have shape ({self.n_nodes},), got {w.shape}")
         excess = np.abs(self.tangential_force(load.tangential[0], w)) \
-            - self.friction_coefficient * load.normal[0]
+            - self.friction_coefficient * self.normal_force(load.normal[0], w)
         bad = np.flatnonzero(excess > self._tol(load))
         if bad.size:
             raise ParameterError(f"{name} violates the friction bound |q_i| <= f_i N_i at t = 0 at node "
@@ -362,6 +415,9 @@ class QuasiStaticFrictionSystem:
             Slips at the samples, dissipation, work and stored-energy change of the period.
         """
         w = self.check_slip(load, slip)
+        fb = self._fb
+        if fb is not None:
+            self._check_critical()
         times, q_ext, normal = load.closed()
         g = self.friction_coefficient * normal
         k = self.stiffness
@@ -373,7 +429,7 @@ class QuasiStaticFrictionSystem:
         for i in range(times.size - 1):
             dt = times[i + 1] - times[i]
             kinv_dq = scipy.linalg.cho_solve(self._cho, (q_ext[i + 1] - q_ext[i]) / dt)
-            w, d, v, wk, ne = _march_piece(k, w, q_ext[i], q_ext[i + 1], g[i], g[i + 1], dt, tol, kinv_dq)
+            w, d, v, wk, ne = _march_piece(k, w, q_ext[i], q_ext[i + 1], g[i], g[i + 1], dt, tol, kinv_dq, fb)
             dissipation += d
             work += wk
             variation += v
@@ -383,6 +439,18 @@ class QuasiStaticFrictionSystem:
         q1 = self.tangential_force(q_ext[0], w)
         energy = 0.5 * (q1 @ scipy.linalg.cho_solve(self._cho, q1) - q0 @ scipy.linalg.cho_solve(self._cho, q0))
         return CycleResult(np.array(out), dissipation, variation, work, float(energy), n_events)
+
+    def _check_critical(self) -> None:
+        """Refuse a coupled system whose rate problem may have no unique solution (friction at or
+        above :func:`critical_friction_coefficient`; not checked beyond its node limit, where the
+        complementarity solver reports a failure instead)."""
+        if self.n_nodes > CRITICAL_ENUMERATION_NODES:
+            return
+        f_cr = critical_friction_coefficient(self)
+        if float(np.max(self.friction_coefficient)) >= f_cr:
+            raise ParameterError(f"friction_coefficient must be < the critical coefficient f_cr = {f_cr:.6g} of this "
+                                 "coupling (Klarbring's P-matrix condition): above it the rate problem need not have "
+                                 "a unique solution")
 
     def run(self, load: PeriodicLoad, initial_slip: ArrayLike, n_cycles: int) -> list[CycleResult]:
         """``n_cycles`` consecutive periods from ``initial_slip`` (n,) [m]: list of :class:`CycleResult`.
@@ -408,6 +476,63 @@ class QuasiStaticFrictionSystem:
             out.append(self.run_cycle(load, w))
             w = out[-1].slip_end
         return out
+
+
+#: the most nodes :func:`critical_friction_coefficient` enumerates (3^n - 1 pencils: 3^12 take ~10 s)
+CRITICAL_ENUMERATION_NODES = 12
+
+
+def critical_friction_coefficient(system: QuasiStaticFrictionSystem) -> float:
+    """Klarbring's critical friction coefficient ``f_cr`` of a coupled system (seed Sec. 2.1).
+
+    The rate problem's matrix over the nodes ``J`` at their bound with slip signs ``s`` is
+    ``M = S K S - F B S`` (``S = diag(s_J)``, ``F = diag(f_J)``); the rate problem has a unique
+    solution for every load rate iff every such ``M`` is a P-matrix. Its principal minors are
+    ``det(K_JJ - S_J F_J B_JJ)``, positive at ``f = 0`` (``K`` positive definite); scaling the
+    friction coefficients by ``t``, the first ``t`` where one vanishes is the smallest positive real
+    generalised eigenvalue of the pencil ``(K_JJ, S_J F_J B_JJ)``. Enumerated over every subset
+    ``J`` and sign pattern (``3^n - 1`` pencils, at most :data:`CRITICAL_ENUMERATION_NODES` nodes).
+
+    Parameters
+    ----------
+    system : QuasiStaticFrictionSystem
+
+    Returns
+    -------
+    float
+        The critical value of the largest friction coefficient (the others scaled with it);
+        ``inf`` for an uncoupled system (``B = 0``) or a coupling that never loses uniqueness.
+
+    Raises
+    ------
+    ParameterError
+        If the system has more than :data:`CRITICAL_ENUMERATION_NODES` nodes.
+    """
+    if not isinstance(system, QuasiStaticFrictionSystem):
+        raise ParameterError(f"system must be a QuasiStaticFrictionSystem, got {type(system).__name__}")
+    if system.coupling is None:
+        return float("inf")
+    n = system.n_nodes
+    if n > CRITICAL_ENUMERATION_NODES:
+        raise ParameterError(f"critical_friction_coefficient enumerates 3^n pencils: at most "
+                             f"{CRITICAL_ENUMERATION_NODES} nodes, the system has {n}")
+    f = system.friction_coefficient
+    scale = float(np.max(f))
+    fb = (f / scale)[:, None] * system.coupling
+    k = system.stiffness
+    best = float("inf")
+    for size in range(1, n + 1):
+        for nodes in itertools.combinations(range(n), size):
+            idx = np.array(nodes)
+            kj, fbj = k[np.ix_(idx, idx)], fb[np.ix_(idx, idx)]
+            if not np.any(fbj):
+                continue
+            for signs in itertools.product((1.0, -1.0), repeat=size):
+                lam = scipy.linalg.eigvals(kj, np.asarray(signs)[:, None] * fbj)
+                ok = np.isfinite(lam) & (np.abs(lam.imag) <= 1e-12 * np.abs(lam)) & (lam.real > 0)
+                if ok.any():
+                    best = min(best, float(np.min(lam.real[ok])))
+    return best  # (the pencil scales the profile f / max(f): its eigenvalue is the largest coefficient's)
 
 
 def melan_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad) -> MelanResult:
@@ -470,7 +595,7 @@ def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initi
     rtol : float
         Relative tolerance of the periodicity test, > 0.
     melan : bool
-        Also run :func:`melan_check`.
+        Also run :func:`melan_check` (uncoupled systems only: with coupling it is not run).
 
     Returns
     -------
@@ -499,8 +624,9 @@ def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initi
         if increment[-1] <= rtol * slip_scale:
             status, steady, first = "cyclic slip", cycle.dissipation, k
             break
+    # (Melan's theorem holds for B = 0 only: a coupled system shakes down or not by its initial state)
     result = ShakedownResult(status, np.array(dissipation), np.array(increment), steady, first, w, cycle,
-                             melan_check(system, load) if melan else None)
+                             melan_check(system, load) if melan and system.coupling is None else None)
     if status == "transient":
         result.success = False
         result.message = f"no periodic state within {n_cycles} periods"

@@ -311,3 +311,91 @@ def test_bad_run_arguments():
         shakedown_check(system, load, n_cycles=0)
     with pytest.raises(fj.ParameterError, match="rtol"):
         shakedown_check(system, load, rtol=-1.0)
+
+
+# -- coupled systems (B != 0, seed eq. 4; issue 42, first part) ------------------------------------------
+def _coupled_case(b=1.0, f=0.3):
+    """Two nodes, diagonal K (so that a node-by-node return map is a valid brute force), normal
+    forces coupled to the slips by ``B = b [[0, 1], [1, 0]]``: det(K - t S B) = 2 - t^2 s1 s2 b^2, so
+    f_cr = sqrt(2) / b (s1 = s2); both nodes slip, each changing the other's friction bound."""
+    from frictionjoint.shakedown import PeriodicLoad, QuasiStaticFrictionSystem
+
+    system = QuasiStaticFrictionSystem(np.diag([1.0, 2.0]), f, coupling=b * np.array([[0.0, 1.0], [1.0, 0.0]]))
+    load = PeriodicLoad.from_function(lambda t: 0.4 * np.sin(2 * np.pi * t) * np.array([1.0, 1.2]) + [0.05, 0.0],
+                                      lambda t: np.array([1.0, 1.0]) + 0.3 * np.cos(2 * np.pi * t) * np.array([1.0, -1.0]),
+                                      1.0, 64)
+    return system, load
+
+
+def test_critical_friction_coefficient_against_closed_forms():
+    """Klarbring's f_cr (seed Sec. 2.1) from the principal minors det(K_JJ - S_J F_J B_JJ): for
+    K = [[2, -1], [-1, 2]], B = b [[0, 1], [1, 0]] and a uniform f, det = 4 - (1 + f s1 b)(1 + f s2 b)
+    vanishes first at f = 1 / b (s1 = s2 = 1); with f = (0.3, 0.15) (profile 1, 1/2) the largest
+    coefficient's critical value solves 4 = (1 + t b)(1 + t b / 2): t = -3 + sqrt(33) for b = 1/2; no
+    coupling, or a diagonal K with B = 0: inf. Rounding of an eigenvalue: a few eps."""
+    from frictionjoint.shakedown import QuasiStaticFrictionSystem, critical_friction_coefficient
+
+    k, b = np.array([[2.0, -1.0], [-1.0, 2.0]]), 0.5
+    swap = np.array([[0.0, 1.0], [1.0, 0.0]])
+    assert critical_friction_coefficient(QuasiStaticFrictionSystem(k, 0.3, coupling=b * swap)) == pytest.approx(
+        1 / b, rel=1e-13)
+    assert critical_friction_coefficient(QuasiStaticFrictionSystem(k, [0.3, 0.15], coupling=b * swap)) == \
+        pytest.approx(-3 + np.sqrt(33), rel=1e-13)
+    assert critical_friction_coefficient(QuasiStaticFrictionSystem(k, 0.3)) == np.inf
+    assert critical_friction_coefficient(QuasiStaticFrictionSystem(k, 0.3, coupling=np.zeros((2, 2)))) == np.inf
+
+
+def test_coupling_none_or_zero_gives_todays_numbers():
+    """B = 0 (None, or a zero matrix) is today's uncoupled march, bit for bit (the zero coupling is
+    dropped at construction: no term is added)."""
+    from frictionjoint.shakedown import QuasiStaticFrictionSystem
+
+    system, load = _coupled_case()
+    plain = QuasiStaticFrictionSystem(system.stiffness, 0.3)
+    zero = QuasiStaticFrictionSystem(system.stiffness, 0.3, coupling=np.zeros((2, 2)))
+    a, c = plain.run(load, np.zeros(2), 3), zero.run(load, np.zeros(2), 3)
+    for x, y in zip(a, c):
+        assert np.array_equal(x.slip_at_samples, y.slip_at_samples) and x.dissipation == y.dissipation
+
+
+def test_coupled_march_against_a_small_step_return_map():
+    """The exact coupled march against a brute force: a node-by-node return map (K diagonal, so the
+    projection onto |q_i| <= f (N_ext,i - (B w)_i) is exact for the bound at the step's start) with
+    n = 64 ... 4096 steps per period on the same piecewise-linear load, two periods. It is first
+    order (the bound lags a step): the error of the end slips falls 4x per 4x steps (measured 3.85,
+    4.0006, 4.000000000005), and its Richardson extrapolation (4 w_4096 - w_1024) / 3 meets the exact
+    march to 1.0e-15 of the slips (bound 1e-12: the extrapolation's O(h^2) remainder, measured by the
+    ratio's 5e-12 departure from 4, times the 6.5e-4 error)."""
+    system, load = _coupled_case()
+    cycles = system.run(load, np.zeros(2), 2)
+    exact = cycles[-1].slip_end
+    assert np.all(cycles[-1].slip_variation > 0.1)  # both nodes slip in the steady cycle
+    times, q_ext, normal = load.closed()
+    k, f, b = np.diag(system.stiffness), system.friction_coefficient, system.coupling
+    slips, errors = {}, []
+    for n in (64, 256, 1024, 4096):
+        w = np.zeros(2)
+        for t in np.arange(1, 2 * n + 1) / n:
+            phase = t % 1.0 if t % 1.0 else 1.0
+            q = np.array([np.interp(phase, times, q_ext[:, i]) for i in range(2)]) - k * w
+            g = f * (np.array([np.interp(phase, times, normal[:, i]) for i in range(2)]) - b @ w)
+            over = np.abs(q) > g
+            w[over] += np.sign(q[over]) * (np.abs(q[over]) - g[over]) / k[over]
+        slips[n] = w
+        errors.append(float(np.max(np.abs(w - exact)) / np.max(np.abs(exact))))
+    assert all(3.5 < e1 / e2 < 4.5 for e1, e2 in zip(errors, errors[1:])), errors
+    richardson = (4 * slips[4096] - slips[1024]) / 3
+    assert np.max(np.abs(richardson - exact)) / np.max(np.abs(exact)) < 1e-12
+
+
+def test_coupled_system_refuses_friction_at_or_above_critical_and_bad_coupling():
+    from frictionjoint.errors import ParameterError
+    from frictionjoint.shakedown import QuasiStaticFrictionSystem
+
+    system, load = _coupled_case(b=1.0, f=1.5)  # f_cr = sqrt(2)
+    with pytest.raises(ParameterError, match="critical coefficient f_cr = 1.41421"):
+        system.run(load, np.zeros(2), 1)
+    with pytest.raises(ParameterError, match="coupling must have the stiffness's shape"):
+        QuasiStaticFrictionSystem(np.eye(2), 0.3, coupling=np.eye(3))
+    with pytest.raises(ParameterError, match="coupling"):
+        QuasiStaticFrictionSystem(np.eye(2), 0.3, coupling=[[np.nan, 0.0], [0.0, 0.0]])
