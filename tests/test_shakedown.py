@@ -399,3 +399,31 @@ def test_coupled_system_refuses_friction_at_or_above_critical_and_bad_coupling()
         QuasiStaticFrictionSystem(np.eye(2), 0.3, coupling=np.eye(3))
     with pytest.raises(ParameterError, match="coupling"):
         QuasiStaticFrictionSystem(np.eye(2), 0.3, coupling=[[np.nan, 0.0], [0.0, 0.0]])
+
+
+def test_coupled_memory_resides_in_the_stuck_node():
+    """Memory (seed Sec. 2.5, 3): node 2 never slips (|q2| = k2 |w2| <= 0.2 N < f N2 ~ 3 N) and its
+    initial slip w2 sets node 1's normal force N1 = N1_ext - b w2 for ever; node 1, loaded by
+    A sin(2 pi t) with A = 0.5 N > g1 = f (N1_ext - b w2), cycles between q1 = -g1 and g1, so its steady
+    dissipation per cycle is 4 g1 (A - g1) / k1 (a single node: the slip between the extremes of the
+    load, which the samples hit exactly). With B = 0 the dissipation is 4 g (A - g) / k1 for every w2
+    (Andersson et al.). Closed forms to 1e-12 (measured 1.1e-16: a few roundings of q and g)."""
+    from frictionjoint.shakedown import PeriodicLoad, QuasiStaticFrictionSystem, shakedown_check
+
+    b, f, amplitude = 1.0, 0.3, 0.5
+    load = PeriodicLoad.from_function(lambda t: amplitude * np.sin(2 * np.pi * t) * np.array([1.0, 0.0]),
+                                      lambda t: np.array([1.0, 10.0]), 1.0, 64)
+    for coupling in (b * np.array([[0.0, 1.0], [1.0, 0.0]]), None):
+        system = QuasiStaticFrictionSystem(np.diag([1.0, 2.0]), f, coupling=coupling)
+        steady = []
+        for w2 in (-0.1, 0.0, 0.1):
+            result = shakedown_check(system, load, initial_slip=[0.0, w2], n_cycles=50)
+            g1 = f * (1.0 - (b * w2 if coupling is not None else 0.0))
+            assert result.status == "cyclic slip"
+            assert result.steady_dissipation == pytest.approx(4 * g1 * (amplitude - g1), rel=1e-12)
+            assert result.final_slip[1] == w2  # node 2 never slipped: its slip is exactly the initial one
+            steady.append(result.steady_dissipation)
+        if coupling is None:
+            assert max(steady) - min(steady) <= 1e-12 * max(steady)
+        else:  # 0.2244, 0.24, 0.2484 J: the initial state is remembered
+            assert steady[0] < steady[1] < steady[2] and steady[2] - steady[0] > 0.02
