@@ -52,7 +52,7 @@ import scipy.linalg
 import scipy.optimize
 
 from .errors import ConvergenceError, ParameterError, check_positive
-from .results.shakedown import CycleResult, MelanResult, ShakedownResult
+from .results.shakedown import CriticalLoadFactors, CycleResult, MelanResult, ShakedownResult
 
 __all__ = [
     "PeriodicLoad",
@@ -64,6 +64,9 @@ __all__ = [
     "shakedown_check",
     "critical_friction_coefficient",
     "CRITICAL_ENUMERATION_NODES",
+    "CriticalLoadFactors",
+    "factored_load",
+    "critical_load_factors",
 ]
 
 _RTOL = 1e-12  # relative tolerance of the friction bound (rounding of q = q_ext - K w)
@@ -631,3 +634,139 @@ def shakedown_check(system: QuasiStaticFrictionSystem, load: PeriodicLoad, initi
         result.success = False
         result.message = f"no periodic state within {n_cycles} periods"
     return result
+
+
+def _factor_parts(system, mean_tangential, mean_normal, cyclic_tangential, cyclic_normal, times):
+    """The load of seed eq. 5 as arrays: means (n,), cyclic parts (m, n) at ``times``."""
+    n = system.n_nodes
+    times = _finite_array("times", times, "(m,)")
+    m = times.size
+    parts = []
+    for name, value, shape in (("mean_tangential", mean_tangential, (n,)), ("mean_normal", mean_normal, (n,)),
+                               ("cyclic_tangential", cyclic_tangential, (m, n)),
+                               ("cyclic_normal", cyclic_normal, (m, n))):
+        a = _finite_array(name, value, str(shape))
+        if a.shape != shape:
+            raise ParameterError(f"{name} must have shape {shape}, got {a.shape}")
+        parts.append(a)
+    return parts
+
+
+def factored_load(mean_tangential: ArrayLike, mean_normal: ArrayLike, cyclic_tangential: ArrayLike,
+                  cyclic_normal: ArrayLike, times: ArrayLike, period: float, load_factor: float) -> PeriodicLoad:
+    """The load of seed eq. 5: ``mean + load_factor * cyclic(t)``, linear between the samples.
+
+    Parameters
+    ----------
+    mean_tangential, mean_normal : (n,) array_like
+        Mean welded tangential and normal nodal forces ``q_0``, ``N_0`` [N].
+    cyclic_tangential, cyclic_normal : (m, n) array_like
+        Cyclic parts ``q_1(t)``, ``N_1(t)`` [N] at ``times`` (normalised, zero mean).
+    times : (m,) array_like
+        Sample times [s] (as :class:`PeriodicLoad`'s).
+    period : float
+        Period [s].
+    load_factor : float
+        ``lambda`` [-]; the normal force must stay > 0.
+
+    Returns
+    -------
+    PeriodicLoad
+    """
+    lam = float(load_factor)
+    if not np.isfinite(lam):
+        raise ParameterError(f"load_factor must be finite, got {load_factor!r}")
+    q0, n0, q1, n1 = (np.asarray(a, dtype=float) for a in (mean_tangential, mean_normal, cyclic_tangential,
+                                                            cyclic_normal))
+    return PeriodicLoad(times, q0 + lam * q1, n0 + lam * n1, period)
+
+
+def critical_load_factors(system: QuasiStaticFrictionSystem, mean_tangential: ArrayLike, mean_normal: ArrayLike,
+                          cyclic_tangential: ArrayLike, cyclic_normal: ArrayLike, times: ArrayLike,
+                          period: float) -> CriticalLoadFactors:
+    """Critical load factors ``lambda1 <= lambda2`` of the load ``mean + lambda cyclic(t)`` (seed Sec. 3.3).
+
+    A node ``i`` sticks while ``(f B_i - K_i) w <= f N_i - q_i`` and ``(K_i + f B_i) w <= f N_i + q_i``;
+    with the load linear between its samples, each constraint's tightest position over the cycle is
+    at a sample, ``c + lambda d`` with ``d`` the minimum over the samples of the cyclic part's
+    right-hand side (``lambda >= 0``): the ``2N`` extreme constraints ``R w <= c + lambda d``.
+
+    - ``lambda2``: the largest ``lambda`` for which some ``w`` satisfies them all (a linear programme
+      in ``(w, lambda)``, HiGHS): above it no slip state stays stuck, so nothing shakes down.
+    - ``lambda1``: the lowest ``lambda >= 0`` at which one extreme constraint passes through the vertex
+      of ``N`` others, one per node (the seed's ``2^(N-1) N`` systems of ``N + 1`` equations in ``w``
+      and ``lambda``; at most :data:`CRITICAL_ENUMERATION_NODES` nodes); the enumeration also gives
+      ``lambda2`` as the intersection that is feasible, a check of the programme.
+
+    For ``B = 0`` a node's two constraints are parallel, and both factors are the Melan limit.
+
+    Parameters
+    ----------
+    system : QuasiStaticFrictionSystem
+    mean_tangential, mean_normal : (n,) array_like
+        Mean welded nodal forces ``q_0``, ``N_0`` [N].
+    cyclic_tangential, cyclic_normal : (m, n) array_like
+        Cyclic parts ``q_1(t)``, ``N_1(t)`` [N] at ``times``.
+    times : (m,) array_like
+        Sample times [s] of one period (the cyclic part is linear between them and periodic).
+    period : float
+        Period [s] (the times' span; only checked, the extremes are at the samples).
+
+    Returns
+    -------
+    CriticalLoadFactors
+    """
+    if not isinstance(system, QuasiStaticFrictionSystem):
+        raise ParameterError(f"system must be a QuasiStaticFrictionSystem, got {type(system).__name__}")
+    q0, n0, q1, n1 = _factor_parts(system, mean_tangential, mean_normal, cyclic_tangential, cyclic_normal, times)
+    PeriodicLoad(times, q0 + 0 * q1, n0 + 0 * n1, period)  # the times and period as a load's
+    f = system.friction_coefficient
+    k = system.stiffness
+    fb = np.zeros_like(k) if system.coupling is None else f[:, None] * system.coupling
+    rows = np.vstack([fb - k, k + fb])
+    c = np.concatenate([f * n0 - q0, f * n0 + q0])
+    d = np.concatenate([np.min(f * n1 - q1, axis=0), np.min(f * n1 + q1, axis=0)])
+    n = system.n_nodes
+    # lambda2: maximise lambda subject to rows w - lambda d <= c
+    res = scipy.optimize.linprog(np.r_[np.zeros(n), -1.0], A_ub=np.hstack([rows, -d[:, None]]), b_ub=c,
+                                 bounds=[(None, None)] * n + [(0.0, None)], method="highs")
+    if res.status == 3:  # unbounded: every lambda keeps a stuck state (the cyclic part never tightens)
+        lambda2, safe = float("inf"), np.full(n, np.nan)
+    elif res.status != 0:
+        return CriticalLoadFactors(float("nan"), float("nan"), float("nan"), np.full(n, np.nan), False, res.message)
+    else:
+        lambda2, safe = float(res.x[-1]), res.x[:n]
+    lambda1 = lambda2_enum = float("nan")
+    if n <= CRITICAL_ENUMERATION_NODES:
+        lambda1, lambda2_enum = _enumerate_load_factors(rows, c, d, n)
+    return CriticalLoadFactors(lambda1, lambda2, lambda2_enum, safe)
+
+
+def _enumerate_load_factors(rows, c, d, n):
+    """``(lambda1, lambda2)`` from the seed's enumeration: every node ``j`` with both constraints and
+    one constraint of each other node, as equalities (``N + 1`` equations in ``w`` and ``lambda``).
+    ``lambda1``: the least ``lambda >= 0`` found; ``lambda2``: the largest one whose point satisfies
+    every extreme constraint (the safe region's last point)."""
+    scale = float(np.max(np.abs(rows))) + 1e-300
+    tol = 1e-9 * (float(np.max(np.abs(c))) + float(np.max(np.abs(d))) + 1e-300)
+    lambdas, feasible = [], []
+    for j in range(n):
+        others = [i for i in range(n) if i != j]
+        for choice in itertools.product((0, 1), repeat=n - 1):
+            sel = [j, n + j] + [i + n * side for i, side in zip(others, choice)]
+            a = np.hstack([rows[sel], -d[sel, None]])
+            try:
+                sol = np.linalg.solve(a, c[sel])
+            except np.linalg.LinAlgError:
+                continue
+            if not np.all(np.isfinite(sol)) or np.linalg.cond(a) > 1e12 * max(1.0, scale):
+                continue
+            lam = float(sol[-1])
+            if lam < 0:
+                continue
+            lambdas.append(lam)
+            if np.all(rows @ sol[:n] - lam * d <= c + tol):
+                feasible.append(lam)
+    lambda1 = min(lambdas) if lambdas else float("inf")
+    lambda2 = max(feasible) if feasible else float("nan")
+    return lambda1, lambda2

@@ -427,3 +427,61 @@ def test_coupled_memory_resides_in_the_stuck_node():
             assert max(steady) - min(steady) <= 1e-12 * max(steady)
         else:  # 0.2244, 0.24, 0.2484 J: the initial state is remembered
             assert steady[0] < steady[1] < steady[2] and steady[2] - steady[0] > 0.02
+
+
+def _factor_case():
+    t = np.arange(64) / 64
+    cyclic_t = np.sin(2 * np.pi * t)[:, None] * np.array([1.0, 0.5])
+    cyclic_n = np.cos(2 * np.pi * t)[:, None] * np.array([0.2, -0.2])
+    return t, ([0.05, 0.0], [1.0, 1.0], cyclic_t, cyclic_n, t, 1.0)
+
+
+def test_critical_load_factors_enumeration_programme_and_melan():
+    """lambda2 by the linear programme equals the enumeration's feasible intersection (the seed's two
+    ways, to 1e-12: two solves of the same vertex; measured 1e-16); for B = 0 lambda1 = lambda2 is
+    the Melan limit (melan_check's margin changes sign across it) and for a coupled system
+    lambda1 < lambda2."""
+    from frictionjoint.shakedown import (QuasiStaticFrictionSystem, critical_load_factors, factored_load,
+                                         melan_check)
+
+    _, args = _factor_case()
+    k = np.array([[2.0, -1.0], [-1.0, 2.0]])
+    for coupling in (None, 0.3 * np.array([[0.0, 1.0], [1.0, 0.0]]), np.array([[0.2, 0.5], [-0.3, 0.1]])):
+        system = QuasiStaticFrictionSystem(k, 0.3, coupling=coupling)
+        r = critical_load_factors(system, *args)
+        assert r.success and r.lambda2_enumerated == pytest.approx(r.lambda2, rel=1e-12)
+        if coupling is None:
+            assert r.lambda1 == pytest.approx(r.lambda2, rel=1e-12)
+            below, above = (melan_check(system, factored_load(*args, r.lambda2 * x)).margin for x in (0.999, 1.001))
+            assert below > 0 > above
+        else:
+            assert r.lambda1 < r.lambda2 - 0.01
+
+
+def test_critical_load_factors_against_marches():
+    """The exact march from sampled initial slips (zero and 40 uniform in [-0.3, 0.3]^2 that satisfy
+    the bound at t = 0) on the coupled two-node system: at 0.95 lambda1 every one shakes down, half way
+    between lambda1 and lambda2 some shake down and some cycle (the initial state decides, seed
+    Sec. 3.3), at 1.05 lambda2 none shakes down."""
+    from frictionjoint.shakedown import (QuasiStaticFrictionSystem, critical_load_factors, factored_load,
+                                         shakedown_check)
+
+    _, args = _factor_case()
+    system = QuasiStaticFrictionSystem(np.array([[2.0, -1.0], [-1.0, 2.0]]), 0.3,
+                                       coupling=0.3 * np.array([[0.0, 1.0], [1.0, 0.0]]))
+    r = critical_load_factors(system, *args)
+    rng = np.random.default_rng(3)
+    starts = [np.zeros(2)] + [rng.uniform(-0.3, 0.3, 2) for _ in range(40)]
+    outcomes = {}
+    for name, lam in (("below", 0.95 * r.lambda1), ("between", 0.5 * (r.lambda1 + r.lambda2)),
+                      ("above", 1.05 * r.lambda2)):
+        load = factored_load(*args, lam)
+        statuses = []
+        for w0 in starts:
+            try:
+                system.check_slip(load, w0)
+            except fj.ParameterError:
+                continue
+            statuses.append(shakedown_check(system, load, initial_slip=w0, n_cycles=400).status)
+        outcomes[name] = set(statuses)
+    assert outcomes == {"below": {"shakedown"}, "between": {"shakedown", "cyclic slip"}, "above": {"cyclic slip"}}

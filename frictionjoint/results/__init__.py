@@ -14,7 +14,8 @@ data only (arrays, words, parameters), so CSV round trips are lossless, and plot
 - :mod:`.campbell`: :class:`CampbellDiagram`;
 - :mod:`.slip_pattern`: :class:`SlipPattern`;
 - :mod:`.regime_map`: :class:`RegimeMap`;
-- :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`.
+- :mod:`.shakedown`: :class:`CycleResult`, :class:`MelanResult`, :class:`ShakedownResult`,
+  :class:`CriticalLoadFactors`.
 """
 from .frequency import FrequencyResponse, OutputSweep, SystemSweep
 from .harmonic import HarmonicBalance, HarmonicBalanceSweep
@@ -24,10 +25,10 @@ from .campbell import CampbellDiagram
 from .slip_pattern import SlipPattern
 from .regime_map import RegimeMap
 from .response import STABILITY_MARGIN, CoSimulationResult, PeriodicResponse, TimeResponse, collection_status
-from .shakedown import CycleResult, MelanResult, ShakedownResult
+from .shakedown import CriticalLoadFactors, CycleResult, MelanResult, ShakedownResult
 from .study import StudyTable
 
 __all__ = ["TimeResponse", "PeriodicResponse", "HarmonicBalance", "HarmonicBalanceSweep", "CoSimulationResult", "FrequencyResponse", "SystemSweep", "OutputSweep",
-           "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "STABILITY_MARGIN",
+           "RegimeMap", "CycleResult", "MelanResult", "ShakedownResult", "CriticalLoadFactors", "STABILITY_MARGIN",
            "collection_status", "StudyTable", "NonlinearMode",
            "SynthesisedResponse", "CampbellDiagram", "ModeOrbit", "SlipPattern"]

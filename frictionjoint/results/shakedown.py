@@ -7,7 +7,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["CycleResult", "MelanResult", "ShakedownResult"]
+__all__ = ["CycleResult", "MelanResult", "ShakedownResult", "CriticalLoadFactors"]
 
 
 @dataclass
@@ -127,3 +127,40 @@ class ShakedownResult:
         return self.status == "shakedown"
 
 
+
+
+@dataclass
+class CriticalLoadFactors:
+    """Critical load factors of a load ``mean + lambda cyclic(t)`` (seed eq. 5, Sec. 3.3).
+
+    Attributes
+    ----------
+    lambda1 : float
+        Below it the system shakes down from every initial state: the lowest ``lambda >= 0`` at which
+        an extreme friction constraint passes through a vertex of ``N`` others (the seed's
+        enumeration of ``2^(N-1) N`` intersections); ``nan`` where not enumerated.
+    lambda2 : float
+        Above it no initial state shakes down: the largest ``lambda`` for which a slip state keeps
+        every node stuck for the whole cycle (a linear programme).
+    lambda2_enumerated : float
+        ``lambda2`` among the enumerated intersections (the one at which the safe region shrinks to
+        a point), a check of the programme; ``nan`` where not enumerated.
+    safe_slip : (n,) ndarray
+        A slip state [m] that stays stuck at ``lambda2`` (the programme's).
+    success : bool
+    status : str
+        ``'ok'`` or ``'failed'`` (the programme; ``message`` says why).
+    message : str
+    """
+
+    lambda1: float
+    lambda2: float
+    lambda2_enumerated: float
+    safe_slip: np.ndarray
+    success: bool = True
+    message: str = "ok"
+
+    @property
+    def status(self) -> str:
+        """``'ok'`` or ``'failed'``."""
+        return "ok" if self.success else "failed"
