@@ -422,6 +422,7 @@ def test_coupled_memory_resides_in_the_stuck_node():
             assert result.status == "cyclic slip"
             assert result.steady_dissipation == pytest.approx(4 * g1 * (amplitude - g1), rel=1e-12)
             assert result.final_slip[1] == w2  # node 2 never slipped: its slip is exactly the initial one
+            assert list(result.stuck_nodes) == [1]  # the permanent stick set, where the memory is
             steady.append(result.steady_dissipation)
         if coupling is None:
             assert max(steady) - min(steady) <= 1e-12 * max(steady)

@@ -126,6 +126,12 @@ class ShakedownResult:
     def shakedown(self) -> bool:
         return self.status == "shakedown"
 
+    @property
+    def stuck_nodes(self) -> np.ndarray:
+        """The nodes that did not slip in the last period marched (indices): in a steady state the
+        permanent stick set (seed Sec. 2.7), where a coupled system keeps its memory (Sec. 3)."""
+        return np.flatnonzero(self.last_cycle.slip_variation == 0.0)
+
 
 
 
