@@ -14,7 +14,7 @@ from .results.dof_names import dof_meaning
 
 __all__ = ["plot_frequency_response", "plot_regime_map", "plot_time_response", "plot_work_precision",
            "new_figure", "plot_target", "plot_study_curve", "plot_study_contour", "plot_study_monte_carlo",
-           "plot_slip_pattern"]
+           "plot_slip_pattern", "plot_ahn_diagram", "safe_region"]
 
 _DPI = 130
 
@@ -817,3 +817,104 @@ def plot_slip_pattern(pattern, sliders=None, positions=None, static_load=None, a
         axes[1].grid(True, alpha=0.3)
     _save(fig, path)
     return ax_map
+
+
+def _clip(polygon: np.ndarray, row: np.ndarray, bound: float) -> np.ndarray:
+    """The part of a convex polygon ``(k, 2)`` with ``row @ p <= bound`` (Sutherland-Hodgman)."""
+    out = []
+    for a, b in zip(polygon, np.roll(polygon, -1, axis=0)):
+        fa, fb = row @ a - bound, row @ b - bound
+        if fa <= 0:
+            out.append(a)
+        if fa * fb < 0:
+            out.append(a + (b - a) * fa / (fa - fb))
+    return np.array(out).reshape(-1, 2)
+
+
+def safe_region(rows: np.ndarray, bound: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """The polygon ``(k, 2)`` of the points of ``box`` (``(4, 2)``, a convex quadrilateral) with
+    ``rows @ p <= bound``: the safe shakedown region of a two-node Ahn diagram within the box (empty
+    ``(0, 2)`` if none).
+
+    Parameters
+    ----------
+    rows : (m, 2) ndarray
+    bound : (m,) ndarray
+    box : (4, 2) ndarray
+
+    Returns
+    -------
+    (k, 2) ndarray
+    """
+    poly = np.asarray(box, dtype=float)
+    for row, b in zip(rows, bound):
+        if poly.size == 0:
+            break
+        poly = _clip(poly, np.asarray(row, dtype=float), float(b))
+    return poly
+
+
+def plot_ahn_diagram(rows, bound, trajectories=(), path=None, ax=None):
+    """Ahn's diagram of a two-node frictional system (seed Sec. 3.1, Fig. 3-5): the four extreme
+    friction constraints as lines in the slip plane ``(w1, w2)``, the safe shakedown region they
+    leave (shaded) and each trajectory of the slips, cycle by cycle.
+
+    Parameters
+    ----------
+    rows, bound : ndarray
+        :func:`frictionjoint.shakedown.extreme_constraints` of the system and load: ``(4, 2)``, ``(4,)``.
+    trajectories : sequence of (k, 2) array_like
+        Slips [m] to draw as lines, each from its first point (e.g. the ``slip_at_samples`` of
+        consecutive :class:`~frictionjoint.results.CycleResult` stacked).
+    path : str or os.PathLike, optional
+        Write the figure there.
+    ax : matplotlib Axes, optional
+        Draw into these axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.patches import Polygon
+
+    rows, bound = np.asarray(rows, dtype=float), np.asarray(bound, dtype=float)
+    if rows.shape != (4, 2) or bound.shape != (4,):
+        raise ValueError(f"an Ahn diagram has two nodes: rows (4, 2) and bound (4,), got {rows.shape}, {bound.shape}")
+    fig, ax = _axes(ax, (6.5, 6.0))
+    paths = [np.asarray(t, dtype=float).reshape(-1, 2) for t in trajectories]
+    corners = []
+    for i in range(4):  # the pairwise intersections span the picture
+        for j in range(i + 1, 4):
+            a = rows[[i, j]]
+            if abs(np.linalg.det(a)) > 1e-12 * np.abs(a).max() ** 2:
+                corners.append(np.linalg.solve(a, bound[[i, j]]))
+    # framed on the safe region (within the constraints' intersections) and the trajectories
+    span = np.vstack(corners) if corners else np.zeros((1, 2))
+    far = np.abs(span).max() * 10 + 1.0
+    region = safe_region(rows, bound, np.array([[-far, -far], [far, -far], [far, far], [-far, far]]))
+    points = np.vstack([region] + paths) if len(region) or paths else span
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    pad = 0.6 * np.maximum(hi - lo, 1e-9 * (np.abs(points).max() + 1e-300))
+    lo, hi = lo - pad, hi + pad
+    box = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+    region = safe_region(rows, bound, box)
+    if len(region) >= 3:
+        ax.add_patch(Polygon(region, closed=True, facecolor="0.85", edgecolor="none", label="safe shakedown region"))
+    names = ("node 1 at +f N", "node 2 at +f N", "node 1 at -f N", "node 2 at -f N")
+    x = np.linspace(lo[0], hi[0], 2)
+    for (r1, r2), b, name, style in zip(rows, bound, names, ("-", "-", "--", "--")):
+        if abs(r2) > 1e-12 * max(abs(r1), abs(r2)):
+            ax.plot(x, (b - r1 * x) / r2, style, lw=1.2, label=name)
+        else:
+            ax.axvline(b / r1, ls=style, lw=1.2, label=name)
+    for k, t in enumerate(paths):
+        ax.plot(t[:, 0], t[:, 1], ".-", ms=2, lw=0.8, label=f"slips from ({t[0, 0]:.3g}, {t[0, 1]:.3g})")
+        ax.plot(t[-1, 0], t[-1, 1], "ko", ms=4)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_xlabel("slip w1 [m]")
+    ax.set_ylabel("slip w2 [m]")
+    ax.set_title("Ahn's diagram: extreme friction constraints and slips cycle by cycle")
+    ax.legend(fontsize=7, loc="best")
+    _save(fig, path)
+    return fig

@@ -67,6 +67,7 @@ __all__ = [
     "CriticalLoadFactors",
     "factored_load",
     "critical_load_factors",
+    "extreme_constraints",
 ]
 
 _RTOL = 1e-12  # relative tolerance of the friction bound (rounding of q = q_ext - K w)
@@ -721,9 +722,7 @@ def critical_load_factors(system: QuasiStaticFrictionSystem, mean_tangential: Ar
     q0, n0, q1, n1 = _factor_parts(system, mean_tangential, mean_normal, cyclic_tangential, cyclic_normal, times)
     PeriodicLoad(times, q0 + 0 * q1, n0 + 0 * n1, period)  # the times and period as a load's
     f = system.friction_coefficient
-    k = system.stiffness
-    fb = np.zeros_like(k) if system.coupling is None else f[:, None] * system.coupling
-    rows = np.vstack([fb - k, k + fb])
+    rows = _constraint_rows(system)
     c = np.concatenate([f * n0 - q0, f * n0 + q0])
     d = np.concatenate([np.min(f * n1 - q1, axis=0), np.min(f * n1 + q1, axis=0)])
     n = system.n_nodes
@@ -770,3 +769,38 @@ def _enumerate_load_factors(rows, c, d, n):
     lambda1 = min(lambdas) if lambdas else float("inf")
     lambda2 = max(feasible) if feasible else float("nan")
     return lambda1, lambda2
+
+
+def _constraint_rows(system: QuasiStaticFrictionSystem) -> np.ndarray:
+    """``(2n, n)``: node ``i`` sticks while ``(f B_i - K_i) w <= f N_ext,i - q_ext,i`` (rows ``0..n-1``,
+    its force at ``+g``) and ``(K_i + f B_i) w <= f N_ext,i + q_ext,i`` (rows ``n..2n-1``, at ``-g``)."""
+    f, k = system.friction_coefficient, system.stiffness
+    fb = np.zeros_like(k) if system.coupling is None else f[:, None] * system.coupling
+    return np.vstack([fb - k, k + fb])
+
+
+def extreme_constraints(system: QuasiStaticFrictionSystem, load: PeriodicLoad) -> tuple[np.ndarray, np.ndarray]:
+    """The ``2N`` extreme friction constraints of a load (seed Sec. 3.1): ``rows @ w <= bound``.
+
+    Node ``i``'s two constraints (its tangential force reaching ``+f N_i`` and ``-f N_i``) move with
+    the load and keep their slope; the extreme one excludes the most slip space over the cycle, at a
+    sample (the load is linear between them). The slips that satisfy all ``2N`` stay stuck for the
+    whole cycle: the safe shakedown region of Ahn's diagram.
+
+    Parameters
+    ----------
+    system : QuasiStaticFrictionSystem
+    load : PeriodicLoad
+
+    Returns
+    -------
+    rows : (2n, n) ndarray
+        Rows ``0 .. n-1``: node ``i`` at ``q_i = +f N_i``; rows ``n .. 2n-1``: at ``q_i = -f N_i`` [N/m].
+    bound : (2n,) ndarray
+        Their tightest right-hand sides over the samples [N].
+    """
+    system._check_load(load)
+    f = system.friction_coefficient
+    q, n = load.tangential, load.normal
+    bound = np.concatenate([np.min(f * n - q, axis=0), np.min(f * n + q, axis=0)])
+    return _constraint_rows(system), bound

@@ -486,3 +486,36 @@ def test_critical_load_factors_against_marches():
             statuses.append(shakedown_check(system, load, initial_slip=w0, n_cycles=400).status)
         outcomes[name] = set(statuses)
     assert outcomes == {"below": {"shakedown"}, "between": {"shakedown", "cyclic slip"}, "above": {"cyclic slip"}}
+
+
+def test_ahn_diagram_safe_region_loses_a_facet_at_lambda1(tmp_path):
+    """Seed Sec. 3.1-3.3: below lambda1 the safe shakedown region of a two-node system is a
+    quadrilateral (all four extreme constraints active: shakedown from every initial state);
+    between lambda1 and lambda2 one constraint is no longer active and it is a triangle (shakedown
+    depends on the initial state); for B = 0 a node's two constraints are parallel and it is a
+    parallelogram. The diagram is drawn with the slips of twelve cycles from rest."""
+    from frictionjoint.plotting import plot_ahn_diagram, safe_region
+    from frictionjoint.shakedown import (QuasiStaticFrictionSystem, critical_load_factors, extreme_constraints,
+                                         factored_load)
+
+    _, args = _factor_case()
+    box = np.array([[-10.0, -10.0], [10.0, -10.0], [10.0, 10.0], [-10.0, 10.0]])
+    k = np.array([[2.0, -1.0], [-1.0, 2.0]])
+    coupled = QuasiStaticFrictionSystem(k, 0.3, coupling=0.3 * np.array([[0.0, 1.0], [1.0, 0.0]]))
+    r = critical_load_factors(coupled, *args)
+    for lam, vertices in ((0.9 * r.lambda1, 4), (0.5 * (r.lambda1 + r.lambda2), 3)):
+        rows, bound = extreme_constraints(coupled, factored_load(*args, lam))
+        region = safe_region(rows, bound, box)
+        assert len(region) == vertices
+        assert np.all(rows @ region.T <= bound[:, None] + 1e-12)
+    plain = QuasiStaticFrictionSystem(k, 0.3)
+    rows, bound = extreme_constraints(plain, factored_load(*args, 0.9 * critical_load_factors(plain, *args).lambda2))
+    region = safe_region(rows, bound, box)
+    assert len(region) == 4
+    edges = np.diff(np.vstack([region, region[:1]]), axis=0)
+    cross = edges[0, 0] * edges[2, 1] - edges[0, 1] * edges[2, 0]  # opposite sides parallel
+    assert abs(cross) <= 1e-12 * np.linalg.norm(edges[0]) * np.linalg.norm(edges[2])
+    load = factored_load(*args, 0.5 * (r.lambda1 + r.lambda2))
+    slips = np.vstack([c.slip_at_samples for c in coupled.run(load, np.zeros(2), 12)])
+    plot_ahn_diagram(*extreme_constraints(coupled, load), [slips], path=tmp_path / "ahn.png")
+    assert (tmp_path / "ahn.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
