@@ -1,7 +1,7 @@
-"""Shakedown and cyclic slip of uncoupled discrete frictional systems under periodic load.
+"""Shakedown and cyclic slip of discrete frictional systems under periodic load.
 
 Model (Barber, Klarbring, Ciavarella et al.; seed ``frictional_contacts_periodic_loading_shakedown``,
-eq. 4 with ``B = 0``): ``n`` contact nodes with tangential slips ``w`` [m], a symmetric positive
+eq. 4; first with ``B = 0``): ``n`` contact nodes with tangential slips ``w`` [m], a symmetric positive
 definite tangential contact stiffness ``K`` (n x n) [N/m] that couples the nodes elastically, and
 the tangential nodal forces::
 
@@ -18,13 +18,14 @@ problem's matrix ``S K S - F B S``, which has one solution for every load rate i
 below Klarbring's critical coefficient (:func:`critical_friction_coefficient`; a march above it is
 refused). Separation (a node whose normal force reaches zero) is not modelled yet: the march stops
 there with a :class:`~frictionjoint.errors.ConvergenceError` naming the node; nor are rigid-body
-slip modes (``K`` is positive definite), the critical load factors or Ahn's diagrams.
+slip modes (``K`` is positive definite). The critical load factors of a load ``mean + lambda
+cyclic(t)`` and the extreme constraints of Ahn's diagram are at the end of the module.
 
 What is exact. The load (``q_ext`` and ``N``) is linear in time between its samples. On such a
 piece the rate problem -- for the nodes at the friction bound (signs ``s``), slip rates
 ``lambda >= 0`` with ``y = g' - s q_ext' + (S K S) lambda >= 0`` and ``lambda . y = 0`` -- is a
-linear complementarity problem with the positive definite matrix ``S K S`` (``S = diag(s)``),
-hence has one solution, found by Murty's least-index principal pivoting (finite for P-matrices).
+linear complementarity problem with the positive definite matrix ``S K S`` (``S = diag(s)``; with
+coupling ``S K S - F B S``, a P-matrix below ``f_cr``), hence has one solution, found by Murty's least-index principal pivoting (finite for P-matrices).
 The rates stay constant until a stuck node reaches its bound, and that time is the root of a
 linear function; so the march from event to event is exact up to rounding, with no time step.
 (The one-step projection ``q_new = argmin_{|q| <= g} ||q - q_trial||_{K^-1}`` -- backward Euler --
@@ -267,8 +268,8 @@ class QuasiStaticFrictionSystem:
     coupling : (n, n) array_like, optional
         ``B`` [N/m]: the normal forces' dependence on the slips, ``N = N_ext - B w`` (any real
         matrix, not necessarily symmetric); None or zero: uncoupled, today's march bit for bit. With
-        coupling, :attr:`CycleResult.work` and ``stored_energy_change`` are the tangential parts
-        (the normal forces' work is not in the balance).
+        coupling the balance ``work = stored_energy_change + dissipation`` still holds: the normal
+        forces do no work (no normal motion).
     """
 
     stiffness: np.ndarray
@@ -445,12 +446,17 @@ class QuasiStaticFrictionSystem:
         return CycleResult(np.array(out), dissipation, variation, work, float(energy), n_events)
 
     def _check_critical(self) -> None:
-        """Refuse a coupled system whose rate problem may have no unique solution (friction at or
-        above :func:`critical_friction_coefficient`; not checked beyond its node limit, where the
-        complementarity solver reports a failure instead)."""
+        """Refuse a coupled system whose rate problem may have no unique solution: friction at or
+        above :func:`critical_friction_coefficient` (computed once per system), or more nodes than it
+        can enumerate (the complementarity solver could pick one of several solutions silently)."""
         if self.n_nodes > CRITICAL_ENUMERATION_NODES:
-            return
-        f_cr = critical_friction_coefficient(self)
+            raise ParameterError(f"a coupled system of more than {CRITICAL_ENUMERATION_NODES} nodes cannot be "
+                                 f"checked against Klarbring's condition (3^n pencils), got {self.n_nodes}: its "
+                                 "rate problem might have several solutions")
+        f_cr = self.__dict__.get("_f_cr")
+        if f_cr is None:
+            f_cr = critical_friction_coefficient(self)
+            object.__setattr__(self, "_f_cr", f_cr)
         if float(np.max(self.friction_coefficient)) >= f_cr:
             raise ParameterError(f"friction_coefficient must be < the critical coefficient f_cr = {f_cr:.6g} of this "
                                  "coupling (Klarbring's P-matrix condition): above it the rate problem need not have "
@@ -533,7 +539,7 @@ def critical_friction_coefficient(system: QuasiStaticFrictionSystem) -> float:
                 continue
             for signs in itertools.product((1.0, -1.0), repeat=size):
                 lam = scipy.linalg.eigvals(kj, np.asarray(signs)[:, None] * fbj)
-                ok = np.isfinite(lam) & (np.abs(lam.imag) <= 1e-12 * np.abs(lam)) & (lam.real > 0)
+                ok = np.isfinite(lam) & (np.abs(lam.imag) <= 1e-8 * np.abs(lam)) & (lam.real > 0)  # (a double root splits by ~sqrt(eps))
                 if ok.any():
                     best = min(best, float(np.min(lam.real[ok])))
     return best  # (the pencil scales the profile f / max(f): its eigenvalue is the largest coefficient's)
@@ -694,10 +700,11 @@ def critical_load_factors(system: QuasiStaticFrictionSystem, mean_tangential: Ar
 
     - ``lambda2``: the largest ``lambda`` for which some ``w`` satisfies them all (a linear programme
       in ``(w, lambda)``, HiGHS): above it no slip state stays stuck, so nothing shakes down.
-    - ``lambda1``: the lowest ``lambda >= 0`` at which one extreme constraint passes through the vertex
-      of ``N`` others, one per node (the seed's ``2^(N-1) N`` systems of ``N + 1`` equations in ``w``
-      and ``lambda``; at most :data:`CRITICAL_ENUMERATION_NODES` nodes); the enumeration also gives
-      ``lambda2`` as the intersection that is feasible, a check of the programme.
+    - ``lambda1``: the largest ``lambda`` below which every extreme constraint is a facet of the safe
+      region (each one cuts the region of the others: one small programme per constraint, bisected
+      on ``lambda``); 0, with a message, where one is redundant already at ``lambda = 0``. For two
+      nodes the seed's enumeration of the ``2^(N-1) N`` vertices gives it again
+      (``lambda1_enumerated``) and ``lambda2`` too (``lambda2_enumerated``).
 
     For ``B = 0`` a node's two constraints are parallel, and both factors are the Melan limit.
 
@@ -726,26 +733,69 @@ def critical_load_factors(system: QuasiStaticFrictionSystem, mean_tangential: Ar
     c = np.concatenate([f * n0 - q0, f * n0 + q0])
     d = np.concatenate([np.min(f * n1 - q1, axis=0), np.min(f * n1 + q1, axis=0)])
     n = system.n_nodes
+    # scaled (the programmes' tolerances are absolute): rows by their largest entry, c and d by theirs
+    rs = float(np.max(np.abs(rows))) or 1.0
+    cs = max(float(np.max(np.abs(c))), float(np.max(np.abs(d)))) or 1.0
+    rows_s, c_s, d_s = rows / rs, c / cs, d / cs
     # lambda2: maximise lambda subject to rows w - lambda d <= c
-    res = scipy.optimize.linprog(np.r_[np.zeros(n), -1.0], A_ub=np.hstack([rows, -d[:, None]]), b_ub=c,
+    res = scipy.optimize.linprog(np.r_[np.zeros(n), -1.0], A_ub=np.hstack([rows_s, -d_s[:, None]]), b_ub=c_s,
                                  bounds=[(None, None)] * n + [(0.0, None)], method="highs")
     if res.status == 3:  # unbounded: every lambda keeps a stuck state (the cyclic part never tightens)
         lambda2, safe = float("inf"), np.full(n, np.nan)
     elif res.status != 0:
-        return CriticalLoadFactors(float("nan"), float("nan"), float("nan"), np.full(n, np.nan), False, res.message)
+        return CriticalLoadFactors(float("nan"), float("nan"), float("nan"), np.full(n, np.nan), success=False,
+                                   message=res.message)
     else:
-        lambda2, safe = float(res.x[-1]), res.x[:n]
-    lambda1 = lambda2_enum = float("nan")
-    if n <= CRITICAL_ENUMERATION_NODES:
-        lambda1, lambda2_enum = _enumerate_load_factors(rows, c, d, n)
-    return CriticalLoadFactors(lambda1, lambda2, lambda2_enum, safe)
+        lambda2, safe = float(res.x[-1]), res.x[:n] * cs / rs
+    lambda1, message = _first_lost_facet(rows_s, c_s, d_s, lambda2)
+    enumerated = (float("nan"), float("nan"))
+    if n == 2:  # the seed's vertex rule: exact for two nodes (in 3D and up an edge can collapse first)
+        enumerated = _enumerate_load_factors(rows_s, c_s, d_s, n)
+    return CriticalLoadFactors(lambda1, lambda2, enumerated[1], safe, lambda1_enumerated=enumerated[0],
+                               message=message)
+
+
+def _cuts(rows, bound, k) -> bool:
+    """Whether constraint ``k`` cuts the region of the others (a facet of the region): the largest
+    ``rows[k] @ w`` over the others' region exceeds ``bound[k]`` (or is unbounded)."""
+    others = np.delete(np.arange(len(bound)), k)
+    res = scipy.optimize.linprog(-rows[k], A_ub=rows[others], b_ub=bound[others],
+                                 bounds=[(None, None)] * rows.shape[1], method="highs")
+    if res.status == 3:
+        return True
+    if res.status != 0:  # the others leave no room: nothing is a facet
+        return False
+    return -res.fun > bound[k] + 1e-12 * (1.0 + abs(bound[k]))
+
+
+def _first_lost_facet(rows, c, d, lambda2):
+    """``(lambda1, message)``: the largest ``lambda`` in ``[0, lambda2]`` below which every one of the
+    ``2N`` extreme constraints is a facet of the safe region (seed Sec. 3.3: shakedown from every initial
+    state), by bisection to 1e-12 of ``lambda2`` on one small programme per constraint (the facets are
+    lost once, as the region shrinks with ``lambda``); 0 where a constraint is redundant already at
+    ``lambda = 0``."""
+    def all_facets(lam):
+        return all(_cuts(rows, c + lam * d, k) for k in range(len(c)))
+
+    if not all_facets(0.0):
+        return 0.0, ("an extreme constraint is redundant already at lambda = 0: some initial states cannot "
+                     "reach the safe region at any load factor")
+    if not np.isfinite(lambda2):
+        return float("inf"), "ok"
+    lo, hi = 0.0, lambda2
+    while hi - lo > 1e-12 * lambda2:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if all_facets(mid) else (lo, mid)
+    return lo, "ok"
 
 
 def _enumerate_load_factors(rows, c, d, n):
     """``(lambda1, lambda2)`` from the seed's enumeration: every node ``j`` with both constraints and
     one constraint of each other node, as equalities (``N + 1`` equations in ``w`` and ``lambda``).
     ``lambda1``: the least ``lambda >= 0`` found; ``lambda2``: the largest one whose point satisfies
-    every extreme constraint (the safe region's last point)."""
+    every extreme constraint (the safe region's last point). Used for two nodes, where a vertex is
+    where a facet vanishes (for three and more an edge can collapse first: the least value is then a
+    lower bound of ``lambda1``)."""
     scale = float(np.max(np.abs(rows))) + 1e-300
     tol = 1e-9 * (float(np.max(np.abs(c))) + float(np.max(np.abs(d))) + 1e-300)
     lambdas, feasible = [], []

@@ -451,8 +451,10 @@ def test_critical_load_factors_enumeration_programme_and_melan():
         system = QuasiStaticFrictionSystem(k, 0.3, coupling=coupling)
         r = critical_load_factors(system, *args)
         assert r.success and r.lambda2_enumerated == pytest.approx(r.lambda2, rel=1e-12)
+        # the facet bisection stops within 1e-12 of lambda2 (and the programmes' own tolerances): 1e-11
+        assert r.lambda1 == pytest.approx(r.lambda1_enumerated, rel=1e-11)
         if coupling is None:
-            assert r.lambda1 == pytest.approx(r.lambda2, rel=1e-12)
+            assert r.lambda1 == pytest.approx(r.lambda2, rel=1e-11)
             below, above = (melan_check(system, factored_load(*args, r.lambda2 * x)).margin for x in (0.999, 1.001))
             assert below > 0 > above
         else:
@@ -503,7 +505,8 @@ def test_ahn_diagram_safe_region_loses_a_facet_at_lambda1(tmp_path):
     k = np.array([[2.0, -1.0], [-1.0, 2.0]])
     coupled = QuasiStaticFrictionSystem(k, 0.3, coupling=0.3 * np.array([[0.0, 1.0], [1.0, 0.0]]))
     r = critical_load_factors(coupled, *args)
-    for lam, vertices in ((0.9 * r.lambda1, 4), (0.5 * (r.lambda1 + r.lambda2), 3)):
+    for lam, vertices in ((0.9 * r.lambda1, 4), ((1 - 1e-6) * r.lambda1, 4), ((1 + 1e-6) * r.lambda1, 3),
+                          (0.5 * (r.lambda1 + r.lambda2), 3)):
         rows, bound = extreme_constraints(coupled, factored_load(*args, lam))
         region = safe_region(rows, bound, box)
         assert len(region) == vertices
@@ -519,3 +522,46 @@ def test_ahn_diagram_safe_region_loses_a_facet_at_lambda1(tmp_path):
     slips = np.vstack([c.slip_at_samples for c in coupled.run(load, np.zeros(2), 12)])
     plot_ahn_diagram(*extreme_constraints(coupled, load), [slips], path=tmp_path / "ahn.png")
     assert (tmp_path / "ahn.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_lambda1_is_zero_where_a_constraint_is_redundant_from_the_start():
+    """A coupled two-node system (random, found by a review) whose safe region is a triangle already at
+    lambda = 0: lambda1 = 0 with the reason, not the seed's lowest vertex (0.478, lambda1_enumerated),
+    below which an initial slip still ends in cyclic slip (the exact march at 0.9 x 0.478: 2.3e-3 J per
+    cycle)."""
+    from frictionjoint.plotting import safe_region
+    from frictionjoint.shakedown import (QuasiStaticFrictionSystem, critical_load_factors, extreme_constraints,
+                                         factored_load, shakedown_check)
+
+    k = np.array([[5.198804052296091, -0.7507440528458584], [-0.7507440528458584, 0.6203578795131817]])
+    b = np.array([[-0.1604372522772445, -1.363996756920735], [1.2394980573661591, 0.7847271647360403]])
+    t = np.arange(64) / 64
+    phase = np.array([4.083462392010725, 2.1251112589415664, 1.016248470709016, 2.9570091350424756])
+    args = (np.array([0.022928816893680395, -0.06715777258117438]), np.ones(2),
+            np.sin(2 * np.pi * t[:, None] + phase[:2]) * np.array([0.32985491491851554, 0.6463474900247088]),
+            np.sin(2 * np.pi * t[:, None] + phase[2:]) * np.array([0.13709881848686412, 0.2984421771528513]), t, 1.0)
+    system = QuasiStaticFrictionSystem(k, 0.3, coupling=b)
+    r = critical_load_factors(system, *args)
+    assert r.lambda1 == 0.0 and "redundant already at lambda = 0" in r.message
+    box = np.array([[-1e3, -1e3], [1e3, -1e3], [1e3, 1e3], [-1e3, 1e3]])
+    assert len(safe_region(*extreme_constraints(system, factored_load(*args, 0.0)), box)) == 3
+    load = factored_load(*args, 0.9 * r.lambda1_enumerated)
+    result = shakedown_check(system, load, initial_slip=[-0.09026533125283484, -0.4447374477215763], n_cycles=300)
+    assert result.status == "cyclic slip" and result.steady_dissipation > 1e-3
+
+
+def test_coupled_march_stops_where_a_normal_force_reaches_zero_and_keeps_its_energy_balance():
+    """One node, K = 1, f = 0.5, B = 1 (N = 1 - w), q_ext rising 0 -> 2 N over half the period: the node
+    slips once q_ext = f N, and with w = q_ext - f (1 - w) its normal force N = 1 - w reaches zero at
+    q_ext = 1, t = 0.25 s (a closed form): separation, not modelled, stops the march naming the node and
+    the time. With B = -1 it does not open (N grows with w), and the balance work = stored energy
+    change + dissipation holds to rounding (the normal forces do no work; measured 1e-16, bound 1e-12)."""
+    from frictionjoint.errors import ConvergenceError
+    from frictionjoint.shakedown import PeriodicLoad, QuasiStaticFrictionSystem
+
+    load = PeriodicLoad(np.array([0.0, 0.5]), np.array([[0.0], [2.0]]), np.array([[1.0], [1.0]]), 1.0)
+    with pytest.raises(ConvergenceError, match=r"node 0's normal force reaches zero at t = 0.25 s"):
+        QuasiStaticFrictionSystem(np.eye(1), 0.5, coupling=np.eye(1)).run_cycle(load, np.zeros(1))
+    cycle = QuasiStaticFrictionSystem(np.eye(1), 0.5, coupling=-np.eye(1)).run_cycle(load, np.zeros(1))
+    assert cycle.dissipation > 0
+    assert abs(cycle.work - cycle.stored_energy_change - cycle.dissipation) <= 1e-12 * cycle.dissipation

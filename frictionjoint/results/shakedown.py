@@ -130,7 +130,9 @@ class ShakedownResult:
     def stuck_nodes(self) -> np.ndarray:
         """The nodes that did not slip in the last period marched (indices): in a steady state the
         permanent stick set (seed Sec. 2.7), where a coupled system keeps its memory (Sec. 3)."""
-        return np.flatnonzero(self.last_cycle.slip_variation == 0.0)
+        variation = self.last_cycle.slip_variation
+        scale = float(np.max(np.abs(self.last_cycle.slip_at_samples))) + float(np.max(variation))
+        return np.flatnonzero(variation <= 1e-12 * scale)  # (a slip at rounding level is none)
 
 
 
@@ -142,17 +144,20 @@ class CriticalLoadFactors:
     Attributes
     ----------
     lambda1 : float
-        Below it the system shakes down from every initial state: the lowest ``lambda >= 0`` at which
-        an extreme friction constraint passes through a vertex of ``N`` others (the seed's
-        enumeration of ``2^(N-1) N`` intersections); ``nan`` where not enumerated.
+        Below it the system shakes down from every initial state: the largest ``lambda`` below which
+        every extreme friction constraint is a facet of the safe region (0 where one is redundant at
+        ``lambda = 0``: ``message`` says so).
     lambda2 : float
         Above it no initial state shakes down: the largest ``lambda`` for which a slip state keeps
         every node stuck for the whole cycle (a linear programme).
     lambda2_enumerated : float
-        ``lambda2`` among the enumerated intersections (the one at which the safe region shrinks to
-        a point), a check of the programme; ``nan`` where not enumerated.
+        Two nodes: ``lambda2`` from the seed's enumeration of the ``2^(N-1) N`` vertices (a check of
+        the programme); ``nan`` otherwise.
     safe_slip : (n,) ndarray
         A slip state [m] that stays stuck at ``lambda2`` (the programme's).
+    lambda1_enumerated : float
+        Two nodes: ``lambda1`` from the same enumeration (where every constraint is a facet at
+        ``lambda = 0``); ``nan`` otherwise.
     success : bool
     status : str
         ``'ok'`` or ``'failed'`` (the programme; ``message`` says why).
@@ -163,6 +168,7 @@ class CriticalLoadFactors:
     lambda2: float
     lambda2_enumerated: float
     safe_slip: np.ndarray
+    lambda1_enumerated: float = float("nan")
     success: bool = True
     message: str = "ok"
 
