@@ -53,7 +53,7 @@ from ..errors import FMUError, ParameterError, check_positive, check_real
 from ..memory import available_memory
 from ..results import CoSimulationResult
 from ..threads import owns_blas_threads
-from .ports import split_port
+from .ports import checked_components, checked_connections, checked_parameters, split_port
 from .ssp import write_ssp
 
 __all__ = ["FMUSystem", "joint_connections", "EVENT_INDICATORS"]
@@ -137,45 +137,18 @@ class FMUSystem:
     def __post_init__(self):
         from fmpy import read_model_description
 
-        components = {str(k): Path(v) for k, v in dict(self.components).items()}
-        if not components:
-            raise ParameterError("components must name at least one FMU")
+        components = checked_components(self.components)
         variables, restorable, versions = {}, set(), {}
         for name, path in components.items():
-            if "." in name or not name:
-                raise ParameterError(f"component names must be non-empty and without '.', got {name!r}")
-            if not path.is_file():
-                raise ParameterError(f"components[{name!r}]: FMU {str(path)!r} not found")
             md = read_model_description(str(path))
             variables[name] = {v.name: v for v in md.modelVariables}
             if md.coSimulation is not None and md.coSimulation.canGetAndSetFMUstate:
                 restorable.add(name)
             if not str(md.fmiVersion).startswith("2."):
                 versions[name] = md.fmiVersion
-        connections = []
-        for pair in self.connections:
-            if len(pair) != 2:
-                raise ParameterError(f"connections are (source, target) pairs, got {pair!r}")
-            (sc, sv), (tc, tv) = split_port(pair[0]), split_port(pair[1])
-            for comp, var, causality in ((sc, sv, "output"), (tc, tv, "input")):
-                if comp not in variables:
-                    raise ParameterError(f"connection {pair!r}: no component {comp!r}")
-                v = variables[comp].get(var)
-                if v is None or v.causality != causality:
-                    raise ParameterError(f"connection {pair!r}: {comp} has no {causality} {var!r}")
-            connections.append((f"{sc}.{sv}", f"{tc}.{tv}"))
-        targets = [t for _, t in connections]
-        if len(set(targets)) != len(targets):
-            raise ParameterError("an input may be the target of one connection only")
-        parameters = {}
-        for comp, values in dict(self.parameters).items():
-            if comp not in variables:
-                raise ParameterError(f"parameters: no component {comp!r}")
-            for var in values:
-                v = variables[comp].get(var)
-                if v is None or v.causality != "parameter":
-                    raise ParameterError(f"parameters[{comp!r}]: {comp} has no parameter {var!r}")
-            parameters[comp] = dict(values)
+        connections = [(f"{sc}.{sv}", f"{tc}.{tv}") for (sc, sv), (tc, tv) in
+                       checked_connections(self.connections, variables)]
+        parameters = checked_parameters(self.parameters, variables)
         object.__setattr__(self, "components", components)
         object.__setattr__(self, "connections", tuple(connections))
         object.__setattr__(self, "parameters", parameters)

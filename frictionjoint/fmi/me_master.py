@@ -26,7 +26,6 @@ import math
 import shutil
 import tempfile
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -34,7 +33,7 @@ import numpy as np
 from ..errors import FMUError, ParameterError, check_positive, check_real
 from ..results import CoSimulationResult
 from ..threads import owns_blas_threads
-from .ports import split_port
+from .ports import checked_components, checked_connections, checked_parameters, split_port
 
 __all__ = ["ModelExchangeSystem", "METHODS", "AMPLITUDE_FLOOR", "MAX_EVENTS"]
 
@@ -71,15 +70,9 @@ class ModelExchangeSystem:
     def __post_init__(self):
         from fmpy import read_model_description
 
-        components = {str(k): Path(v) for k, v in dict(self.components).items()}
-        if not components:
-            raise ParameterError("components must name at least one FMU")
+        components = checked_components(self.components)
         self._md = {}
         for name, path in components.items():
-            if "." in name or not name:
-                raise ParameterError(f"component names must be non-empty and without '.', got {name!r}")
-            if not path.is_file():
-                raise ParameterError(f"components[{name!r}]: FMU {str(path)!r} not found")
             md = read_model_description(str(path))
             if md.modelExchange is None or not str(md.fmiVersion).startswith(("2.", "3.")):
                 raise ParameterError(f"components[{name!r}]: {path.name} is not an FMI 2.0 or 3.0 Model Exchange "
@@ -90,30 +83,10 @@ class ModelExchangeSystem:
             self._md[name] = md
         self.components = components
         self._vars = {c: {v.name: v for v in md.modelVariables} for c, md in self._md.items()}
-        pairs = []
-        for pair in self.connections:
-            if len(pair) != 2:
-                raise ParameterError(f"connections are (source, target) pairs, got {pair!r}")
-            (sc, sv), (tc, tv) = split_port(pair[0]), split_port(pair[1])
-            for comp, var, causality in ((sc, sv, "output"), (tc, tv, "input")):
-                if comp not in self._vars:
-                    raise ParameterError(f"connection {pair!r}: no component {comp!r}")
-                v = self._vars[comp].get(var)
-                if v is None or v.causality != causality:
-                    raise ParameterError(f"connection {pair!r}: {comp} has no {causality} {var!r}")
-            pairs.append(((sc, sv), (tc, tv)))
-        targets = [t for _, t in pairs]
-        if len(set(targets)) != len(targets):
-            raise ParameterError("an input may be the target of one connection only")
+        pairs = checked_connections(self.connections, self._vars)
         self.connections = [(f"{s[0]}.{s[1]}", f"{t[0]}.{t[1]}") for s, t in pairs]
         self._order = self._sorted(pairs)
-        for comp, values in dict(self.parameters).items():
-            if comp not in self._vars:
-                raise ParameterError(f"parameters: no component {comp!r}")
-            for pname in values:
-                v = self._vars[comp].get(pname)
-                if v is None or v.causality not in ("parameter", "input"):
-                    raise ParameterError(f"parameters[{comp!r}]: {comp} has no parameter {pname!r}")
+        self.parameters = checked_parameters(self.parameters, self._vars, ("parameter", "input"))
 
     def _sorted(self, pairs) -> list:
         """The connections in an order in which each source output is read after every connection
